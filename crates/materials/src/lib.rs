@@ -1,0 +1,30 @@
+//! # musclefem-materials
+//!
+//! The constitutive side of musclefem, usable on its own by any finite-element code:
+//!
+//! - [`material`]: the batched, VUMAT-like material interface ([`Material`],
+//!   [`PointBlock`], [`PointResponse`]) with input/output checks and a finite-difference
+//!   tangent for materials that supply none;
+//! - [`parameters`]: typed parameter declarations (unit, default, range) and their checked
+//!   resolution from a name → value map;
+//! - [`registry`]: built-in materials registered with `inventory` plus run-time plugins;
+//! - [`neo_hookean`] and [`hill`]: the built-in materials;
+//! - [`plugin`]: the C ABI (`include/musclefem_material.h`) and the plugin loader;
+//! - [`driver`]: a homogeneous material-point driver (uniaxial stress along the fiber).
+//!
+//! Units are SI throughout (Pa, s, m).
+
+pub mod driver;
+pub mod error;
+pub mod hill;
+pub mod material;
+pub mod neo_hookean;
+pub mod parameters;
+pub mod plugin;
+pub mod registry;
+pub mod tensor;
+
+pub use error::MaterialError;
+pub use material::{Material, PointBlock, PointResponse, StateVariable, Tangent, VoigtStress};
+pub use parameters::{Bound, ParameterSet, ParameterSpec};
+pub use registry::{MaterialInfo, MaterialLibrary, MaterialOrigin, MaterialRegistration};

@@ -1,0 +1,150 @@
+//! The material registry: built-in materials register themselves with `inventory`;
+//! plugins are added at run time from shared libraries. A [`MaterialLibrary`] is the
+//! one place that turns a name and a parameter map into a ready material.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::parameters::{ParameterSet, ParameterSpec};
+use crate::plugin::PluginMaterialFactory;
+use crate::{Material, MaterialError};
+
+/// A built-in material's entry in the registry (submitted with `inventory::submit!`).
+pub struct MaterialRegistration {
+    /// Registry name (what scene files and `--material` use).
+    pub name: &'static str,
+    /// One line: what the material models.
+    pub description: &'static str,
+    /// Declared parameters with units, defaults and ranges.
+    pub parameters: &'static [ParameterSpec],
+    /// Build the material from checked parameter values.
+    pub build: fn(&ParameterSet) -> Result<Arc<dyn Material>, MaterialError>,
+}
+
+inventory::collect!(MaterialRegistration);
+
+/// Where a material comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MaterialOrigin {
+    BuiltIn,
+    Plugin(PathBuf),
+}
+
+/// What `musclefem materials` lists about one material.
+#[derive(Debug, Clone)]
+pub struct MaterialInfo {
+    pub name: String,
+    pub description: String,
+    pub parameters: Vec<ParameterSpec>,
+    pub origin: MaterialOrigin,
+}
+
+/// The built-in materials plus the plugins loaded so far.
+#[derive(Default)]
+pub struct MaterialLibrary {
+    plugins: Vec<PluginMaterialFactory>,
+}
+
+impl MaterialLibrary {
+    /// A library holding the built-in materials only.
+    pub fn with_builtins() -> Self {
+        MaterialLibrary::default()
+    }
+
+    /// Load a plugin shared library and add its material. Its name must not clash with
+    /// a material already known.
+    pub fn load_plugin(&mut self, path: &Path) -> Result<MaterialInfo, MaterialError> {
+        let factory = PluginMaterialFactory::load(path)?;
+        let info = factory.info();
+        if self.names().contains(&info.name) {
+            return Err(MaterialError::Plugin {
+                path: path.to_path_buf(),
+                message: format!(
+                    "it provides material '{}', which is already registered",
+                    info.name
+                ),
+            });
+        }
+        self.plugins.push(factory);
+        Ok(info)
+    }
+
+    /// Every known material, sorted by name.
+    pub fn materials(&self) -> Vec<MaterialInfo> {
+        let mut all: Vec<MaterialInfo> = builtin_registrations()
+            .map(|r| MaterialInfo {
+                name: r.name.to_string(),
+                description: r.description.to_string(),
+                parameters: r.parameters.to_vec(),
+                origin: MaterialOrigin::BuiltIn,
+            })
+            .chain(self.plugins.iter().map(|p| p.info()))
+            .collect();
+        all.sort_by(|a, b| a.name.cmp(&b.name));
+        all
+    }
+
+    /// Names of every known material, sorted.
+    pub fn names(&self) -> Vec<String> {
+        self.materials().into_iter().map(|m| m.name).collect()
+    }
+
+    /// Description of one material, or an error listing the known ones.
+    pub fn info(&self, name: &str) -> Result<MaterialInfo, MaterialError> {
+        self.materials()
+            .into_iter()
+            .find(|m| m.name == name)
+            .ok_or_else(|| MaterialError::UnknownMaterial {
+                name: name.to_string(),
+                valid: self.names(),
+            })
+    }
+
+    /// Build material `name` from `given` parameter values (defaults fill the rest).
+    pub fn create(
+        &self,
+        name: &str,
+        given: &BTreeMap<String, f64>,
+    ) -> Result<Arc<dyn Material>, MaterialError> {
+        if let Some(registration) = builtin_registrations().find(|r| r.name == name) {
+            let parameters = ParameterSet::resolve(name, registration.parameters, given)?;
+            return (registration.build)(&parameters);
+        }
+        if let Some(plugin) = self.plugins.iter().find(|p| p.name() == name) {
+            return plugin.create(given);
+        }
+        Err(MaterialError::UnknownMaterial {
+            name: name.to_string(),
+            valid: self.names(),
+        })
+    }
+}
+
+/// The built-in registrations collected by `inventory`.
+pub fn builtin_registrations() -> impl Iterator<Item = &'static MaterialRegistration> {
+    inventory::iter::<MaterialRegistration>.into_iter()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registry_holds_every_builtin() {
+        let names = MaterialLibrary::with_builtins().names();
+        assert_eq!(names, vec!["hill".to_string(), "neo-hookean".to_string()]);
+    }
+
+    #[test]
+    fn unknown_material_lists_valid_ones() {
+        let err = MaterialLibrary::with_builtins()
+            .create("neohooke", &BTreeMap::new())
+            .unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("'neohooke'") && text.contains("hill, neo-hookean"),
+            "{text}"
+        );
+    }
+}

@@ -1,0 +1,147 @@
+//! Small tensor helpers shared by the built-in materials: Voigt storage, the deviatoric
+//! projection, the isochoric/volumetric split of F, stress conversions, and the
+//! assembly of the consistent tangent ∂P/∂F from directional derivatives of the
+//! Kirchhoff stress.
+
+use nalgebra::{Matrix3, Vector6};
+
+use crate::material::{Tangent, VoigtStress};
+
+/// Voigt vector (xx, yy, zz, yz, xz, xy) of a symmetric matrix.
+#[inline]
+pub fn voigt_from_symmetric(m: &Matrix3<f64>) -> VoigtStress {
+    Vector6::new(
+        m[(0, 0)],
+        m[(1, 1)],
+        m[(2, 2)],
+        m[(1, 2)],
+        m[(0, 2)],
+        m[(0, 1)],
+    )
+}
+
+/// Symmetric matrix of a Voigt vector (xx, yy, zz, yz, xz, xy).
+#[inline]
+pub fn symmetric_from_voigt(v: &VoigtStress) -> Matrix3<f64> {
+    Matrix3::new(v[0], v[5], v[4], v[5], v[1], v[3], v[4], v[3], v[2])
+}
+
+/// Deviatoric part dev(A) = A − (tr A / 3) I.
+#[inline]
+pub fn deviatoric(a: &Matrix3<f64>) -> Matrix3<f64> {
+    a - Matrix3::from_diagonal_element(a.trace() / 3.0)
+}
+
+/// First Piola–Kirchhoff stress P = J σ F⁻ᵀ [Pa] from the Cauchy stress (Voigt).
+pub fn first_piola_from_cauchy(f: &Matrix3<f64>, cauchy: &VoigtStress) -> Matrix3<f64> {
+    let j = f.determinant();
+    let f_inv = f.try_inverse().unwrap_or_else(Matrix3::zeros);
+    j * symmetric_from_voigt(cauchy) * f_inv.transpose()
+}
+
+/// Von Mises equivalent stress √(3/2 s:s) of a Cauchy stress [Pa].
+pub fn von_mises(cauchy: &VoigtStress) -> f64 {
+    let s = deviatoric(&symmetric_from_voigt(cauchy));
+    (1.5 * s.component_mul(&s).sum()).sqrt()
+}
+
+/// The isochoric/volumetric split of a deformation gradient:
+/// J = det F, F̄ = J^(-1/3) F, B̄ = F̄ F̄ᵀ, Ī₁ = tr B̄.
+#[derive(Debug, Clone, Copy)]
+pub struct IsochoricSplit {
+    pub f: Matrix3<f64>,
+    pub jacobian: f64,
+    /// J^(-1/3)
+    pub j_minus_third: f64,
+    pub f_bar: Matrix3<f64>,
+    pub b_bar: Matrix3<f64>,
+    pub i1_bar: f64,
+}
+
+impl IsochoricSplit {
+    #[inline]
+    pub fn new(f: &Matrix3<f64>) -> Self {
+        let jacobian = f.determinant();
+        let j_minus_third = 1.0 / jacobian.cbrt();
+        let f_bar = f * j_minus_third;
+        let b_bar = f_bar * f_bar.transpose();
+        IsochoricSplit {
+            f: *f,
+            jacobian,
+            j_minus_third,
+            f_bar,
+            b_bar,
+            i1_bar: b_bar.trace(),
+        }
+    }
+}
+
+/// Consistent tangent 𝔸 = ∂P/∂F of a decoupled material whose Kirchhoff stress is
+/// τ = dev(M(F̄)) + J p(J) I, given
+/// - `tau`: τ at F [Pa];
+/// - `d_jp_dj`: d(J p)/dJ [Pa];
+/// - `d_m`: the directional derivative dM[dF̄] of the isochoric "stress-like" tensor M.
+///
+/// For each unit direction E = e_k ⊗ e_L of F:
+/// dJ = J F⁻¹_Lk, dF̄ = J^(-1/3) (E − ⅓ F⁻¹_Lk F), dτ = dev(dM[dF̄]) + d(Jp)/dJ dJ I,
+/// and since P = τ F⁻ᵀ: dP = dτ F⁻ᵀ − τ F⁻ᵀ Eᵀ F⁻ᵀ, which fills column k + 3L.
+pub fn decoupled_tangent(
+    split: &IsochoricSplit,
+    tau: &Matrix3<f64>,
+    d_jp_dj: f64,
+    mut d_m: impl FnMut(&Matrix3<f64>) -> Matrix3<f64>,
+) -> Tangent {
+    let f_inv = split.f.try_inverse().unwrap_or_else(Matrix3::zeros);
+    let f_inv_t = f_inv.transpose();
+    let tau_f_inv_t = tau * f_inv_t;
+    let mut tangent = Tangent::zeros();
+    for l in 0..3 {
+        for k in 0..3 {
+            let trace_finv_e = f_inv[(l, k)];
+            let mut e = Matrix3::zeros();
+            e[(k, l)] = 1.0;
+            let d_jacobian = split.jacobian * trace_finv_e;
+            let d_f_bar = (e - split.f * (trace_finv_e / 3.0)) * split.j_minus_third;
+            let d_tau = deviatoric(&d_m(&d_f_bar))
+                + Matrix3::from_diagonal_element(d_jp_dj * d_jacobian);
+            let d_p = d_tau * f_inv_t - tau_f_inv_t * e.transpose() * f_inv_t;
+            let column = k + 3 * l;
+            for row in 0..9 {
+                tangent[(row, column)] = d_p[row];
+            }
+        }
+    }
+    tangent
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn voigt_round_trip() {
+        let v = Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0);
+        let m = symmetric_from_voigt(&v);
+        assert_eq!(m, m.transpose());
+        assert_eq!(m[(1, 2)], 4.0);
+        assert_eq!(m[(0, 2)], 5.0);
+        assert_eq!(m[(0, 1)], 6.0);
+        assert_eq!(voigt_from_symmetric(&m), v);
+    }
+
+    #[test]
+    fn von_mises_of_uniaxial_stress_is_its_magnitude() {
+        let v = Vector6::new(-7.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        assert!((von_mises(&v) - 7.0).abs() < 1e-12);
+        let shear = Vector6::new(0.0, 0.0, 0.0, 0.0, 0.0, 2.0);
+        assert!((von_mises(&shear) - 2.0 * 3f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn split_is_volume_preserving() {
+        let f = Matrix3::new(1.2, 0.1, 0.0, 0.05, 0.9, 0.2, 0.0, -0.1, 1.1);
+        let s = IsochoricSplit::new(&f);
+        assert!((s.f_bar.determinant() - 1.0).abs() < 1e-14);
+        assert!((s.jacobian - f.determinant()).abs() < 1e-15);
+    }
+}
