@@ -64,7 +64,10 @@ impl fmt::Display for MaterialError {
                 valid.join(", ")
             ),
             MaterialError::MissingParameter { material, name } => {
-                write!(f, "material '{material}': parameter '{name}' has no default and must be given")
+                write!(
+                    f,
+                    "material '{material}': parameter '{name}' has no default and must be given"
+                )
             }
             MaterialError::ParameterOutOfRange {
                 material,
@@ -141,7 +144,10 @@ mod tests {
     #[test]
     fn suggestion_finds_close_names() {
         let valid = vec!["lambda_opt".to_string(), "sigma0".to_string()];
-        assert_eq!(suggestion("lamda_opt", &valid), " (did you mean 'lambda_opt'?)");
+        assert_eq!(
+            suggestion("lamda_opt", &valid),
+            " (did you mean 'lambda_opt'?)"
+        );
         assert_eq!(suggestion("zzz", &valid), "");
         assert_eq!(edit_distance("kitten", "sitting"), 3);
     }

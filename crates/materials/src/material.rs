@@ -190,7 +190,11 @@ fn check_block(
 ) -> Result<(), MaterialError> {
     let n = block.len();
     let shapes = [
-        ("deformation_gradient_old", n, block.deformation_gradient_old.len()),
+        (
+            "deformation_gradient_old",
+            n,
+            block.deformation_gradient_old.len(),
+        ),
         ("fiber_direction", n, block.fiber_direction.len()),
         ("state_old", n * nstate, block.state_old.len()),
         ("cauchy_stress", n, response.cauchy_stress.len()),
@@ -241,11 +245,17 @@ fn check_block(
         }
         let a = &block.fiber_direction[p];
         if a.iter().any(|x| !x.is_finite()) || a.norm() < 1e-12 {
-            return Err(invalid(p, format!("fiber direction {a:?} is not a direction")));
+            return Err(invalid(
+                p,
+                format!("fiber direction {a:?} is not a direction"),
+            ));
         }
         let state = &block.state_old[p * nstate..(p + 1) * nstate];
         if state.iter().any(|x| !x.is_finite()) {
-            return Err(invalid(p, format!("state variables {state:?} are not finite")));
+            return Err(invalid(
+                p,
+                format!("state variables {state:?} are not finite"),
+            ));
         }
     }
     Ok(())
@@ -274,7 +284,9 @@ fn check_response(material: &str, response: &PointResponse) -> Result<(), Materi
         return Err(non_finite(i / nstate.max(1), "state variable"));
     }
     if let Some(tangent) = &response.tangent
-        && let Some(p) = tangent.iter().position(|t| t.iter().any(|x| !x.is_finite()))
+        && let Some(p) = tangent
+            .iter()
+            .position(|t| t.iter().any(|x| !x.is_finite()))
     {
         return Err(non_finite(p, "tangent"));
     }

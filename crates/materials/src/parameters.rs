@@ -246,7 +246,9 @@ mod tests {
     fn unknown_parameter_lists_valid_ones() {
         let err = ParameterSet::resolve("m", &SPECS, &given(&[("n3", 1.0)])).unwrap_err();
         let text = err.to_string();
-        assert!(text.contains("'n3'") && text.contains("D, n2") && text.contains("did you mean 'n2'"));
+        assert!(
+            text.contains("'n3'") && text.contains("D, n2") && text.contains("did you mean 'n2'")
+        );
     }
 
     #[test]

@@ -102,8 +102,8 @@ pub fn decoupled_tangent(
             e[(k, l)] = 1.0;
             let d_jacobian = split.jacobian * trace_finv_e;
             let d_f_bar = (e - split.f * (trace_finv_e / 3.0)) * split.j_minus_third;
-            let d_tau = deviatoric(&d_m(&d_f_bar))
-                + Matrix3::from_diagonal_element(d_jp_dj * d_jacobian);
+            let d_tau =
+                deviatoric(&d_m(&d_f_bar)) + Matrix3::from_diagonal_element(d_jp_dj * d_jacobian);
             let d_p = d_tau * f_inv_t - tau_f_inv_t * e.transpose() * f_inv_t;
             let column = k + 3 * l;
             for row in 0..9 {

@@ -1,0 +1,347 @@
+//! The per-step equation of the series elastic element (SEE) and the contractile element
+//! (CE) in series (seed Eq. 14), solved for the SEE stretch increment Δλ_s.
+//!
+//! # Derivation (our own; the printed coefficients, Eqs. 15–23, have slips)
+//!
+//! Let Δλ_s = λ_s(t+Δt) − λ_s(t), σ_s = σ_SEE(t), and T = Δt λ̇_m^min (< 0).
+//!
+//! - SEE (Eq. 7): σ_SEE(t+Δt) = (σ_s + β) e^{αΔλ_s} − β.
+//! - Length relation (Eq. 19 read as in DESIGN.md): (1 + k) λ̄_f = λ_m + k λ_s at t and
+//!   t+Δt, so Δλ_m = w₁ − k Δλ_s with w₁ = (1 + k) λ̄_f(t+Δt) − λ_m(t) − k λ_s(t), and the
+//!   CE rate (backward Euler) is λ̇_m = (w₁ − k Δλ_s)/Δt, i.e. r = λ̇_m/λ̇_m^min =
+//!   (w₁ − k Δλ_s)/T.
+//! - CE (Eq. 9, σ₀ kept): σ_CE = a f_v(r) with a = σ₀ f_λ(λ̄_f(t)) f_t(t+Δt).
+//!
+//! Setting σ_SEE = σ_CE and multiplying by the (positive) denominator of f_v:
+//!
+//! *Shortening* (λ̇_m ≤ 0, r ≥ 0), f_v = (1 − r)/(1 + k_c r):
+//! [(σ_s+β) e^{αΔλ_s} − β](1 + k_c r) = a (1 − r), which is
+//! f(Δλ_s) = (w₂ + w₃Δλ_s) e^{αΔλ_s} − w₄Δλ_s − w₅ = 0 with
+//! - w₂ = (σ_s + β)(1 + k_c w₁/T)                      (Eq. 15)
+//! - w₃ = −(σ_s + β) k k_c / T                          (Eq. 16)
+//! - w₄ = k (a − β k_c)/T                               (Eq. 17, with σ₀ in a)
+//! - w₅ = β + a − (a − β k_c) w₁/T                       (Eq. 18, with σ₀ in a)
+//!
+//! *Lengthening* (λ̇_m > 0, r < 0), f_v = (1 − Q r)/(1 − K r) with K = k_c k_e and
+//! Q = d K + d − 1 (the same as d − (d−1)(1+r)/(1−K r)):
+//! [(σ_s+β) e^{αΔλ_s} − β](1 − K r) = a (1 − Q r), giving
+//! - w₂ = (σ_s + β)(1 − K w₁/T)                         (Eq. 20 with w₁, not α₁)
+//! - w₃ = (σ_s + β) k K / T                             (Eq. 21)
+//! - w₄ = k (β K + a Q)/T                               (Eq. 22, with σ₀ in a)
+//! - w₅ = β + a − (a Q + β K) w₁/T                       (Eq. 23: the printed bracket has
+//!   the opposite sign; 1 − d(1 + K) = −Q)
+//!
+//! # How it is solved
+//!
+//! We solve the equivalent, better scaled h(Δλ_s) = σ_SEE(Δλ_s) − σ_CE(Δλ_s) = 0 (f is
+//! h times a positive denominator, so the roots and signs agree; a test checks f = 0 at
+//! the solution). h is continuous and strictly increasing (σ_SEE increases with Δλ_s,
+//! f_v increases with λ̇_m, which decreases with Δλ_s), so the root is unique, and since
+//! −a/k_c < σ_CE ≤ a sup f_v, it lies in a bracket known in closed form:
+//! - upper: σ_SEE = a sup f_v;
+//! - lower: the smaller of Δλ_s = w₁/k (λ̇_m = 0; a shortening root lies above it) and
+//!   σ_SEE = 0 (a lengthening root has σ_SEE ≥ a ≥ 0).
+//!
+//! Newton's method runs inside the bracket, falling back to bisection whenever a step
+//! would leave it, so the result is always finite and within the bracket.
+//!
+//! Special cases: a = 0 (no activation) gives σ_SEE = 0, λ_s = 1; Δt = 0 gives
+//! Δλ_s = w₁/k (the CE cannot move in no time: the SEE takes the whole stretch).
+
+use super::functions::ForceVelocity;
+
+/// Inputs of the local equation at one point for one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalEquation {
+    /// SEE stiffness factor α [1].
+    pub alpha: f64,
+    /// SEE stress scale β [Pa].
+    pub beta: f64,
+    /// CE/SEE length ratio k [1].
+    pub k: f64,
+    /// Force–velocity constants.
+    pub force_velocity: ForceVelocity,
+    /// Step Δt [s].
+    pub dt: f64,
+    /// SEE stretch at the start of the step λ_s(t).
+    pub lambda_s: f64,
+    /// SEE stress at the start of the step σ_s(t) [Pa].
+    pub series_stress: f64,
+    /// w₁ = (1 + k) λ̄_f(t+Δt) − λ_m(t) − k λ_s(t) (Eq. 19).
+    pub w1: f64,
+    /// Isometric active stress a = σ₀ f_λ(λ̄_f(t)) f_t(t+Δt) [Pa] (≥ 0).
+    pub active_stress: f64,
+}
+
+/// The solved step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalSolution {
+    /// Δλ_s.
+    pub delta_lambda_s: f64,
+    /// σ_SEE(t+Δt) [Pa].
+    pub series_stress: f64,
+    /// dσ_SEE(t+Δt)/dλ̄_f(t+Δt) through the solve [Pa] (for the consistent tangent).
+    pub d_series_stress_d_fiber_stretch: f64,
+    /// Newton/bisection iterations used.
+    pub iterations: u32,
+}
+
+/// Which branch of f_v the coefficients belong to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// λ̇_m ≤ 0.
+    Shortening,
+    /// λ̇_m > 0.
+    Lengthening,
+}
+
+const MAX_ITERATIONS: u32 = 200;
+
+impl LocalEquation {
+    /// CE stretch rate λ̇_m = (w₁ − k Δλ_s)/Δt [1/s].
+    #[inline]
+    pub fn ce_stretch_rate(&self, delta_lambda_s: f64) -> f64 {
+        (self.w1 - self.k * delta_lambda_s) / self.dt
+    }
+
+    /// σ_SEE(t+Δt) = (σ_s + β) e^{αΔλ_s} − β [Pa].
+    #[inline]
+    pub fn series_stress_after(&self, delta_lambda_s: f64) -> f64 {
+        (self.series_stress + self.beta) * (self.alpha * delta_lambda_s).exp() - self.beta
+    }
+
+    /// h(Δλ_s) = σ_SEE − σ_CE and dh/dΔλ_s.
+    #[inline]
+    fn residual(&self, delta: f64) -> (f64, f64) {
+        let grown = (self.series_stress + self.beta) * (self.alpha * delta).exp();
+        let (fv, dfv) = self
+            .force_velocity
+            .value_and_slope(self.ce_stretch_rate(delta));
+        let h = grown - self.beta - self.active_stress * fv;
+        let dh = self.alpha * grown + self.active_stress * dfv * self.k / self.dt;
+        (h, dh)
+    }
+
+    /// Δλ_s at which σ_SEE(t+Δt) = `stress` (stress > −β).
+    #[inline]
+    fn delta_for_series_stress(&self, stress: f64) -> f64 {
+        ((stress + self.beta) / (self.series_stress + self.beta)).ln() / self.alpha
+    }
+
+    /// The printed form's coefficients (w₂, w₃, w₄, w₅) of f(Δλ_s) (Eq. 14) for `phase`.
+    pub fn coefficients(&self, phase: Phase) -> [f64; 4] {
+        let t = self.dt * self.force_velocity.lambda_dot_min;
+        let (sb, a, b, k, w1) = (
+            self.series_stress + self.beta,
+            self.active_stress,
+            self.beta,
+            self.k,
+            self.w1,
+        );
+        match phase {
+            Phase::Shortening => {
+                let kc = self.force_velocity.k_c;
+                [
+                    sb * (1.0 + kc * w1 / t),
+                    -sb * k * kc / t,
+                    k * (a - b * kc) / t,
+                    b + a - (a - b * kc) * w1 / t,
+                ]
+            }
+            Phase::Lengthening => {
+                let fv = &self.force_velocity;
+                let kk = fv.k_c * fv.k_e;
+                let q = fv.d * kk + fv.d - 1.0;
+                [
+                    sb * (1.0 - kk * w1 / t),
+                    sb * k * kk / t,
+                    k * (b * kk + a * q) / t,
+                    b + a - (a * q + b * kk) * w1 / t,
+                ]
+            }
+        }
+    }
+
+    /// f(Δλ_s) = (w₂ + w₃Δλ_s) e^{αΔλ_s} − w₄Δλ_s − w₅ in the printed form (Eq. 14).
+    pub fn printed_form(&self, delta: f64) -> f64 {
+        let phase = if self.ce_stretch_rate(delta) <= 0.0 {
+            Phase::Shortening
+        } else {
+            Phase::Lengthening
+        };
+        let [w2, w3, w4, w5] = self.coefficients(phase);
+        (w2 + w3 * delta) * (self.alpha * delta).exp() - w4 * delta - w5
+    }
+
+    /// Solve for Δλ_s (see the module documentation). Never returns NaN for finite
+    /// inputs with β > 0, α > 0, k > 0, a ≥ 0, σ_s > −β.
+    pub fn solve(&self) -> LocalSolution {
+        let a = self.active_stress;
+        if a <= 0.0 {
+            return LocalSolution {
+                delta_lambda_s: 1.0 - self.lambda_s,
+                series_stress: 0.0,
+                d_series_stress_d_fiber_stretch: 0.0,
+                iterations: 0,
+            };
+        }
+        if self.dt <= 0.0 {
+            let delta = self.w1 / self.k;
+            let stress = self.series_stress_after(delta);
+            return LocalSolution {
+                delta_lambda_s: delta,
+                series_stress: stress,
+                d_series_stress_d_fiber_stretch: self.alpha * (stress + self.beta) * (1.0 + self.k)
+                    / self.k,
+                iterations: 0,
+            };
+        }
+        let fv = &self.force_velocity;
+        let mut upper = self.delta_for_series_stress(a * fv.supremum());
+        let mut lower = (self.w1 / self.k).min(self.delta_for_series_stress(0.0));
+        let tolerance = 4.0 * f64::EPSILON * (1.0 + self.lambda_s.abs());
+        let mut delta = 0.0f64.clamp(lower, upper);
+        let mut iterations = 0;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            let (h, dh) = self.residual(delta);
+            if h == 0.0 {
+                break;
+            }
+            if h < 0.0 {
+                lower = delta;
+            } else {
+                upper = delta;
+            }
+            let newton = delta - h / dh;
+            let next = if newton > lower && newton < upper {
+                newton
+            } else {
+                0.5 * (lower + upper)
+            };
+            let step = (next - delta).abs();
+            delta = next;
+            if step <= tolerance || upper - lower <= tolerance {
+                break;
+            }
+        }
+        // Consistent derivative by the implicit function theorem:
+        // ∂h/∂λ̄_f = −a f_v'(λ̇_m) (1 + k)/Δt, so
+        // dΔλ_s/dλ̄_f = a f_v' (1 + k)/Δt / (∂h/∂Δλ_s).
+        let (_, dh) = self.residual(delta);
+        let (_, dfv) = fv.value_and_slope(self.ce_stretch_rate(delta));
+        let d_delta = a * dfv * (1.0 + self.k) / self.dt / dh;
+        let stress = self.series_stress_after(delta);
+        LocalSolution {
+            delta_lambda_s: delta,
+            series_stress: stress,
+            d_series_stress_d_fiber_stretch: self.alpha * (stress + self.beta) * d_delta,
+            iterations,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table_1(dt: f64, lambda_s: f64, w1: f64, active_stress: f64) -> LocalEquation {
+        let (alpha, beta) = (10.0, 1e3);
+        LocalEquation {
+            alpha,
+            beta,
+            k: 0.3,
+            force_velocity: ForceVelocity {
+                k_c: 4.0,
+                k_e: 5.0,
+                d: 1.45,
+                lambda_dot_min: -17.0,
+            },
+            dt,
+            lambda_s,
+            series_stress: super::super::functions::series_elastic(alpha, beta, lambda_s),
+            w1,
+            active_stress,
+        }
+    }
+
+    /// Shortening, lengthening and isometric steps across a range of states: the solved
+    /// increment makes σ_SEE equal σ_CE and zeroes the printed-form f of Eq. 14, up to
+    /// the round-off of Δλ_s (backward error: |h| ≤ 8ε(1 + λ_s)|dh/dΔλ_s|, which matters
+    /// where σ_CE is steep, near the fastest shortening with tiny steps).
+    #[test]
+    fn solution_balances_see_and_ce_stress() {
+        for &dt in &[1e-6, 1e-4, 1e-3, 1e-2] {
+            for &lambda_s in &[0.95, 1.0, 1.3, 1.65] {
+                for &w1 in &[-0.01, -1e-4, 0.0, 1e-4, 0.01] {
+                    for &a in &[1.0, 3.5e5, 7e5] {
+                        let eq = table_1(dt, lambda_s, w1, a);
+                        let s = eq.solve();
+                        assert!(s.delta_lambda_s.is_finite());
+                        let fv = eq
+                            .force_velocity
+                            .value(eq.ce_stretch_rate(s.delta_lambda_s));
+                        let ce = a * fv;
+                        let see = s.series_stress;
+                        let scale = see.abs().max(ce.abs()).max(eq.beta);
+                        let (_, slope) = eq.residual(s.delta_lambda_s);
+                        let round_off = 8.0 * f64::EPSILON * (1.0 + lambda_s) * slope;
+                        assert!(
+                            (see - ce).abs() <= 1e-10 * scale + round_off,
+                            "dt {dt} λs {lambda_s} w1 {w1} a {a}: SEE {see} CE {ce}"
+                        );
+                        let f = eq.printed_form(s.delta_lambda_s);
+                        let [w2, ..] = eq.coefficients(Phase::Shortening);
+                        assert!(
+                            f.abs() <= (1e-9 * scale.max(w2.abs()) + round_off) * (1.0 + eq.alpha),
+                            "printed form f = {f} at dt {dt} λs {lambda_s} w1 {w1} a {a}"
+                        );
+                        assert!(s.iterations < MAX_ITERATIONS);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn passive_step_returns_the_see_to_rest() {
+        let s = table_1(1e-3, 1.4, 0.02, 0.0).solve();
+        assert_eq!(s.series_stress, 0.0);
+        assert!((1.4 + s.delta_lambda_s - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn zero_step_puts_the_whole_stretch_into_the_see() {
+        let eq = table_1(0.0, 1.2, 0.003, 5e5);
+        let s = eq.solve();
+        assert!((s.delta_lambda_s - 0.01).abs() < 1e-15);
+    }
+
+    /// dσ_SEE/dλ̄_f from the implicit function theorem against a central difference of
+    /// the solve with respect to w₁ (dw₁/dλ̄_f = 1 + k).
+    #[test]
+    fn stress_derivative_matches_finite_difference() {
+        for &(w1, lambda_s) in &[(0.004, 1.5), (-0.004, 1.6), (0.0005, 1.1)] {
+            let eq = table_1(1e-3, lambda_s, w1, 6e5);
+            let analytic = eq.solve().d_series_stress_d_fiber_stretch;
+            let h = 1e-7;
+            let plus = LocalEquation {
+                w1: w1 + h * 1.3,
+                ..eq
+            }
+            .solve()
+            .series_stress;
+            let minus = LocalEquation {
+                w1: w1 - h * 1.3,
+                ..eq
+            }
+            .solve()
+            .series_stress;
+            let fd = (plus - minus) / (2.0 * h);
+            assert!(
+                (fd - analytic).abs() < 1e-5 * analytic.abs(),
+                "w1 {w1}: analytic {analytic} fd {fd}"
+            );
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! Parameters of the Hill-type active muscle: Table 1 of the seed paper (SI units) plus
+//! the activation constants of Eqs. 12–13.
+
+use super::functions::{Activation, ForceVelocity};
+use crate::MaterialError;
+use crate::parameters::{Bound, ParameterSet, ParameterSpec};
+
+use Bound::{Exclusive, Inclusive, Unbounded};
+
+/// Declared parameters, defaults from Table 1 (activation: passive unless n2 > 0).
+pub const HILL_PARAMETERS: [ParameterSpec; 18] = [
+    ParameterSpec::new(
+        "D",
+        "1/Pa",
+        5.0e-9,
+        Exclusive(0.0),
+        Unbounded,
+        "compressibility: W_V = (J - 1)^2 / D",
+    ),
+    ParameterSpec::new(
+        "b",
+        "1",
+        15.0,
+        Exclusive(0.0),
+        Unbounded,
+        "matrix exponent: W_I = c [exp(b (I1bar - 3)) - 1]",
+    ),
+    ParameterSpec::new(
+        "c",
+        "Pa",
+        3.79e2,
+        Inclusive(0.0),
+        Unbounded,
+        "matrix stress scale",
+    ),
+    ParameterSpec::new(
+        "A",
+        "1",
+        4.0,
+        Inclusive(0.0),
+        Unbounded,
+        "parallel element: sigma_PE = sigma0 A (lambda_f - 1)^2",
+    ),
+    ParameterSpec::new(
+        "sigma0",
+        "Pa",
+        7.0e5,
+        Inclusive(0.0),
+        Unbounded,
+        "maximum isometric stress",
+    ),
+    ParameterSpec::new(
+        "alpha",
+        "1",
+        10.0,
+        Exclusive(0.0),
+        Unbounded,
+        "series element exponent: sigma_SEE = beta [exp(alpha (lambda_s - 1)) - 1]",
+    ),
+    ParameterSpec::new(
+        "beta",
+        "Pa",
+        1.0e3,
+        Exclusive(0.0),
+        Unbounded,
+        "series element stress scale",
+    ),
+    ParameterSpec::new(
+        "lambda_opt",
+        "1",
+        1.05,
+        Exclusive(0.0),
+        Unbounded,
+        "optimal fiber stretch of the force-length relation",
+    ),
+    ParameterSpec::new(
+        "k",
+        "1",
+        0.3,
+        Exclusive(0.0),
+        Unbounded,
+        "CE/SEE length ratio: (1 + k) lambda_f = lambda_m + k lambda_s",
+    ),
+    ParameterSpec::new(
+        "k_c",
+        "1",
+        4.0,
+        Exclusive(0.0),
+        Unbounded,
+        "force-velocity curvature, shortening",
+    ),
+    ParameterSpec::new(
+        "k_e",
+        "1",
+        5.0,
+        Exclusive(0.0),
+        Unbounded,
+        "force-velocity curvature factor, lengthening",
+    ),
+    ParameterSpec::new(
+        "d",
+        "1",
+        1.45,
+        Inclusive(1.0),
+        Unbounded,
+        "force-velocity eccentric offset",
+    ),
+    ParameterSpec::new(
+        "lambda_dot_min",
+        "1/s",
+        -17.0,
+        Unbounded,
+        Exclusive(0.0),
+        "minimum (fastest shortening) CE stretch rate",
+    ),
+    ParameterSpec::new(
+        "S",
+        "1/s",
+        50.0,
+        Exclusive(0.0),
+        Unbounded,
+        "activation rate",
+    ),
+    ParameterSpec::new(
+        "n1",
+        "1",
+        0.0,
+        Inclusive(0.0),
+        Inclusive(1.0),
+        "activation level before t0 and after t1",
+    ),
+    ParameterSpec::new(
+        "n2",
+        "1",
+        0.0,
+        Inclusive(0.0),
+        Inclusive(1.0),
+        "activation level between t0 and t1",
+    ),
+    ParameterSpec::new("t0", "s", 0.0, Unbounded, Unbounded, "activation time"),
+    ParameterSpec::new(
+        "t1",
+        "s",
+        f64::INFINITY,
+        Unbounded,
+        Unbounded,
+        "deactivation time (inf: never)",
+    )
+    .allowing_infinity(),
+];
+
+/// Typed Hill-model parameters (SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HillParameters {
+    /// Compressibility D [1/Pa].
+    pub compressibility: f64,
+    /// Matrix exponent b [1].
+    pub matrix_exponent: f64,
+    /// Matrix stress scale c [Pa].
+    pub matrix_stress: f64,
+    /// Parallel element factor A [1].
+    pub parallel_factor: f64,
+    /// Maximum isometric stress σ₀ [Pa].
+    pub max_isometric_stress: f64,
+    /// SEE exponent α [1].
+    pub see_exponent: f64,
+    /// SEE stress scale β [Pa].
+    pub see_stress: f64,
+    /// Optimal fiber stretch λ_opt [1].
+    pub optimal_stretch: f64,
+    /// CE/SEE length ratio k [1].
+    pub length_ratio: f64,
+    /// Force–velocity constants.
+    pub force_velocity: ForceVelocity,
+    /// Activation constants.
+    pub activation: Activation,
+}
+
+impl HillParameters {
+    /// Build from checked values; t1 < t0 is an error.
+    pub fn from_set(p: &ParameterSet) -> Result<Self, MaterialError> {
+        let activation = Activation {
+            n1: p.get("n1")?,
+            n2: p.get("n2")?,
+            t0: p.get("t0")?,
+            t1: p.get("t1")?,
+            rate: p.get("S")?,
+        };
+        if activation.t1 < activation.t0 {
+            return Err(MaterialError::InconsistentParameters {
+                material: p.material().to_string(),
+                reason: format!(
+                    "deactivation time t1 = {} s is before activation time t0 = {} s",
+                    activation.t1, activation.t0
+                ),
+            });
+        }
+        Ok(HillParameters {
+            compressibility: p.get("D")?,
+            matrix_exponent: p.get("b")?,
+            matrix_stress: p.get("c")?,
+            parallel_factor: p.get("A")?,
+            max_isometric_stress: p.get("sigma0")?,
+            see_exponent: p.get("alpha")?,
+            see_stress: p.get("beta")?,
+            optimal_stretch: p.get("lambda_opt")?,
+            length_ratio: p.get("k")?,
+            force_velocity: ForceVelocity {
+                k_c: p.get("k_c")?,
+                k_e: p.get("k_e")?,
+                d: p.get("d")?,
+                lambda_dot_min: p.get("lambda_dot_min")?,
+            },
+            activation,
+        })
+    }
+}
+
+impl Default for HillParameters {
+    /// Table 1 with no activation.
+    fn default() -> Self {
+        let set = ParameterSet::resolve("hill", &HILL_PARAMETERS, &Default::default())
+            .expect("the declared defaults are within their ranges");
+        HillParameters::from_set(&set).expect("the declared defaults are consistent")
+    }
+}

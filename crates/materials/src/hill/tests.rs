@@ -1,0 +1,285 @@
+//! Tests of the Hill muscle at material points against independent references: the
+//! strain energy (passive), the element laws (active), rotations, and finite differences.
+
+use std::collections::BTreeMap;
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+use super::functions::force_length;
+use super::*;
+use crate::VoigtStress;
+use crate::material::{Tangent, finite_difference_tangent};
+use crate::tensor::{first_piola_from_cauchy, symmetric_from_voigt};
+
+fn hill(params: &[(&str, f64)]) -> Arc<dyn Material> {
+    let given: BTreeMap<String, f64> = params.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    crate::MaterialLibrary::with_builtins()
+        .create("hill", &given)
+        .unwrap()
+}
+
+/// One point, one step: (Cauchy stress, new state, tangent).
+fn step(
+    material: &dyn Material,
+    time: f64,
+    dt: f64,
+    f_old: Matrix3<f64>,
+    f_new: Matrix3<f64>,
+    fiber: Vector3<f64>,
+    state: &[f64],
+) -> (VoigtStress, Vec<f64>, Tangent) {
+    let block = PointBlock {
+        time,
+        dt,
+        deformation_gradient_old: &[f_old],
+        deformation_gradient_new: &[f_new],
+        fiber_direction: &[fiber],
+        state_old: state,
+    };
+    let mut stress = [VoigtStress::zeros()];
+    let mut state_new = vec![0.0; state.len()];
+    let mut tangent = [Tangent::zeros()];
+    let mut response = PointResponse {
+        cauchy_stress: &mut stress,
+        state_new: &mut state_new,
+        tangent: Some(&mut tangent),
+    };
+    material.update(&block, &mut response).unwrap();
+    (stress[0], state_new, tangent[0])
+}
+
+/// A general deformation gradient with det ≠ 1.
+fn general_f(scale: f64) -> Matrix3<f64> {
+    Matrix3::new(1.08, 0.05, -0.02, 0.03, 0.97, 0.04, -0.01, 0.02, 0.99) * scale
+}
+
+fn fiber() -> Vector3<f64> {
+    Vector3::new(0.9, 0.3, 0.2).normalize()
+}
+
+/// Passive strain energy written independently of the stress code:
+/// W = c [exp(b (Ī₁ − 3)) − 1] + σ₀ A (λ̄_f − 1)³/3 [λ̄_f > 1] + (J − 1)²/D.
+fn passive_energy(p: &HillParameters, f: &Matrix3<f64>, a0: &Vector3<f64>) -> f64 {
+    let j = f.determinant();
+    let c = f.transpose() * f;
+    let i1_bar = c.trace() * j.powf(-2.0 / 3.0);
+    let fiber_stretch = (a0.dot(&(c * a0)) * j.powf(-2.0 / 3.0)).sqrt();
+    let pe = if fiber_stretch > 1.0 {
+        p.max_isometric_stress * p.parallel_factor * (fiber_stretch - 1.0).powi(3) / 3.0
+    } else {
+        0.0
+    };
+    p.matrix_stress * ((p.matrix_exponent * (i1_bar - 3.0)).exp() - 1.0)
+        + pe
+        + (j - 1.0).powi(2) / p.compressibility
+}
+
+#[test]
+fn reference_state_is_stress_free() {
+    let m = hill(&[]);
+    let (stress, state, _) = step(
+        m.as_ref(),
+        1.0,
+        1e-3,
+        Matrix3::identity(),
+        Matrix3::identity(),
+        fiber(),
+        &[1.0, 1.0, 0.0],
+    );
+    assert!(stress.amax() < 1e-9, "{stress:?}");
+    assert_eq!(state, vec![1.0, 1.0, 0.0]);
+}
+
+/// With zero activation the stress is the derivative of the passive strain energy:
+/// P = ∂W/∂F, by central differences of W (independent of the stress formulas).
+#[test]
+fn zero_activation_gives_the_hyperelastic_passive_response() {
+    let params = [("D", 1e-6)];
+    let m = hill(&params);
+    let p = HillParameters {
+        compressibility: 1e-6,
+        ..HillParameters::default()
+    };
+    let a0 = fiber();
+    for scale in [1.0, 1.01, 0.995] {
+        for stretch_along_fiber in [0.9, 1.0, 1.15] {
+            let f = general_f(scale)
+                * (Matrix3::identity() + a0 * a0.transpose() * (stretch_along_fiber - 1.0));
+            let (stress, state, _) = step(m.as_ref(), 0.7, 1e-3, f, f, a0, &[1.0, 1.0, 0.0]);
+            assert_eq!(state[STATE_SEE_STRETCH], 1.0);
+            let piola = first_piola_from_cauchy(&f, &stress);
+            let h = 1e-6;
+            for entry in 0..9 {
+                let (mut plus, mut minus) = (f, f);
+                plus[entry] += h;
+                minus[entry] -= h;
+                let dw =
+                    (passive_energy(&p, &plus, &a0) - passive_energy(&p, &minus, &a0)) / (2.0 * h);
+                assert!(
+                    (dw - piola[entry]).abs() < 1e-6 * piola.amax() + 1e-3,
+                    "entry {entry}: dW/dF {dw} vs P {}",
+                    piola[entry]
+                );
+            }
+        }
+    }
+}
+
+/// Isometric hold at λ = 1 with full activation (DESIGN.md): the SEE stretches until
+/// σ_SEE = σ₀ f_λ(1/λ_opt), i.e. λ_s = 1 + ln(1 + σ₀ f_λ/β)/α ≈ 1.654, λ_m ≈ 0.804.
+#[test]
+fn isometric_hold_reaches_the_see_ce_equilibrium() {
+    let m = hill(&[("n2", 1.0)]);
+    let a0 = Vector3::x();
+    let f = Matrix3::identity();
+    let mut state = vec![1.0, 1.0, 0.0];
+    let dt = 1e-3;
+    for i in 1..=500 {
+        let (_, next, _) = step(m.as_ref(), i as f64 * dt, dt, f, f, a0, &state);
+        state = next;
+    }
+    let p = HillParameters::default();
+    let plateau = p.max_isometric_stress * force_length(1.0 / 1.05);
+    let lambda_s = 1.0 + (1.0 + plateau / p.see_stress).ln() / p.see_exponent;
+    assert!(
+        (state[STATE_SEE_STRETCH] - lambda_s).abs() < 1e-3,
+        "{state:?}"
+    );
+    assert!((lambda_s - 1.654).abs() < 1e-3);
+    assert!((state[STATE_CE_STRETCH] - (1.3 - 0.3 * lambda_s)).abs() < 1e-3);
+    assert!((state[STATE_SEE_STRESS] - plateau).abs() < 1e-3 * plateau);
+}
+
+/// After the local solve the SEE stress equals the CE stress σ₀ f_λ f_v f_t, each factor
+/// evaluated from its own definition at the step's values.
+#[test]
+fn see_stress_equals_ce_stress_after_each_step() {
+    let m = hill(&[("n2", 0.8), ("t0", 0.1)]);
+    let p = HillParameters {
+        activation: functions::Activation {
+            n2: 0.8,
+            t0: 0.1,
+            ..HillParameters::default().activation
+        },
+        ..HillParameters::default()
+    };
+    let a0 = fiber();
+    let dt = 2e-3;
+    let mut state = vec![1.0, 1.0, 0.0];
+    let mut f_old = Matrix3::identity();
+    let mut checked = 0;
+    for i in 1..=400 {
+        let t = i as f64 * dt;
+        // Hold, stretch, then shorten: both branches of f_v.
+        let s = 1.0 + 0.1 * (t - 0.2).max(0.0) - 0.25 * (t - 0.5).max(0.0);
+        let f_new = Matrix3::identity() + a0 * a0.transpose() * (s - 1.0);
+        let (_, next, _) = step(m.as_ref(), t, dt, f_old, f_new, a0, &state);
+        let fiber_stretch_old = (f_old * a0).norm() / f_old.determinant().cbrt();
+        let rate = (next[STATE_CE_STRETCH] - state[STATE_CE_STRETCH]) / dt;
+        let ce = p.max_isometric_stress
+            * force_length(fiber_stretch_old / p.optimal_stretch)
+            * p.force_velocity.value(rate)
+            * p.activation.level(t);
+        let see = functions::series_elastic(p.see_exponent, p.see_stress, next[STATE_SEE_STRETCH]);
+        if t > 0.1 {
+            assert!(
+                (see - ce).abs() < 1e-8 * see.abs().max(p.see_stress),
+                "t {t}: {see} {ce}"
+            );
+            assert!((next[STATE_SEE_STRESS] - see).abs() < 1e-8 * see.abs().max(1.0));
+            checked += 1;
+        }
+        state = next;
+        f_old = f_new;
+    }
+    assert!(checked > 300);
+}
+
+/// Rotating F (old and new) by R rotates the Cauchy stress: σ(RF) = R σ(F) Rᵀ, and leaves
+/// the state unchanged. Checked in an active, lengthening state.
+#[test]
+fn stress_is_objective() {
+    let m = hill(&[("n2", 1.0)]);
+    let a0 = fiber();
+    let f_old = general_f(1.002);
+    let f_new = f_old * (Matrix3::identity() + a0 * a0.transpose() * 0.004);
+    let state = [0.85, 1.55, functions::series_elastic(10.0, 1e3, 1.55)];
+    let (stress, state_new, _) = step(m.as_ref(), 0.6, 1e-3, f_old, f_new, a0, &state);
+    for axis in [Vector3::new(1.0, 2.0, 3.0), Vector3::new(-0.3, 0.1, 0.9)] {
+        let r = Rotation3::new(axis.normalize() * 1.1).into_inner();
+        let (rotated, state_rot, _) = step(m.as_ref(), 0.6, 1e-3, r * f_old, r * f_new, a0, &state);
+        let expected = r * symmetric_from_voigt(&stress) * r.transpose();
+        let diff = (symmetric_from_voigt(&rotated) - expected).amax();
+        assert!(diff < 1e-9 * stress.amax(), "rotation error {diff}");
+        for (a, b) in state_new.iter().zip(&state_rot) {
+            assert!((a - b).abs() < 1e-12);
+        }
+    }
+}
+
+/// The analytic consistent tangent against central differences of P = J σ F⁻ᵀ
+/// (relative 1e-5), in passive, shortening and lengthening active states, for the
+/// paper's D and for a compressible D where the deviatoric part dominates.
+#[test]
+fn tangent_matches_finite_differences() {
+    let a0 = fiber();
+    for d in [5e-9, 1e-5] {
+        let m = hill(&[("n2", 1.0), ("D", d)]);
+        let f_old = general_f(1.0005);
+        for (fiber_increment, lambda_s) in [(0.003, 1.5), (-0.003, 1.6), (0.01, 1.0)] {
+            let f_new = f_old * (Matrix3::identity() + a0 * a0.transpose() * fiber_increment);
+            let state = [
+                1.3 * 1.03 - 0.3 * lambda_s,
+                lambda_s,
+                functions::series_elastic(10.0, 1e3, lambda_s),
+            ];
+            let (_, _, analytic) = step(m.as_ref(), 0.6, 1e-3, f_old, f_new, a0, &state);
+            let block = PointBlock {
+                time: 0.6,
+                dt: 1e-3,
+                deformation_gradient_old: &[f_old],
+                deformation_gradient_new: &[f_new],
+                fiber_direction: &[a0],
+                state_old: &state,
+            };
+            let mut fd = [Tangent::zeros()];
+            finite_difference_tangent(m.as_ref(), &block, &mut fd).unwrap();
+            let error = (analytic - fd[0]).norm() / analytic.norm();
+            assert!(
+                error < 1e-5,
+                "D {d}, Δ {fiber_increment}: relative error {error:e}"
+            );
+            // Hyperelastic in λ̄_f within a step: major symmetry ∂P_iJ/∂F_kL = ∂P_kL/∂F_iJ.
+            let asymmetry = (analytic - analytic.transpose()).norm() / analytic.norm();
+            assert!(asymmetry < 1e-12, "asymmetry {asymmetry:e}");
+        }
+    }
+}
+
+#[test]
+fn inconsistent_activation_times_are_rejected() {
+    let err = crate::MaterialLibrary::with_builtins()
+        .create(
+            "hill",
+            &[("t0".to_string(), 1.0), ("t1".to_string(), 0.5)].into(),
+        )
+        .unwrap_err();
+    assert!(err.to_string().contains("t1"), "{err}");
+}
+
+#[test]
+fn table_1_defaults() {
+    let p = HillParameters::default();
+    assert_eq!(p.compressibility, 5e-9);
+    assert_eq!((p.matrix_exponent, p.matrix_stress), (15.0, 379.0));
+    assert_eq!((p.parallel_factor, p.max_isometric_stress), (4.0, 7e5));
+    assert_eq!((p.see_exponent, p.see_stress), (10.0, 1e3));
+    assert_eq!((p.optimal_stretch, p.length_ratio), (1.05, 0.3));
+    let fv = p.force_velocity;
+    assert_eq!(
+        (fv.k_c, fv.k_e, fv.d, fv.lambda_dot_min),
+        (4.0, 5.0, 1.45, -17.0)
+    );
+    assert_eq!(p.activation.rate, 50.0);
+    assert_eq!(p.activation.n2, 0.0);
+}
