@@ -1,1 +1,105 @@
-fn main(){}
+//! The `musclefem` command. It composes the library crates; no physics lives here.
+//!
+//! - `musclefem materials`: list every material with its parameters;
+//! - `musclefem point`: one material point in uniaxial stress along the fiber
+//!   (CSV + PNG of the stress history);
+//! - `musclefem demo` (also `musclefem` alone): the passive and active Hill muscle on the
+//!   default protocol.
+
+// Every crate that registers materials with `inventory` must be named here, or the
+// linker may drop its registrations (see DESIGN.md, "Two traps").
+use musclefem_contact as _;
+use musclefem_core as _;
+use musclefem_fibers as _;
+use musclefem_io as _;
+use musclefem_materials as _;
+
+mod commands;
+mod summary;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+/// musclefem: 3D simulation of active skeletal muscle (today: the material library and a
+/// material-point driver). Without a subcommand, runs `demo`.
+#[derive(Debug, Parser)]
+#[command(name = "musclefem", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// List every material (built-in and plugins) with its parameters, units, defaults
+    /// and valid ranges.
+    Materials(MaterialsArgs),
+    /// Drive one material point in uniaxial stress along its fiber through a stretch
+    /// history; write the history as CSV and a PNG chart.
+    Point(PointArgs),
+    /// The default job: the Hill muscle, passive and active (n2 = 1 after a 0.5 s
+    /// isometric hold), stretched to 1.2; writes CSV and PNG files.
+    Demo(DemoArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct MaterialsArgs {
+    /// Load a material plugin (shared library) first; repeatable.
+    #[arg(long = "plugin", value_name = "PATH")]
+    pub plugins: Vec<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct PointArgs {
+    /// Material name (see `musclefem materials`).
+    #[arg(long, value_name = "NAME")]
+    pub material: String,
+    /// Material parameter, overriding its default; repeatable (e.g. --param n2=1).
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    pub params: Vec<String>,
+    /// Load a material plugin (shared library) first; repeatable.
+    #[arg(long = "plugin", value_name = "PATH")]
+    pub plugins: Vec<PathBuf>,
+    /// Piecewise-linear fiber stretch history TIME:STRETCH,... in s and 1
+    /// (e.g. 0:1,0.5:1,2.5:1.2).
+    #[arg(long, value_name = "T:L,T:L,...")]
+    pub stretch: String,
+    /// Time step [s].
+    #[arg(long, value_name = "SECONDS", default_value_t = 1e-3)]
+    pub dt: f64,
+    /// Output CSV file; the chart goes next to it with the extension .png.
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: PathBuf,
+    /// Do not write the PNG chart.
+    #[arg(long)]
+    pub no_plot: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/demo")]
+    pub out: PathBuf,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Materials(args)) => commands::materials(&args),
+        Some(Command::Point(args)) => commands::point(&args),
+        Some(Command::Demo(args)) => commands::demo(&args),
+        None => commands::demo(&DemoArgs {
+            out: PathBuf::from("out/demo"),
+        }),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // `{:#}` prints the whole chain: what was being done, then each cause.
+            eprintln!("error: {error:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

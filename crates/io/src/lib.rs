@@ -1,0 +1,20 @@
+//! # musclefem-io
+//!
+//! Input and output of musclefem:
+//!
+//! - [`atomic`]: files that appear complete or not at all (temporary file in the same
+//!   directory, fsync, rename), so an interrupted run never leaves a half-written output;
+//! - [`csv`]: CSV tables at full `f64` precision, among them the material-point driver's
+//!   history ([`csv::write_uniaxial_csv`]);
+//! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
+//!   labels with units, legend) drawn with a bundled font, so no system font is needed.
+//!
+//! Scene files and mesh import come with later issues.
+
+pub mod atomic;
+pub mod csv;
+pub mod error;
+pub mod plot;
+
+pub use atomic::{PendingFile, write_atomically};
+pub use error::OutputError;
