@@ -71,6 +71,26 @@ impl ForceVelocity {
         self.value_and_slope(lambda_dot_m).0
     }
 
+    /// The CE stretch rate at which f_v = `value`, the inverse of f_v, for
+    /// inf f_v < value < sup f_v (values outside are clamped just inside):
+    /// - value ≤ 1 (shortening): r = (1 − y)/(1 + k_c y);
+    /// - value > 1 (lengthening): r = (y − 1)/(y K − Q), K = k_c k_e, Q = d K + d − 1;
+    ///
+    /// and λ̇_m = r λ̇_m^min [1/s].
+    #[inline]
+    pub fn rate_for_value(&self, value: f64) -> f64 {
+        let margin = 1e-9;
+        let y = value.clamp(self.infimum() + margin, self.supremum() - margin);
+        let r = if y <= 1.0 {
+            (1.0 - y) / (1.0 + self.k_c * y)
+        } else {
+            let kk = self.k_c * self.k_e;
+            let q = self.d * kk + self.d - 1.0;
+            (y - 1.0) / (y * kk - q)
+        };
+        r * self.lambda_dot_min
+    }
+
     /// sup f_v = d + (d − 1)/(k_c k_e), the limit of fast lengthening.
     #[inline]
     pub fn supremum(&self) -> f64 {
@@ -203,6 +223,18 @@ mod tests {
                 let fd = (TABLE_1.value(rate + h) - TABLE_1.value(rate - h)) / (2.0 * h);
                 assert!((fd - slope).abs() < 1e-6 * slope.abs().max(1e-3), "{rate}");
             }
+        }
+    }
+
+    #[test]
+    fn rate_for_value_inverts_force_velocity() {
+        for i in -300..=300 {
+            let rate = i as f64 * 0.1;
+            let back = TABLE_1.rate_for_value(TABLE_1.value(rate));
+            assert!(
+                (back - rate).abs() < 1e-9 * (1.0 + rate.abs()),
+                "{rate} -> {back}"
+            );
         }
     }
 

@@ -80,8 +80,6 @@ pub struct LocalSolution {
     pub delta_lambda_s: f64,
     /// σ_SEE(t+Δt) [Pa].
     pub series_stress: f64,
-    /// dσ_SEE(t+Δt)/dλ̄_f(t+Δt) through the solve [Pa] (for the consistent tangent).
-    pub d_series_stress_d_fiber_stretch: f64,
     /// Newton/bisection iterations used.
     pub iterations: u32,
 }
@@ -181,62 +179,75 @@ impl LocalEquation {
             return LocalSolution {
                 delta_lambda_s: 1.0 - self.lambda_s,
                 series_stress: 0.0,
-                d_series_stress_d_fiber_stretch: 0.0,
                 iterations: 0,
             };
         }
         if self.dt <= 0.0 {
             let delta = self.w1 / self.k;
-            let stress = self.series_stress_after(delta);
             return LocalSolution {
                 delta_lambda_s: delta,
-                series_stress: stress,
-                d_series_stress_d_fiber_stretch: self.alpha * (stress + self.beta) * (1.0 + self.k)
-                    / self.k,
+                series_stress: self.series_stress_after(delta),
                 iterations: 0,
             };
         }
         let fv = &self.force_velocity;
         let mut upper = self.delta_for_series_stress(a * fv.supremum());
         let mut lower = (self.w1 / self.k).min(self.delta_for_series_stress(0.0));
-        let tolerance = 4.0 * f64::EPSILON * (1.0 + self.lambda_s.abs());
-        let mut delta = 0.0f64.clamp(lower, upper);
+        // Newton converges quadratically away from the kink of f_v at λ̇_m = 0: once a
+        // correction is this small, the corrected iterate is exact to round-off.
+        let step_tolerance = 1e-13 * (1.0 + self.lambda_s.abs());
+        // Initial guess: the CE rate that keeps σ_CE at the current SEE stress, exact in the
+        // limit of small steps (where σ_SEE barely changes), so one or two Newton steps do.
+        let steady_rate = fv.rate_for_value(self.series_stress / a);
+        let mut delta = ((self.w1 - steady_rate * self.dt) / self.k).clamp(lower, upper);
         let mut iterations = 0;
         while iterations < MAX_ITERATIONS {
             iterations += 1;
             let (h, dh) = self.residual(delta);
-            if h == 0.0 {
-                break;
-            }
             if h < 0.0 {
                 lower = delta;
             } else {
                 upper = delta;
             }
             let newton = delta - h / dh;
-            let next = if newton > lower && newton < upper {
+            let next = if newton >= lower && newton <= upper {
                 newton
             } else {
                 0.5 * (lower + upper)
             };
             let step = (next - delta).abs();
             delta = next;
-            if step <= tolerance || upper - lower <= tolerance {
+            if step <= step_tolerance || upper - lower <= step_tolerance {
                 break;
             }
         }
-        // Consistent derivative by the implicit function theorem:
-        // ∂h/∂λ̄_f = −a f_v'(λ̇_m) (1 + k)/Δt, so
-        // dΔλ_s/dλ̄_f = a f_v' (1 + k)/Δt / (∂h/∂Δλ_s).
-        let (_, dh) = self.residual(delta);
-        let (_, dfv) = fv.value_and_slope(self.ce_stretch_rate(delta));
-        let d_delta = a * dfv * (1.0 + self.k) / self.dt / dh;
-        let stress = self.series_stress_after(delta);
         LocalSolution {
             delta_lambda_s: delta,
-            series_stress: stress,
-            d_series_stress_d_fiber_stretch: self.alpha * (stress + self.beta) * d_delta,
+            series_stress: self.series_stress_after(delta),
             iterations,
+        }
+    }
+
+    /// dσ_SEE(t+Δt)/dλ̄_f(t+Δt) through the solve [Pa], for the consistent tangent.
+    ///
+    /// Implicit function theorem on h(Δλ_s; λ̄_f) = 0 with ∂w₁/∂λ̄_f = 1 + k:
+    /// ∂h/∂λ̄_f = −a f_v'(λ̇_m)(1 + k)/Δt, so dΔλ_s/dλ̄_f = a f_v' (1 + k)/Δt / (∂h/∂Δλ_s),
+    /// and dσ_SEE/dλ̄_f = α (σ_SEE + β) dΔλ_s/dλ̄_f. For Δt = 0, dΔλ_s/dλ̄_f = (1 + k)/k;
+    /// without activation, 0.
+    pub fn series_stress_sensitivity(&self, solution: &LocalSolution) -> f64 {
+        let a = self.active_stress;
+        let grown = solution.series_stress + self.beta;
+        if a <= 0.0 {
+            0.0
+        } else if self.dt <= 0.0 {
+            self.alpha * grown * (1.0 + self.k) / self.k
+        } else {
+            let delta = solution.delta_lambda_s;
+            let (_, dh) = self.residual(delta);
+            let (_, dfv) = self
+                .force_velocity
+                .value_and_slope(self.ce_stretch_rate(delta));
+            self.alpha * grown * a * dfv * (1.0 + self.k) / self.dt / dh
         }
     }
 }
@@ -323,7 +334,7 @@ mod tests {
     fn stress_derivative_matches_finite_difference() {
         for &(w1, lambda_s) in &[(0.004, 1.5), (-0.004, 1.6), (0.0005, 1.1)] {
             let eq = table_1(1e-3, lambda_s, w1, 6e5);
-            let analytic = eq.solve().d_series_stress_d_fiber_stretch;
+            let analytic = eq.series_stress_sensitivity(&eq.solve());
             let h = 1e-7;
             let plus = LocalEquation {
                 w1: w1 + h * 1.3,

@@ -88,8 +88,9 @@ struct PointSolution {
     w1_matrix: f64,
     /// σ_PE + σ_SEE [Pa].
     fiber_stress: f64,
-    /// d(σ_PE + σ_SEE)/dλ̄_f, consistent with the local solve [Pa].
-    d_fiber_stress: f64,
+    /// dσ_PE/dλ̄_f [Pa].
+    d_pe_stress: f64,
+    local_equation: LocalEquation,
     local: LocalSolution,
 }
 
@@ -123,7 +124,7 @@ impl HillMuscle {
             * p.activation.level(time);
         let (lambda_m, lambda_s) = (state[STATE_CE_STRETCH], state[STATE_SEE_STRETCH]);
         let k = p.length_ratio;
-        let local = LocalEquation {
+        let local_equation = LocalEquation {
             alpha: p.see_exponent,
             beta: p.see_stress,
             k,
@@ -133,8 +134,8 @@ impl HillMuscle {
             series_stress: state[STATE_SEE_STRESS],
             w1: (1.0 + k) * fiber_stretch - lambda_m - k * lambda_s,
             active_stress,
-        }
-        .solve();
+        };
+        let local = local_equation.solve();
 
         let (pe_stress, d_pe_stress) =
             parallel_element(p.max_isometric_stress, p.parallel_factor, fiber_stretch);
@@ -147,7 +148,8 @@ impl HillMuscle {
                 * p.matrix_stress
                 * (p.matrix_exponent * (split.i1_bar - 3.0)).exp(),
             fiber_stress: pe_stress + local.series_stress,
-            d_fiber_stress: d_pe_stress + local.d_series_stress_d_fiber_stretch,
+            d_pe_stress,
+            local_equation,
             local,
         }
     }
@@ -219,7 +221,8 @@ impl HillMuscle {
         let w11 = p.matrix_exponent * s.w1_matrix;
         let stretch = s.fiber_stretch;
         let ratio = s.fiber_stress / stretch;
-        let d_ratio_d_stretch = (s.d_fiber_stress * stretch - s.fiber_stress) / (stretch * stretch);
+        let d_fiber_stress = s.d_pe_stress + s.local_equation.series_stress_sensitivity(&s.local);
+        let d_ratio_d_stretch = (d_fiber_stress * stretch - s.fiber_stress) / (stretch * stretch);
         decoupled_tangent(&s.split, tau, d_jp_dj, |d_f_bar| {
             let half = d_f_bar * s.split.f_bar.transpose();
             let d_b_bar = half + half.transpose();
