@@ -228,13 +228,16 @@ fn check_block(
         });
     }
     for p in 0..n {
-        for (label, f) in [
-            ("F_old", &block.deformation_gradient_old[p]),
-            ("F_new", &block.deformation_gradient_new[p]),
-        ] {
-            if f.iter().any(|x| !x.is_finite()) {
-                return Err(invalid(p, format!("{label} has a non-finite entry: {f:?}")));
-            }
+        let f_old = &block.deformation_gradient_old[p];
+        let f_new = &block.deformation_gradient_new[p];
+        let fiber = &block.fiber_direction[p];
+        let state = &block.state_old[p * nstate..(p + 1) * nstate];
+        // One sum catches any NaN or ±∞ cheaply; the slow path below names the culprit.
+        let sum = f_old.sum() + f_new.sum() + fiber.sum() + state.iter().sum::<f64>();
+        if !sum.is_finite() {
+            check_finite_point(p, f_old, f_new, fiber, state)?;
+        }
+        for (label, f) in [("F_old", f_old), ("F_new", f_new)] {
             let det = f.determinant();
             if det <= 0.0 {
                 return Err(invalid(
@@ -243,20 +246,47 @@ fn check_block(
                 ));
             }
         }
-        let a = &block.fiber_direction[p];
-        if a.iter().any(|x| !x.is_finite()) || a.norm() < 1e-12 {
+        if fiber.norm_squared() < 1e-24 {
             return Err(invalid(
                 p,
-                format!("fiber direction {a:?} is not a direction"),
+                format!("fiber direction {fiber:?} is not a direction"),
             ));
         }
-        let state = &block.state_old[p * nstate..(p + 1) * nstate];
-        if state.iter().any(|x| !x.is_finite()) {
-            return Err(invalid(
-                p,
-                format!("state variables {state:?} are not finite"),
-            ));
-        }
+    }
+    Ok(())
+}
+
+fn check_finite_point(
+    p: usize,
+    f_old: &Matrix3<f64>,
+    f_new: &Matrix3<f64>,
+    fiber: &Vector3<f64>,
+    state: &[f64],
+) -> Result<(), MaterialError> {
+    let finite = |values: &[f64]| values.iter().all(|x| x.is_finite());
+    if !finite(f_old.as_slice()) {
+        return Err(invalid(
+            p,
+            format!("F_old has a non-finite entry: {f_old:?}"),
+        ));
+    }
+    if !finite(f_new.as_slice()) {
+        return Err(invalid(
+            p,
+            format!("F_new has a non-finite entry: {f_new:?}"),
+        ));
+    }
+    if !finite(fiber.as_slice()) {
+        return Err(invalid(
+            p,
+            format!("fiber direction {fiber:?} is not finite"),
+        ));
+    }
+    if !finite(state) {
+        return Err(invalid(
+            p,
+            format!("state variables {state:?} are not finite"),
+        ));
     }
     Ok(())
 }
@@ -271,15 +301,19 @@ fn check_response(material: &str, response: &PointResponse) -> Result<(), Materi
         point,
         what,
     };
-    if let Some(p) = response
-        .cauchy_stress
-        .iter()
-        .position(|s| s.iter().any(|x| !x.is_finite()))
+    let stress_sum: f64 = response.cauchy_stress.iter().map(|s| s.sum()).sum();
+    if !stress_sum.is_finite()
+        && let Some(p) = response
+            .cauchy_stress
+            .iter()
+            .position(|s| s.iter().any(|x| !x.is_finite()))
     {
         return Err(non_finite(p, "Cauchy stress"));
     }
     let n = response.cauchy_stress.len();
-    if let Some(i) = response.state_new.iter().position(|x| !x.is_finite()) {
+    if !response.state_new.iter().sum::<f64>().is_finite()
+        && let Some(i) = response.state_new.iter().position(|x| !x.is_finite())
+    {
         let nstate = response.state_new.len() / n.max(1);
         return Err(non_finite(i / nstate.max(1), "state variable"));
     }

@@ -10,12 +10,11 @@
 
 use std::sync::Arc;
 
-use nalgebra::Matrix3;
-
+use crate::material::VoigtStress;
 use crate::material::{PointBlock, PointResponse, StateVariable};
 use crate::parameters::{Bound, ParameterSet, ParameterSpec};
 use crate::registry::MaterialRegistration;
-use crate::tensor::{IsochoricSplit, decoupled_tangent, deviatoric, voigt_from_symmetric};
+use crate::tensor::{IsochoricSplit, decoupled_tangent, deviatoric_voigt, symmetric_from_voigt};
 use crate::{Material, MaterialError};
 
 /// Declared parameters: shear modulus and compressibility.
@@ -48,13 +47,16 @@ pub struct NeoHookean {
 }
 
 impl NeoHookean {
-    /// Cauchy stress σ = (μ/J) dev(B̄) + 2(J − 1)/D I.
+    /// Cauchy stress σ = (μ/J) dev(B̄) + 2(J − 1)/D I (Voigt order).
     #[inline]
-    pub fn cauchy_stress(&self, split: &IsochoricSplit) -> Matrix3<f64> {
+    pub fn cauchy_stress(&self, split: &IsochoricSplit) -> VoigtStress {
         let j = split.jacobian;
         let pressure = 2.0 * (j - 1.0) / self.compressibility;
-        deviatoric(&split.b_bar) * (self.shear_modulus / j)
-            + Matrix3::from_diagonal_element(pressure)
+        let mut stress = deviatoric_voigt(&split.b_bar) * (self.shear_modulus / j);
+        for i in 0..3 {
+            stress[i] += pressure;
+        }
+        stress
     }
 
     fn from_parameters(p: &ParameterSet) -> Result<Arc<dyn Material>, MaterialError> {
@@ -84,16 +86,17 @@ impl Material for NeoHookean {
             .iter()
             .zip(response.cauchy_stress.iter_mut())
         {
-            *stress = voigt_from_symmetric(&self.cauchy_stress(&IsochoricSplit::new(f)));
+            *stress = self.cauchy_stress(&IsochoricSplit::new(f));
         }
         if let Some(tangents) = response.tangent.as_deref_mut() {
             for (f, tangent) in block.deformation_gradient_new.iter().zip(tangents) {
                 let split = IsochoricSplit::new(f);
-                let tau = self.cauchy_stress(&split) * split.jacobian;
+                let tau = symmetric_from_voigt(&self.cauchy_stress(&split)) * split.jacobian;
+                let f_bar_t = split.f_bar().transpose();
                 // τ = dev(μ B̄) + J p I with J p = 2 J (J − 1)/D: d(Jp)/dJ = 2(2J − 1)/D.
                 let d_jp_dj = 2.0 * (2.0 * split.jacobian - 1.0) / self.compressibility;
                 *tangent = decoupled_tangent(&split, &tau, d_jp_dj, |d_f_bar| {
-                    let d_b_bar = d_f_bar * split.f_bar.transpose();
+                    let d_b_bar = d_f_bar * f_bar_t;
                     (d_b_bar + d_b_bar.transpose()) * self.shear_modulus
                 });
             }

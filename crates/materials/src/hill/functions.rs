@@ -50,18 +50,33 @@ impl ForceVelocity {
     /// lengthening. At λ̇_m = 0 the derivative of the shortening branch is returned.
     #[inline]
     pub fn value_and_slope(&self, lambda_dot_m: f64) -> (f64, f64) {
-        let r = lambda_dot_m / self.lambda_dot_min;
+        let (value, slope, _) = self.value_slope_curvature(lambda_dot_m);
+        (value, slope)
+    }
+
+    /// f_v, df_v/dλ̇_m [s] and d²f_v/dλ̇_m² [s²]. With D the branch's denominator:
+    /// - shortening, D = 1 + k_c r: f_v' = −(1 + k_c)/D² · dr, f_v'' = 2 k_c (1 + k_c)/D³ · dr²;
+    /// - lengthening, D = 1 − K r, K = k_c k_e: f_v' = −(d − 1)(1 + K)/D² · dr,
+    ///   f_v'' = −2 K (d − 1)(1 + K)/D³ · dr²;
+    ///
+    /// where dr = dr/dλ̇_m = 1/λ̇_m^min.
+    #[inline]
+    pub fn value_slope_curvature(&self, lambda_dot_m: f64) -> (f64, f64, f64) {
+        let dr = 1.0 / self.lambda_dot_min;
+        let r = lambda_dot_m * dr;
         if lambda_dot_m <= 0.0 {
-            let denominator = 1.0 + self.k_c * r;
-            let value = (1.0 - r) / denominator;
-            let d_value_dr = -(1.0 + self.k_c) / (denominator * denominator);
-            (value, d_value_dr / self.lambda_dot_min)
+            let inverse = 1.0 / (1.0 + self.k_c * r);
+            let value = (1.0 - r) * inverse;
+            let slope = -(1.0 + self.k_c) * inverse * inverse;
+            let curvature = -2.0 * self.k_c * slope * inverse;
+            (value, slope * dr, curvature * dr * dr)
         } else {
             let kk = self.k_c * self.k_e;
-            let denominator = 1.0 - kk * r;
-            let value = self.d - (self.d - 1.0) * (1.0 + r) / denominator;
-            let d_value_dr = -(self.d - 1.0) * (1.0 + kk) / (denominator * denominator);
-            (value, d_value_dr / self.lambda_dot_min)
+            let inverse = 1.0 / (1.0 - kk * r);
+            let value = self.d - (self.d - 1.0) * (1.0 + r) * inverse;
+            let slope = -(self.d - 1.0) * (1.0 + kk) * inverse * inverse;
+            let curvature = 2.0 * kk * slope * inverse;
+            (value, slope * dr, curvature * dr * dr)
         }
     }
 
@@ -217,11 +232,20 @@ mod tests {
             assert!(slope >= 0.0);
             assert!(value > TABLE_1.infimum() && value < TABLE_1.supremum());
             previous = value;
-            // Slope against a central difference away from the kink at 0.
+            // Slope and curvature against central differences away from the kink at 0.
             if rate.abs() > 1e-3 {
                 let h = 1e-6;
                 let fd = (TABLE_1.value(rate + h) - TABLE_1.value(rate - h)) / (2.0 * h);
                 assert!((fd - slope).abs() < 1e-6 * slope.abs().max(1e-3), "{rate}");
+                let (_, curvature) = (0, TABLE_1.value_slope_curvature(rate).2);
+                let h = 1e-4;
+                let fd2 = (TABLE_1.value_and_slope(rate + h).1
+                    - TABLE_1.value_and_slope(rate - h).1)
+                    / (2.0 * h);
+                assert!(
+                    (fd2 - curvature).abs() < 1e-5 * curvature.abs().max(1e-4),
+                    "{rate}"
+                );
             }
         }
     }

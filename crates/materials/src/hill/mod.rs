@@ -42,8 +42,11 @@ use nalgebra::{Matrix3, Vector3};
 use crate::material::{PointBlock, PointResponse, StateVariable};
 use crate::parameters::ParameterSet;
 use crate::registry::MaterialRegistration;
-use crate::tensor::{IsochoricSplit, decoupled_tangent, deviatoric, voigt_from_symmetric};
-use crate::{Material, MaterialError};
+use crate::tensor::{
+    IsochoricSplit, decoupled_tangent, deviatoric_voigt, inverse_cube_root, outer_voigt,
+    symmetric_from_voigt,
+};
+use crate::{Material, MaterialError, VoigtStress};
 use functions::{force_length, parallel_element};
 use local_solve::{LocalEquation, LocalSolution};
 pub use parameters::{HILL_PARAMETERS, HillParameters};
@@ -105,7 +108,7 @@ impl HillMuscle {
     #[inline]
     fn solve_point(
         &self,
-        time: f64,
+        activation: f64,
         dt: f64,
         f_old: &Matrix3<f64>,
         f_new: &Matrix3<f64>,
@@ -115,13 +118,13 @@ impl HillMuscle {
         let p = &self.parameters;
         let a0 = fiber_direction / fiber_direction.norm();
         let split = IsochoricSplit::new(f_new);
-        let fiber = split.f_bar * a0;
+        let fiber = (f_new * a0) * split.j_minus_third;
         let fiber_stretch = fiber.norm();
-        let fiber_stretch_old = (f_old * a0).norm() / f_old.determinant().cbrt();
+        let fiber_stretch_old = (f_old * a0).norm() * inverse_cube_root(f_old.determinant());
 
         let active_stress = p.max_isometric_stress
             * force_length(fiber_stretch_old / p.optimal_stretch)
-            * p.activation.level(time);
+            * activation;
         let (lambda_m, lambda_s) = (state[STATE_CE_STRETCH], state[STATE_SEE_STRETCH]);
         let k = p.length_ratio;
         let local_equation = LocalEquation {
@@ -154,14 +157,18 @@ impl HillMuscle {
         }
     }
 
-    /// Kirchhoff stress τ = J σ = dev[2 W₁ B̄ + (σ_f/λ̄_f) g ⊗ g] + J p I.
+    /// Kirchhoff stress τ = J σ = dev[2 W₁ B̄ + (σ_f/λ̄_f) g ⊗ g] + J p I (Voigt order).
     #[inline]
-    fn kirchhoff_stress(&self, s: &PointSolution) -> Matrix3<f64> {
+    fn kirchhoff_stress(&self, s: &PointSolution) -> VoigtStress {
         let j = s.split.jacobian;
         let jp = j * 2.0 * (j - 1.0) / self.parameters.compressibility;
         let m = s.split.b_bar * (2.0 * s.w1_matrix)
-            + s.fiber * s.fiber.transpose() * (s.fiber_stress / s.fiber_stretch);
-        deviatoric(&m) + Matrix3::from_diagonal_element(jp)
+            + outer_voigt(&s.fiber) * (s.fiber_stress / s.fiber_stretch);
+        let mut tau = deviatoric_voigt(&m);
+        for i in 0..3 {
+            tau[i] += jp;
+        }
+        tau
     }
 }
 
@@ -180,11 +187,13 @@ impl Material for HillMuscle {
         response: &mut PointResponse,
     ) -> Result<(), MaterialError> {
         let k = self.parameters.length_ratio;
+        // f_t(t + Δt) is the same for every point of the block.
+        let activation = self.parameters.activation.level(block.time);
         let mut tangents = response.tangent.as_deref_mut();
         for point in 0..block.len() {
             let state = &block.state_old[point * STATE_COUNT..(point + 1) * STATE_COUNT];
             let s = self.solve_point(
-                block.time,
+                activation,
                 block.dt,
                 &block.deformation_gradient_old[point],
                 &block.deformation_gradient_new[point],
@@ -192,7 +201,7 @@ impl Material for HillMuscle {
                 state,
             );
             let tau = self.kirchhoff_stress(&s);
-            response.cauchy_stress[point] = voigt_from_symmetric(&(tau / s.split.jacobian));
+            response.cauchy_stress[point] = tau * (1.0 / s.split.jacobian);
 
             let lambda_s = state[STATE_SEE_STRETCH] + s.local.delta_lambda_s;
             let out = &mut response.state_new[point * STATE_COUNT..(point + 1) * STATE_COUNT];
@@ -201,7 +210,7 @@ impl Material for HillMuscle {
             out[STATE_SEE_STRESS] = s.local.series_stress;
 
             if let Some(tangents) = tangents.as_deref_mut() {
-                tangents[point] = self.tangent(&s, &tau);
+                tangents[point] = self.tangent(&s, &symmetric_from_voigt(&tau));
             }
         }
         Ok(())
@@ -223,13 +232,15 @@ impl HillMuscle {
         let ratio = s.fiber_stress / stretch;
         let d_fiber_stress = s.d_pe_stress + s.local_equation.series_stress_sensitivity(&s.local);
         let d_ratio_d_stretch = (d_fiber_stress * stretch - s.fiber_stress) / (stretch * stretch);
+        let f_bar = s.split.f_bar();
+        let b_bar = symmetric_from_voigt(&s.split.b_bar);
         decoupled_tangent(&s.split, tau, d_jp_dj, |d_f_bar| {
-            let half = d_f_bar * s.split.f_bar.transpose();
+            let half = d_f_bar * f_bar.transpose();
             let d_b_bar = half + half.transpose();
             let d_fiber = d_f_bar * a0;
             let d_stretch = s.fiber.dot(&d_fiber) / stretch;
             let d_g_g = d_fiber * s.fiber.transpose();
-            s.split.b_bar * (2.0 * w11 * d_b_bar.trace())
+            b_bar * (2.0 * w11 * d_b_bar.trace())
                 + d_b_bar * (2.0 * s.w1_matrix)
                 + s.fiber * s.fiber.transpose() * (d_ratio_d_stretch * d_stretch)
                 + (d_g_g + d_g_g.transpose()) * ratio
