@@ -1,0 +1,6 @@
+//! # musclefem-contact
+//!
+//! Surfaces of parts, parry3d broadphase, closest-point narrowphase, penalty contact and
+//! cohesive traction-separation with damage.
+//!
+//! Not built yet: the interactions issue fills this crate. It exposes no API until then.
