@@ -1,5 +1,6 @@
 //! Material point updates per second, neo-Hookean and Hill, on one thread and on two
-//! (rayon, blocks of 4096 points). Run with `cargo bench -p musclefem-materials`.
+//! (rayon, blocks of 1024 points, small enough that the checks and the update of a block
+//! share the L2 cache). Run with `cargo bench -p musclefem-materials`.
 //! Criterion reports the throughput in elements (= material points) per second.
 
 use std::collections::BTreeMap;
@@ -12,7 +13,7 @@ use rayon::prelude::*;
 use musclefem_materials::{Material, MaterialLibrary, PointBlock, PointResponse, VoigtStress};
 
 const POINTS: usize = 1 << 16;
-const BATCH: usize = 4096;
+const BATCH: usize = 1024;
 
 /// Inputs of a realistic step: F near identity with stretch along the fiber, an active
 /// Hill state in the middle of an isometric-to-lengthening transition.

@@ -88,7 +88,6 @@ pub struct LocalSolution {
 #[derive(Debug, Clone, Copy)]
 struct Evaluation {
     grown: f64,
-    rate: f64,
     h: f64,
     slope: f64,
     curvature: f64,
@@ -142,7 +141,6 @@ impl LocalEquation {
         let a = self.active_stress;
         Evaluation {
             grown,
-            rate,
             h: grown - self.beta - a * fv,
             slope: self.alpha * grown + a * dfv * k_over_dt,
             curvature: self.alpha * self.alpha * grown - a * d2fv * k_over_dt * k_over_dt,
@@ -261,9 +259,10 @@ impl LocalEquation {
             // positive): Newton C N²; Halley (c² + |h'''/(6h')|) N³ ≤ 2 C² |N|³, since for the
             // exponential and for both rational branches of f_v |h'''/(6h')| ≤ C² (the CE part
             // has f_v''' / f_v' = 1.5 (f_v'' / f_v')² exactly); we use 4 C² |N|³.
-            let newton_step = -e.h / e.slope;
-            let c = 0.5 * e.curvature / e.slope;
-            let c_bound = 0.5 * e.curvature_bound / e.slope;
+            let half_inverse_slope = 0.5 / e.slope;
+            let newton_step = -2.0 * e.h * half_inverse_slope;
+            let c = e.curvature * half_inverse_slope;
+            let c_bound = e.curvature_bound * half_inverse_slope;
             let (step, predicted_error) = if (c * newton_step).abs() < 0.5 {
                 let step = newton_step / (1.0 + c * newton_step);
                 (step, 4.0 * c_bound * c_bound * step.abs().powi(3))
@@ -278,7 +277,9 @@ impl LocalEquation {
                 // Stop when the predicted error is below the tolerance (and the step stays on
                 // one branch of f_v, where those estimates hold), taking the step with the SEE
                 // stress from a series of the exponential (|α step| ≤ 1e-6: truncation < 1e-25).
-                let same_branch = (self.ce_stretch_rate(candidate) <= 0.0) == (e.rate <= 0.0);
+                // sign(λ̇_m) = sign(w₁ − k Δλ_s), Δt > 0.
+                let same_branch =
+                    (self.w1 - self.k * candidate <= 0.0) == (self.w1 - self.k * delta <= 0.0);
                 let x = self.alpha * step;
                 let converged =
                     (same_branch && predicted_error <= tolerance) || step.abs() <= tolerance;
