@@ -183,7 +183,9 @@ pub fn finite_difference_tangent(
     Ok(())
 }
 
-fn check_block(
+/// Array lengths of a block and its response agree with its point count (`nstate` state
+/// variables per point; a tangent, if asked for, per point).
+pub(crate) fn check_shapes(
     nstate: usize,
     block: &PointBlock,
     response: &PointResponse,
@@ -199,25 +201,32 @@ fn check_block(
         ("state_old", n * nstate, block.state_old.len()),
         ("cauchy_stress", n, response.cauchy_stress.len()),
         ("state_new", n * nstate, response.state_new.len()),
+        (
+            "tangent",
+            n,
+            response.tangent.as_ref().map_or(n, |t| t.len()),
+        ),
     ];
-    for (what, expected, found) in shapes {
-        if expected != found {
-            return Err(MaterialError::BlockShape {
-                what,
-                expected,
-                found,
-            });
-        }
-    }
-    if let Some(tangent) = &response.tangent
-        && tangent.len() != n
+    match shapes
+        .into_iter()
+        .find(|(_, expected, found)| expected != found)
     {
-        return Err(MaterialError::BlockShape {
-            what: "tangent",
-            expected: n,
-            found: tangent.len(),
-        });
+        Some((what, expected, found)) => Err(MaterialError::BlockShape {
+            what,
+            expected,
+            found,
+        }),
+        None => Ok(()),
     }
+}
+
+fn check_block(
+    nstate: usize,
+    block: &PointBlock,
+    response: &PointResponse,
+) -> Result<(), MaterialError> {
+    check_shapes(nstate, block, response)?;
+    let n = block.len();
     if !block.dt.is_finite() || block.dt < 0.0 || !block.time.is_finite() {
         return Err(MaterialError::InvalidPoint {
             point: 0,

@@ -7,7 +7,9 @@ use std::sync::Arc;
 use libloading::Library;
 
 use super::abi;
-use crate::material::{PointBlock, PointResponse, StateVariable, finite_difference_tangent};
+use crate::material::{
+    PointBlock, PointResponse, StateVariable, check_shapes, finite_difference_tangent,
+};
 use crate::{Material, MaterialError};
 
 /// Size of the buffer the plugin may write an error message into.
@@ -62,7 +64,7 @@ impl Material for PluginMaterial {
         response: &mut PointResponse,
     ) -> Result<(), MaterialError> {
         let n = block.len();
-        check_lengths(n, self.states.len(), block, response)?;
+        check_shapes(self.states.len(), block, response)?;
         if n == 0 {
             return Ok(());
         }
@@ -96,7 +98,7 @@ impl Material for PluginMaterial {
         let mut message = [0u8; MESSAGE_CAPACITY];
         // SAFETY: `update` comes from a table that passed the load checks and its library
         // is kept loaded by `self._library`. Every array pointer covers the lengths the
-        // header promises: `check_lengths` above made sure all slices hold n points
+        // header promises: `check_shapes` above made sure all slices hold n points
         // (n·state_count state values; `compute` is a safe public method, so it does not
         // rely on `<dyn Material>::update` having checked); the nalgebra element types are
         // exactly 9, 3, 6 and 81 contiguous f64 (asserted in abi.rs); outputs are borrowed
@@ -133,41 +135,5 @@ impl Material for PluginMaterial {
             response.tangent = Some(tangent);
         }
         Ok(())
-    }
-}
-
-/// The array lengths the plugin will rely on (n points, `nstate` values per point).
-fn check_lengths(
-    n: usize,
-    nstate: usize,
-    block: &PointBlock,
-    response: &PointResponse,
-) -> Result<(), MaterialError> {
-    let shapes = [
-        (
-            "deformation_gradient_old",
-            n,
-            block.deformation_gradient_old.len(),
-        ),
-        ("fiber_direction", n, block.fiber_direction.len()),
-        ("state_old", n * nstate, block.state_old.len()),
-        ("cauchy_stress", n, response.cauchy_stress.len()),
-        ("state_new", n * nstate, response.state_new.len()),
-        (
-            "tangent",
-            n,
-            response.tangent.as_ref().map_or(n, |t| t.len()),
-        ),
-    ];
-    match shapes
-        .into_iter()
-        .find(|(_, expected, found)| expected != found)
-    {
-        Some((what, expected, found)) => Err(MaterialError::BlockShape {
-            what,
-            expected,
-            found,
-        }),
-        None => Ok(()),
     }
 }
