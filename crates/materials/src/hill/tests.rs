@@ -246,6 +246,7 @@ fn tangent_matches_finite_differences() {
             let mut fd = [Tangent::zeros()];
             finite_difference_tangent(m.as_ref(), &block, &mut fd).unwrap();
             let error = (analytic - fd[0]).norm() / analytic.norm();
+            println!("D {d:e}, fiber increment {fiber_increment}: relative error {error:e}");
             assert!(
                 error < 1e-5,
                 "D {d}, Δ {fiber_increment}: relative error {error:e}"
