@@ -13,10 +13,6 @@ use musclefem_materials::{MaterialLibrary, MaterialOrigin, ParameterSpec};
 use crate::summary::summarize;
 use crate::{DemoArgs, MaterialsArgs, PointArgs};
 
-/// Largest number of driver steps a run may take (rows are kept in memory and written
-/// as CSV: 2e6 rows are ~200 MB of text).
-const MAX_STEPS: f64 = 2e6;
-
 /// The built-in materials plus the plugins at `paths`, loaded in order.
 fn library_with_plugins(paths: &[PathBuf]) -> Result<MaterialLibrary> {
     let mut library = MaterialLibrary::with_builtins();
@@ -143,15 +139,6 @@ fn run_point(
     if !(dt.is_finite() && dt > 0.0) {
         bail!(
             "--dt {}: the time step must be a positive number of seconds",
-            format_number(dt)
-        );
-    }
-    let (t0, t1) = history.time_span();
-    let steps = (t1 - t0) / dt;
-    if steps > MAX_STEPS {
-        bail!(
-            "--dt {}: t = {t0} .. {t1} s would take {steps:.0} steps, more than the limit \
-             of {MAX_STEPS:.0}; use a larger --dt",
             format_number(dt)
         );
     }

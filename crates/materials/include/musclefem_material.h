@@ -105,7 +105,8 @@ typedef struct {
     const double* deformation_gradient_old; /* 9 per point, column-major: F(i,J) at
                                                 [9p + i + 3J], start of the step, det > 0 */
     const double* deformation_gradient_new; /* 9 per point, end of the step, det > 0 */
-    const double* fiber_direction; /* 3 per point, unit, reference configuration */
+    const double* fiber_direction; /* 3 per point, reference configuration; non-zero but
+                                      not necessarily unit: normalise it if you need to */
     const double* state_old;       /* state_count per point, start of the step */
     double* state_new;             /* state_count per point, end of the step: write all */
     double* cauchy_stress;         /* 6 per point, Voigt (xx, yy, zz, yz, xz, xy) [Pa]:

@@ -32,6 +32,8 @@ pub enum MaterialError {
         expected: usize,
         found: usize,
     },
+    /// The step's time or Δt is not finite, or Δt < 0.
+    InvalidStep { time: f64, dt: f64 },
     /// A point's input is unusable: non-finite entries, det F ≤ 0, zero fiber direction, bad dt.
     InvalidPoint { point: usize, reason: String },
     /// The material returned a non-finite stress, state or tangent at a point.
@@ -88,6 +90,10 @@ impl fmt::Display for MaterialError {
             } => write!(
                 f,
                 "point block: '{what}' has {found} entries, expected {expected}"
+            ),
+            MaterialError::InvalidStep { time, dt } => write!(
+                f,
+                "step ending at time {time} s with dt = {dt} s: both must be finite and dt >= 0"
             ),
             MaterialError::InvalidPoint { point, reason } => {
                 write!(f, "material point {point}: {reason}")

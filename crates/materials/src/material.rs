@@ -39,7 +39,8 @@ pub struct PointBlock<'a> {
     pub deformation_gradient_old: &'a [Matrix3<f64>],
     /// Deformation gradient at the end of the step, one per point.
     pub deformation_gradient_new: &'a [Matrix3<f64>],
-    /// Unit fiber direction in the reference configuration, one per point.
+    /// Fiber direction in the reference configuration, one per point: any non-zero vector
+    /// (the host does not normalise it; a material that needs a unit vector normalises).
     pub fiber_direction: &'a [Vector3<f64>],
     /// State variables at the start of the step, `state_count()` per point.
     pub state_old: &'a [f64],
@@ -90,7 +91,9 @@ pub trait Material: Send + Sync + std::fmt::Debug {
         true
     }
 
-    /// Update a block whose shapes and inputs were already checked by `update`.
+    /// Update a block whose shapes and inputs were already checked by `update`. Fills the
+    /// tangent, when asked for, only if `provides_tangent()`; `update` completes it
+    /// otherwise.
     fn compute(
         &self,
         block: &PointBlock,
@@ -134,7 +137,8 @@ impl dyn Material + '_ {
     }
 }
 
-/// Relative perturbation of F used by [`finite_difference_tangent`].
+/// Perturbation of each entry of F (dimensionless, absolute) used by
+/// [`finite_difference_tangent`].
 pub const TANGENT_PERTURBATION: f64 = 1e-6;
 
 /// ∂P/∂F by central differences of P = J σ F⁻ᵀ, perturbing each entry of F_new by
@@ -147,6 +151,12 @@ pub fn finite_difference_tangent(
     tangent: &mut [Tangent],
 ) -> Result<(), MaterialError> {
     let nstate = material.state_count();
+    let n = block.len();
+    first_mismatch(
+        input_shapes(nstate, block)
+            .into_iter()
+            .chain([("tangent", n, tangent.len())]),
+    )?;
     let mut state = vec![0.0; nstate];
     let mut stress = [VoigtStress::zeros()];
     let h = TANGENT_PERTURBATION;
@@ -183,15 +193,10 @@ pub fn finite_difference_tangent(
     Ok(())
 }
 
-/// Array lengths of a block and its response agree with its point count (`nstate` state
-/// variables per point; a tangent, if asked for, per point).
-pub(crate) fn check_shapes(
-    nstate: usize,
-    block: &PointBlock,
-    response: &PointResponse,
-) -> Result<(), MaterialError> {
+/// (name, expected length, length) of a block's input arrays.
+fn input_shapes(nstate: usize, block: &PointBlock) -> [(&'static str, usize, usize); 3] {
     let n = block.len();
-    let shapes = [
+    [
         (
             "deformation_gradient_old",
             n,
@@ -199,14 +204,13 @@ pub(crate) fn check_shapes(
         ),
         ("fiber_direction", n, block.fiber_direction.len()),
         ("state_old", n * nstate, block.state_old.len()),
-        ("cauchy_stress", n, response.cauchy_stress.len()),
-        ("state_new", n * nstate, response.state_new.len()),
-        (
-            "tangent",
-            n,
-            response.tangent.as_ref().map_or(n, |t| t.len()),
-        ),
-    ];
+    ]
+}
+
+/// The first array whose length is not the expected one, as an error.
+fn first_mismatch(
+    shapes: impl IntoIterator<Item = (&'static str, usize, usize)>,
+) -> Result<(), MaterialError> {
     match shapes
         .into_iter()
         .find(|(_, expected, found)| expected != found)
@@ -220,6 +224,25 @@ pub(crate) fn check_shapes(
     }
 }
 
+/// Array lengths of a block and its response agree with its point count (`nstate` state
+/// variables per point; a tangent, if asked for, per point).
+pub(crate) fn check_shapes(
+    nstate: usize,
+    block: &PointBlock,
+    response: &PointResponse,
+) -> Result<(), MaterialError> {
+    let n = block.len();
+    first_mismatch(input_shapes(nstate, block).into_iter().chain([
+        ("cauchy_stress", n, response.cauchy_stress.len()),
+        ("state_new", n * nstate, response.state_new.len()),
+        (
+            "tangent",
+            n,
+            response.tangent.as_ref().map_or(n, |t| t.len()),
+        ),
+    ]))
+}
+
 fn check_block(
     nstate: usize,
     block: &PointBlock,
@@ -228,12 +251,9 @@ fn check_block(
     check_shapes(nstate, block, response)?;
     let n = block.len();
     if !block.dt.is_finite() || block.dt < 0.0 || !block.time.is_finite() {
-        return Err(MaterialError::InvalidPoint {
-            point: 0,
-            reason: format!(
-                "time {} and step {} must be finite with dt >= 0",
-                block.time, block.dt
-            ),
+        return Err(MaterialError::InvalidStep {
+            time: block.time,
+            dt: block.dt,
         });
     }
     for p in 0..n {

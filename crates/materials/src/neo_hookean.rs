@@ -14,7 +14,10 @@ use crate::material::VoigtStress;
 use crate::material::{PointBlock, PointResponse, StateVariable};
 use crate::parameters::{Bound, ParameterSet, ParameterSpec};
 use crate::registry::MaterialRegistration;
-use crate::tensor::{IsochoricSplit, decoupled_tangent, deviatoric_voigt, symmetric_from_voigt};
+use crate::tensor::{
+    IsochoricSplit, decoupled_tangent, deviatoric_voigt, symmetric_from_voigt,
+    volumetric_kirchhoff_slope, volumetric_pressure,
+};
 use crate::{Material, MaterialError};
 
 /// Declared parameters: shear modulus and compressibility.
@@ -50,9 +53,8 @@ impl NeoHookean {
     /// Cauchy stress σ = (μ/J) dev(B̄) + 2(J − 1)/D I (Voigt order).
     #[inline]
     pub fn cauchy_stress(&self, split: &IsochoricSplit) -> VoigtStress {
-        let j = split.jacobian;
-        let pressure = 2.0 * (j - 1.0) / self.compressibility;
-        let mut stress = deviatoric_voigt(&split.b_bar) * (self.shear_modulus / j);
+        let pressure = volumetric_pressure(split.jacobian, self.compressibility);
+        let mut stress = deviatoric_voigt(&split.b_bar) * (self.shear_modulus / split.jacobian);
         for i in 0..3 {
             stress[i] += pressure;
         }
@@ -81,21 +83,17 @@ impl Material for NeoHookean {
         block: &PointBlock,
         response: &mut PointResponse,
     ) -> Result<(), MaterialError> {
-        for (f, stress) in block
-            .deformation_gradient_new
-            .iter()
-            .zip(response.cauchy_stress.iter_mut())
-        {
-            *stress = self.cauchy_stress(&IsochoricSplit::new(f));
-        }
-        if let Some(tangents) = response.tangent.as_deref_mut() {
-            for (f, tangent) in block.deformation_gradient_new.iter().zip(tangents) {
-                let split = IsochoricSplit::new(f);
-                let tau = symmetric_from_voigt(&self.cauchy_stress(&split)) * split.jacobian;
+        let mut tangents = response.tangent.as_deref_mut();
+        for (point, f) in block.deformation_gradient_new.iter().enumerate() {
+            let split = IsochoricSplit::new(f);
+            let stress = self.cauchy_stress(&split);
+            response.cauchy_stress[point] = stress;
+            if let Some(tangents) = tangents.as_deref_mut() {
+                let tau = symmetric_from_voigt(&stress) * split.jacobian;
                 let f_bar_t = split.f_bar().transpose();
-                // τ = dev(μ B̄) + J p I with J p = 2 J (J − 1)/D: d(Jp)/dJ = 2(2J − 1)/D.
-                let d_jp_dj = 2.0 * (2.0 * split.jacobian - 1.0) / self.compressibility;
-                *tangent = decoupled_tangent(&split, &tau, d_jp_dj, |d_f_bar| {
+                let d_jp_dj = volumetric_kirchhoff_slope(split.jacobian, self.compressibility);
+                // τ = dev(μ B̄) + J p I: dM = μ (dF̄ F̄ᵀ + F̄ dF̄ᵀ).
+                tangents[point] = decoupled_tangent(&split, &tau, d_jp_dj, |d_f_bar| {
                     let d_b_bar = d_f_bar * f_bar_t;
                     (d_b_bar + d_b_bar.transpose()) * self.shear_modulus
                 });

@@ -63,6 +63,19 @@ pub fn inverse_cube_root(j: f64) -> f64 {
     }
 }
 
+/// Pressure p = dW_V/dJ = 2 (J − 1)/D [Pa] of the volumetric energy W_V = (J − 1)²/D
+/// shared by the built-in materials (D the compressibility [1/Pa]).
+#[inline]
+pub fn volumetric_pressure(jacobian: f64, compressibility: f64) -> f64 {
+    2.0 * (jacobian - 1.0) / compressibility
+}
+
+/// d(J p)/dJ = 2 (2J − 1)/D [Pa], the slope of the volumetric Kirchhoff stress.
+#[inline]
+pub fn volumetric_kirchhoff_slope(jacobian: f64, compressibility: f64) -> f64 {
+    2.0 * (2.0 * jacobian - 1.0) / compressibility
+}
+
 /// Deviatoric part of a symmetric tensor in Voigt order.
 #[inline]
 pub fn deviatoric_voigt(a: &Vector6<f64>) -> Vector6<f64> {

@@ -6,8 +6,8 @@
 //! σ = (μ/J) dev(B̄) + 2(J − 1)/D I.
 //!
 //! It is the same model as musclefem's built-in `neo-hookean` (and the C plugin
-//! `plugins/neo_hookean_c`), computed in the same order of operations, so the three agree
-//! to round-off; musclefem's tests check that. It supplies no tangent
+//! `plugins/neo_hookean_c`); the three agree to round-off (the built-in takes J^(-1/3) by
+//! a Taylor series and Newton steps, this plugin by `cbrt`); musclefem's tests check that. It supplies no tangent
 //! (`provides_tangent = 0`): the host differentiates the stress numerically.
 //!
 //! Build: `cargo build --release -p musclefem-plugin-neo-hookean`, then load

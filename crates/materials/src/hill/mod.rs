@@ -44,7 +44,7 @@ use crate::parameters::ParameterSet;
 use crate::registry::MaterialRegistration;
 use crate::tensor::{
     IsochoricSplit, decoupled_tangent, deviatoric_voigt, inverse_cube_root, outer_voigt,
-    symmetric_from_voigt,
+    symmetric_from_voigt, volumetric_kirchhoff_slope, volumetric_pressure,
 };
 use crate::{Material, MaterialError, VoigtStress};
 use functions::{force_length, parallel_element};
@@ -160,8 +160,8 @@ impl HillMuscle {
     /// Kirchhoff stress τ = J σ = dev[2 W₁ B̄ + (σ_f/λ̄_f) g ⊗ g] + J p I (Voigt order).
     #[inline]
     fn kirchhoff_stress(&self, s: &PointSolution) -> VoigtStress {
-        let j = s.split.jacobian;
-        let jp = j * 2.0 * (j - 1.0) / self.parameters.compressibility;
+        let jp = s.split.jacobian
+            * volumetric_pressure(s.split.jacobian, self.parameters.compressibility);
         let m = s.split.b_bar * (2.0 * s.w1_matrix)
             + outer_voigt(&s.fiber) * (s.fiber_stress / s.fiber_stretch);
         let mut tau = deviatoric_voigt(&m);
@@ -192,6 +192,7 @@ impl Material for HillMuscle {
         let mut tangents = response.tangent.as_deref_mut();
         for point in 0..block.len() {
             let state = &block.state_old[point * STATE_COUNT..(point + 1) * STATE_COUNT];
+            self.check_state(point, state)?;
             let s = self.solve_point(
                 activation,
                 block.dt,
@@ -218,14 +219,30 @@ impl Material for HillMuscle {
 }
 
 impl HillMuscle {
+    /// The local solve needs λ_s > 0 and σ_SEE > −β (the SEE stress's lower limit).
+    #[inline]
+    fn check_state(&self, point: usize, state: &[f64]) -> Result<(), MaterialError> {
+        let beta = self.parameters.see_stress;
+        if state[STATE_SEE_STRETCH] > 0.0 && state[STATE_SEE_STRESS] > -beta {
+            return Ok(());
+        }
+        Err(MaterialError::InvalidPoint {
+            point,
+            reason: format!(
+                "Hill state (lambda_m, lambda_s, sigma_see) = {state:?} needs lambda_s > 0 and \
+                 sigma_see > -beta = {}",
+                -beta
+            ),
+        })
+    }
+
     /// Consistent ∂P/∂F through [`decoupled_tangent`], with
     /// dM = 2 W₁₁ dĪ₁ B̄ + 2 W₁ dB̄ + d(σ_f/λ̄) g⊗g + (σ_f/λ̄)(dg⊗g + g⊗dg),
     /// dB̄ = dF̄ F̄ᵀ + F̄ dF̄ᵀ, dĪ₁ = tr dB̄, dg = dF̄ a₀, dλ̄ = g·dg/λ̄,
     /// d(σ_f/λ̄) = (σ_f' λ̄ − σ_f)/λ̄² dλ̄, W₁₁ = b W₁, and σ_f' including the local solve.
     fn tangent(&self, s: &PointSolution, tau: &Matrix3<f64>) -> crate::Tangent {
         let p = &self.parameters;
-        let j = s.split.jacobian;
-        let d_jp_dj = 2.0 * (2.0 * j - 1.0) / p.compressibility;
+        let d_jp_dj = volumetric_kirchhoff_slope(s.split.jacobian, p.compressibility);
         let a0 = s.reference_fiber;
         let w11 = p.matrix_exponent * s.w1_matrix;
         let stretch = s.fiber_stretch;

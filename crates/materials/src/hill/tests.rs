@@ -168,6 +168,7 @@ fn see_stress_equals_ce_stress_after_each_step() {
     let mut state = vec![1.0, 1.0, 0.0];
     let mut f_old = Matrix3::identity();
     let mut checked = 0;
+    let (mut shortening, mut lengthening) = (0, 0);
     for i in 1..=400 {
         let t = i as f64 * dt;
         // Hold, stretch, then shorten: both branches of f_v.
@@ -182,6 +183,11 @@ fn see_stress_equals_ce_stress_after_each_step() {
             * p.activation.level(t);
         let see = functions::series_elastic(p.see_exponent, p.see_stress, next[STATE_SEE_STRETCH]);
         if t > 0.1 {
+            if rate <= 0.0 {
+                shortening += 1;
+            } else {
+                lengthening += 1;
+            }
             assert!(
                 (see - ce).abs() < 1e-8 * see.abs().max(p.see_stress),
                 "t {t}: {see} {ce}"
@@ -193,6 +199,73 @@ fn see_stress_equals_ce_stress_after_each_step() {
         f_old = f_new;
     }
     assert!(checked > 300);
+    assert!(
+        shortening > 50 && lengthening > 50,
+        "both branches of f_v: {shortening} shortening, {lengthening} lengthening steps"
+    );
+}
+
+/// Long (implicit-size) steps from rest with fast activation: the first guess of the
+/// local solve is then far off; the result must still be the bracketed root (a reviewer
+/// found σ ≈ 1e307 Pa at Δt ≈ 1.238 s before the guess was guarded).
+#[test]
+fn long_steps_stay_in_the_physical_range() {
+    let m = hill(&[("n2", 1.0), ("S", 1e3)]);
+    let f = Matrix3::identity();
+    for dt in [0.3, 1.0, 1.237, 1.238, 1.239, 2.0, 10.0] {
+        let (stress, state, _) = step(m.as_ref(), dt, dt, f, f, Vector3::x(), &[1.0, 1.0, 0.0]);
+        let lambda_s = state[STATE_SEE_STRETCH];
+        assert!(
+            lambda_s > 1.0 && lambda_s < 1.7,
+            "dt {dt}: λ_s = {lambda_s}"
+        );
+        assert!(stress.amax() < 1e6, "dt {dt}: {stress:?}");
+    }
+}
+
+/// Without activation a stretched SEE returns to rest in one step and the stress is the
+/// passive one, whatever the state was.
+#[test]
+fn deactivated_muscle_from_a_loaded_state_is_passive() {
+    let active = hill(&[("n2", 1.0), ("t1", 0.5), ("S", 50.0)]);
+    let passive = hill(&[]);
+    let a0 = fiber();
+    let f = general_f(1.0) * (Matrix3::identity() + a0 * a0.transpose() * 0.05);
+    let loaded = [0.9, 1.6, functions::series_elastic(10.0, 1e3, 1.6)];
+    // Long after deactivation (t1 = 0.5 s, f_t = n1 = 0 up to e^-125).
+    let (stress, state, _) = step(active.as_ref(), 3.0, 1e-3, f, f, a0, &loaded);
+    let (reference, _, _) = step(passive.as_ref(), 3.0, 1e-3, f, f, a0, &[1.0, 1.0, 0.0]);
+    assert!((state[STATE_SEE_STRETCH] - 1.0).abs() < 1e-12 && state[STATE_SEE_STRESS].abs() < 1e-6);
+    assert!(
+        (stress - reference).amax() < 1e-9 * reference.amax(),
+        "{stress:?} vs {reference:?}"
+    );
+}
+
+#[test]
+fn impossible_states_are_rejected_with_the_point() {
+    let m = hill(&[("n2", 1.0)]);
+    let f = [Matrix3::identity(); 2];
+    let block = PointBlock {
+        time: 0.1,
+        dt: 1e-3,
+        deformation_gradient_old: &f,
+        deformation_gradient_new: &f,
+        fiber_direction: &[Vector3::x(); 2],
+        state_old: &[1.0, 1.0, 0.0, 1.0, 1.0, -2e3],
+    };
+    let mut stress = [VoigtStress::zeros(); 2];
+    let mut state = [0.0; 6];
+    let mut response = PointResponse {
+        cauchy_stress: &mut stress,
+        state_new: &mut state,
+        tangent: None,
+    };
+    let err = m.update(&block, &mut response).unwrap_err();
+    assert!(
+        matches!(err, MaterialError::InvalidPoint { point: 1, .. }),
+        "{err}"
+    );
 }
 
 /// Rotating F (old and new) by R rotates the Cauchy stress: σ(RF) = R σ(F) Rᵀ, and leaves

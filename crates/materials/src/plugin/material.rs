@@ -7,9 +7,7 @@ use std::sync::Arc;
 use libloading::Library;
 
 use super::abi;
-use crate::material::{
-    PointBlock, PointResponse, StateVariable, check_shapes, finite_difference_tangent,
-};
+use crate::material::{PointBlock, PointResponse, StateVariable, check_shapes};
 use crate::{Material, MaterialError};
 
 /// Size of the buffer the plugin may write an error message into.
@@ -68,17 +66,11 @@ impl Material for PluginMaterial {
         if n == 0 {
             return Ok(());
         }
-        // A tangent is only handed to a plugin that says it fills it; otherwise (a direct
-        // `compute` call, as `<dyn Material>::update` already takes the tangent out) the
-        // host builds it by finite differences, as it does in `update`.
-        let fd_tangent = if self.provides_tangent {
-            None
-        } else {
-            response.tangent.take()
-        };
+        // A tangent is only handed to a plugin that says it fills it; for the others
+        // `<dyn Material>::update` builds it by finite differences.
         let tangent_ptr = match response.tangent.as_deref_mut() {
-            Some(t) => t.as_mut_ptr().cast::<f64>(),
-            None => std::ptr::null_mut(),
+            Some(t) if self.provides_tangent => t.as_mut_ptr().cast::<f64>(),
+            _ => std::ptr::null_mut(),
         };
         let c_block = abi::PointBlock {
             struct_size: size_of::<abi::PointBlock>() as u64,
@@ -129,10 +121,6 @@ impl Material for PluginMaterial {
                     self.name
                 ),
             });
-        }
-        if let Some(tangent) = fd_tangent {
-            finite_difference_tangent(self, block, tangent)?;
-            response.tangent = Some(tangent);
         }
         Ok(())
     }
