@@ -170,7 +170,10 @@ fn stage_outputs(csv: &Path, run: &PointRun, plot: bool, title: &str) -> Result<
     Ok(staged)
 }
 
-/// Commit staged files; returns their paths.
+/// Commit staged files (each by one rename in its own directory); returns their paths.
+/// Each file is replaced whole. The set is not one transaction: should a later rename fail
+/// (the files are already complete on the same file system, so only an I/O fault can do
+/// that), the files renamed before it are new and the rest old.
 fn commit_all(staged: Vec<PendingFile>) -> Result<Vec<PathBuf>> {
     let mut written = Vec::with_capacity(staged.len());
     for file in staged {

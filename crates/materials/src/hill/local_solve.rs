@@ -20,7 +20,8 @@
 //! - w₂ = (σ_s + β)(1 + k_c w₁/T)                      (Eq. 15)
 //! - w₃ = −(σ_s + β) k k_c / T                          (Eq. 16)
 //! - w₄ = k (a − β k_c)/T                               (Eq. 17, with σ₀ in a)
-//! - w₅ = β + a − (a − β k_c) w₁/T                       (Eq. 18, with σ₀ in a)
+//! - w₅ = β + a − (a − β k_c) w₁/T                       (Eq. 18, with σ₀ in a; the print
+//!   multiplies only β k_c by w₁, but the whole bracket carries it)
 //!
 //! *Lengthening* (λ̇_m > 0, r < 0), f_v = (1 − Q r)/(1 − K r) with K = k_c k_e and
 //! Q = d K + d − 1 (the same as d − (d−1)(1+r)/(1−K r)):
