@@ -114,7 +114,7 @@ impl LocalEquation {
     /// CE stretch rate λ̇_m = (w₁ − k Δλ_s)/Δt [1/s].
     #[inline]
     pub fn ce_stretch_rate(&self, delta_lambda_s: f64) -> f64 {
-        (self.w1 - self.k * delta_lambda_s) / self.dt
+        (self.w1 - self.k * delta_lambda_s) * (1.0 / self.dt)
     }
 
     /// σ_SEE(t+Δt) = (σ_s + β) e^{αΔλ_s} − β [Pa].
@@ -138,7 +138,7 @@ impl LocalEquation {
         let grown = (self.series_stress + self.beta) * (self.alpha * delta).exp();
         let rate = self.ce_stretch_rate(delta);
         let (fv, dfv, d2fv) = self.force_velocity.value_slope_curvature(rate);
-        let k_over_dt = self.k / self.dt;
+        let k_over_dt = self.k * (1.0 / self.dt);
         let a = self.active_stress;
         Evaluation {
             grown,
@@ -201,8 +201,11 @@ impl LocalEquation {
         (w2 + w3 * delta) * (self.alpha * delta).exp() - w4 * delta - w5
     }
 
-    /// Solve for Δλ_s (see the module documentation). Never returns NaN for finite
+    /// Solve for Δλ_s (see the module documentation). Inlined into the material's point
+    /// loop, where the reciprocals of per-block constants (1/Δt, 1/k, 1/α, 1/λ̇_m^min) are
+    /// computed once, outside the loop. Never returns NaN for finite
     /// inputs with β > 0, α > 0, k > 0, a ≥ 0, σ_s > −β.
+    #[inline]
     pub fn solve(&self) -> LocalSolution {
         let a = self.active_stress;
         if a <= 0.0 {
@@ -236,7 +239,7 @@ impl LocalEquation {
         let steady_guess = if ratio > fv.infimum() + margin * (1.0 - fv.infimum())
             && ratio < fv.supremum() - margin * (fv.supremum() - 1.0)
         {
-            (self.w1 - fv.rate_for_value(ratio) * self.dt) / self.k
+            (self.w1 - fv.rate_for_value(ratio) * self.dt) * (1.0 / self.k)
         } else {
             f64::NAN
         };
@@ -327,7 +330,7 @@ impl LocalEquation {
     /// Accuracy of the solved Δλ_s: 1e-12/α, so that the SEE stress, whose sensitivity is
     /// dσ_SEE/dΔλ_s = α (σ_SEE + β), is exact to 1e-12 relative to σ_SEE + β.
     pub fn delta_tolerance(&self) -> f64 {
-        SEE_STRESS_RELATIVE_ACCURACY / self.alpha
+        SEE_STRESS_RELATIVE_ACCURACY * (1.0 / self.alpha)
     }
 
     /// A Δλ_s below the root: the smaller of w₁/k (λ̇_m = 0; a shortening root lies above)

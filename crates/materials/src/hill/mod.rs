@@ -116,14 +116,20 @@ impl HillMuscle {
         state: &[f64],
     ) -> PointSolution {
         let p = &self.parameters;
-        let a0 = fiber_direction / fiber_direction.norm();
+        // Fibers usually arrive as unit vectors: skip the square root and division then.
+        let length_squared = fiber_direction.norm_squared();
+        let a0 = if (length_squared - 1.0).abs() <= 4.0 * f64::EPSILON {
+            *fiber_direction
+        } else {
+            fiber_direction / length_squared.sqrt()
+        };
         let split = IsochoricSplit::new(f_new);
         let fiber = (f_new * a0) * split.j_minus_third;
         let fiber_stretch = fiber.norm();
         let fiber_stretch_old = (f_old * a0).norm() * inverse_cube_root(f_old.determinant());
 
         let active_stress = p.max_isometric_stress
-            * force_length(fiber_stretch_old / p.optimal_stretch)
+            * force_length(fiber_stretch_old * (1.0 / p.optimal_stretch))
             * activation;
         let (lambda_m, lambda_s) = (state[STATE_CE_STRETCH], state[STATE_SEE_STRETCH]);
         let k = p.length_ratio;

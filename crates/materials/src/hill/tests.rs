@@ -87,7 +87,10 @@ fn reference_state_is_stress_free() {
         &[1.0, 1.0, 0.0],
     );
     assert!(stress.amax() < 1e-9, "{stress:?}");
-    assert_eq!(state, vec![1.0, 1.0, 0.0]);
+    // At rest to round-off (the fiber direction is unit only to round-off).
+    for (value, rest) in state.iter().zip([1.0, 1.0, 0.0]) {
+        assert!((value - rest).abs() <= 4.0 * f64::EPSILON, "{state:?}");
+    }
 }
 
 /// With zero activation the stress is the derivative of the passive strain energy:
