@@ -249,7 +249,8 @@ impl LocalEquation {
             closed_bracket = true;
             lower = self.closed_form_lower_bound();
             upper = self.closed_form_upper_bound();
-            0.0f64.clamp(lower, upper)
+            // max/min rather than clamp, which would panic on a NaN bound.
+            0.0f64.max(lower).min(upper)
         };
         let tolerance = self.delta_tolerance();
         let mut previous_step = f64::INFINITY;
