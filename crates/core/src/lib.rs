@@ -1,7 +1,20 @@
 //! # musclefem-core
 //!
-//! Mesh (nodes, element blocks, node/element sets, surfaces), element kernels, assembly,
-//! explicit and implicit solvers, boundary conditions and rigid drivers.
+//! The finite-element side of musclefem. What exists today:
 //!
-//! Not built yet: the elements-and-solvers issue fills this crate. It exposes no API until
-//! then, so that nothing can depend on a placeholder.
+//! - [`mesh`]: nodes (structure of arrays), element blocks of hex8, tet4 and tet10 with a
+//!   fiber direction per element, node sets, element sets, surfaces made of element faces,
+//!   checks ([`Mesh::validate`]), volumes and face area vectors, and structured box
+//!   generators (hexes, linear or quadratic tets) with a random interior distortion for
+//!   patch tests.
+//!
+//! Not built yet (the rest of the elements-and-solvers issue): element kernels, assembly,
+//! explicit and implicit solvers, boundary conditions, amplitudes, rigid drivers and the
+//! trait through which contact forces enter a solve.
+//!
+//! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
+//! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.
+
+pub mod mesh;
+
+pub use mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
