@@ -8,13 +8,21 @@
 //!   generators (hexes, linear or quadratic tets) with a random interior distortion for
 //!   patch tests.
 //!
-//! Not built yet (the rest of the elements-and-solvers issue): element kernels, assembly,
-//! explicit and implicit solvers, boundary conditions, amplitudes, rigid drivers and the
-//! trait through which contact forces enter a solve.
+//! - [`element`]: total-Lagrangian element kernels; so far the fully integrated hex8.
+//! - [`solver`]: the explicit central-difference solver with lumped mass, a stable step
+//!   from the current acoustic modulus, prescribed displacements, reactions, an energy
+//!   balance check, parallel element updates and a deterministic force assembly.
+//!
+//! Not built yet (the rest of the elements-and-solvers issue): F-bar and one-point
+//! hourglass-controlled hex8, tet4, tet10, mass scaling, bulk viscosity, the implicit
+//! solver, nodal loads, rigid drivers and the trait through which contact forces enter a
+//! solve.
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
 //! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.
 
+pub mod element;
 pub mod mesh;
+pub mod solver;
 
 pub use mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};

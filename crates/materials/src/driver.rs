@@ -14,6 +14,7 @@ use std::fmt;
 
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
+use crate::amplitude::Amplitude;
 use crate::material::{PointBlock, PointResponse, VoigtStress};
 use crate::{Material, MaterialError};
 
@@ -25,7 +26,7 @@ pub const UNIAXIAL_CSV_HEADER: &str =
 /// increasing in time, stretches > 0.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StretchHistory {
-    knots: Vec<(f64, f64)>,
+    stretch: Amplitude,
 }
 
 impl StretchHistory {
@@ -71,27 +72,18 @@ impl StretchHistory {
         if knots.len() < 2 {
             return Err(bad(text.trim(), "a history needs at least two knots"));
         }
-        Ok(StretchHistory { knots })
+        let stretch = Amplitude::new(knots).map_err(|e| DriverError::History(e.0))?;
+        Ok(StretchHistory { stretch })
     }
 
     /// First and last knot times [s].
     pub fn time_span(&self) -> (f64, f64) {
-        (self.knots[0].0, self.knots[self.knots.len() - 1].0)
+        self.stretch.time_span()
     }
 
     /// Stretch at time `t` (linear between knots, constant outside).
     pub fn stretch_at(&self, t: f64) -> f64 {
-        let k = &self.knots;
-        if t <= k[0].0 {
-            return k[0].1;
-        }
-        for w in k.windows(2) {
-            let ((t0, l0), (t1, l1)) = (w[0], w[1]);
-            if t <= t1 {
-                return l0 + (l1 - l0) * (t - t0) / (t1 - t0);
-            }
-        }
-        k[k.len() - 1].1
+        self.stretch.value_at(t)
     }
 }
 

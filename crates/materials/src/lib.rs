@@ -14,6 +14,7 @@
 //!
 //! Units are SI throughout (Pa, s, m).
 
+pub mod amplitude;
 pub mod driver;
 pub mod error;
 pub mod hill;
@@ -24,6 +25,7 @@ pub mod plugin;
 pub mod registry;
 pub mod tensor;
 
+pub use amplitude::Amplitude;
 pub use error::MaterialError;
 pub use material::{Material, PointBlock, PointResponse, StateVariable, Tangent, VoigtStress};
 pub use parameters::{Bound, ParameterSet, ParameterSpec};

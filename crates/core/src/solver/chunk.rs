@@ -1,0 +1,225 @@
+//! A run of consecutive elements of one block with everything their update needs, owned,
+//! so that chunks update in parallel without sharing and without allocating.
+
+use std::ops::Range;
+
+use nalgebra::{Matrix3, Vector3};
+
+use musclefem_materials::tensor::first_piola_from_cauchy;
+use musclefem_materials::{
+    Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
+};
+
+use crate::element::BlockKernel;
+use crate::mesh::{ElementBlock, ElementShape, Nodes};
+
+/// Elements per chunk: 64 hex8 = 512 material points per material call.
+pub(crate) const ELEMENTS_PER_CHUNK: usize = 64;
+
+#[derive(Debug)]
+pub(crate) struct ElementChunk {
+    /// Elements of the block in this chunk.
+    pub elements: Range<usize>,
+    f_old: Vec<Matrix3<f64>>,
+    f_new: Vec<Matrix3<f64>>,
+    fiber: Vec<Vector3<f64>>,
+    state_old: Vec<f64>,
+    state_new: Vec<f64>,
+    stress: Vec<VoigtStress>,
+    /// Internal nodal forces, `nodes_per_element` per element [N].
+    pub forces: Vec<Vector3<f64>>,
+    /// Reference length of each element: volume / largest face area [m].
+    reference_length: Vec<f64>,
+    /// Largest acoustic modulus of each element at its first integration point, from the
+    /// material tangent, refreshed by `refresh_wave_moduli` [Pa].
+    wave_modulus: Vec<f64>,
+    positions: Vec<Vector3<f64>>,
+}
+
+impl ElementChunk {
+    pub fn new(
+        elements: Range<usize>,
+        nodes: &Nodes,
+        kernel: &BlockKernel,
+        block: &ElementBlock,
+        material: &dyn Material,
+    ) -> Self {
+        let points = elements.len() * kernel.points_per_element();
+        let fiber = elements
+            .clone()
+            .flat_map(|e| {
+                std::iter::repeat_n(block.fiber_direction[e], kernel.points_per_element())
+            })
+            .collect();
+        let npe = kernel.nodes_per_element();
+        let mut coords = vec![Vector3::zeros(); npe];
+        let reference_length = elements
+            .clone()
+            .map(|e| {
+                for (x, &id) in coords.iter_mut().zip(block.element_nodes(e)) {
+                    *x = nodes.position(id as usize);
+                }
+                kernel.reference_volume(e) / largest_face_area(block.shape, &coords)
+            })
+            .collect();
+        ElementChunk {
+            f_old: vec![Matrix3::identity(); points],
+            f_new: vec![Matrix3::identity(); points],
+            fiber,
+            state_old: material.initial_state(points),
+            state_new: material.initial_state(points),
+            stress: vec![VoigtStress::zeros(); points],
+            forces: vec![Vector3::zeros(); elements.len() * npe],
+            reference_length,
+            wave_modulus: vec![0.0; elements.len()],
+            positions: vec![Vector3::zeros(); npe],
+            elements,
+        }
+    }
+
+    /// Deformation gradients at the current `positions`, the material update over the
+    /// step of `dt` ending at `time`, the internal nodal forces and the element lengths.
+    /// On a material error, returns the element (of the block) and the error.
+    pub fn update(
+        &mut self,
+        kernel: &BlockKernel,
+        block: &ElementBlock,
+        material: &dyn Material,
+        positions: &[Vector3<f64>],
+        time: f64,
+        dt: f64,
+    ) -> Result<(), (usize, MaterialError)> {
+        let ppe = kernel.points_per_element();
+        let npe = kernel.nodes_per_element();
+        for (local, element) in self.elements.clone().enumerate() {
+            for (x, &id) in self.positions.iter_mut().zip(block.element_nodes(element)) {
+                *x = positions[id as usize];
+            }
+            for q in 0..ppe {
+                self.f_new[local * ppe + q] =
+                    kernel.deformation_gradient(element * ppe + q, &self.positions);
+            }
+        }
+        let points = PointBlock {
+            time,
+            dt,
+            deformation_gradient_old: &self.f_old,
+            deformation_gradient_new: &self.f_new,
+            fiber_direction: &self.fiber,
+            state_old: &self.state_old,
+        };
+        let mut response = PointResponse {
+            cauchy_stress: &mut self.stress,
+            state_new: &mut self.state_new,
+            tangent: None,
+        };
+        material.update(&points, &mut response).map_err(|error| {
+            let element = match &error {
+                MaterialError::InvalidPoint { point, .. }
+                | MaterialError::NonFiniteResult { point, .. } => self.elements.start + point / ppe,
+                _ => self.elements.start,
+            };
+            (element, error)
+        })?;
+        self.forces.fill(Vector3::zeros());
+        for (local, element) in self.elements.clone().enumerate() {
+            let forces = &mut self.forces[local * npe..(local + 1) * npe];
+            for q in 0..ppe {
+                let point = local * ppe + q;
+                let piola = first_piola_from_cauchy(&self.f_new[point], &self.stress[point]);
+                kernel.add_internal_forces(element * ppe + q, &piola, forces);
+            }
+        }
+        Ok(())
+    }
+
+    /// Refresh each element's acoustic modulus from the material tangent ∂P/∂F at its
+    /// first integration point after the last `update` (one point at a time: no storage
+    /// for tangents). For a direction n the acoustic tensor is Q_ik = ∂P_iJ/∂F_kL n_J n_L;
+    /// the modulus is the largest eigenvalue of Q over n = e_x, e_y, e_z.
+    pub fn refresh_wave_moduli(
+        &mut self,
+        kernel: &BlockKernel,
+        material: &dyn Material,
+        time: f64,
+        dt: f64,
+    ) -> Result<(), (usize, MaterialError)> {
+        let ppe = kernel.points_per_element();
+        let nstate = material.state_count();
+        let mut state = vec![0.0; nstate];
+        let mut stress = [VoigtStress::zeros()];
+        let mut tangent = [Tangent::zeros()];
+        for (local, element) in self.elements.clone().enumerate() {
+            let point = local * ppe;
+            let block = PointBlock {
+                time,
+                dt,
+                deformation_gradient_old: &self.f_old[point..point + 1],
+                deformation_gradient_new: &self.f_new[point..point + 1],
+                fiber_direction: &self.fiber[point..point + 1],
+                state_old: &self.state_old[point * nstate..(point + 1) * nstate],
+            };
+            let mut response = PointResponse {
+                cauchy_stress: &mut stress,
+                state_new: &mut state,
+                tangent: Some(&mut tangent),
+            };
+            material
+                .update(&block, &mut response)
+                .map_err(|error| (element, error))?;
+            self.wave_modulus[local] = (0..3)
+                .map(|j| {
+                    let acoustic = Matrix3::from_fn(|i, k| tangent[0][(i + 3 * j, k + 3 * j)]);
+                    acoustic.symmetric_eigenvalues().max()
+                })
+                .fold(0.0, f64::max);
+        }
+        Ok(())
+    }
+
+    /// Smallest stable step of the chunk's elements, L₀ √(ρ₀ / M), and its element
+    /// (total Lagrangian: reference length and density, current acoustic modulus).
+    pub fn stable_step(&self, density: f64) -> (f64, usize) {
+        self.elements
+            .clone()
+            .zip(self.reference_length.iter().zip(&self.wave_modulus))
+            .map(|(element, (length, modulus))| (length * (density / modulus).sqrt(), element))
+            .fold((f64::INFINITY, self.elements.start), |a, b| {
+                if b.0 < a.0 { b } else { a }
+            })
+    }
+
+    /// Accept the step: the new state and deformation become the old ones.
+    pub fn commit(&mut self) {
+        std::mem::swap(&mut self.state_old, &mut self.state_new);
+        std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+}
+
+/// Largest face area of an element from its node positions [m²] (quad faces by their
+/// diagonals' cross product, exact for planar quads).
+fn largest_face_area(shape: ElementShape, x: &[Vector3<f64>]) -> f64 {
+    shape
+        .faces()
+        .iter()
+        .map(|face| match face.len() {
+            4 => {
+                let (a, b, c, d) = (
+                    x[face[0] as usize],
+                    x[face[1] as usize],
+                    x[face[2] as usize],
+                    x[face[3] as usize],
+                );
+                0.5 * (c - a).cross(&(d - b)).norm()
+            }
+            _ => {
+                let (a, b, c) = (
+                    x[face[0] as usize],
+                    x[face[1] as usize],
+                    x[face[2] as usize],
+                );
+                0.5 * (b - a).cross(&(c - a)).norm()
+            }
+        })
+        .fold(0.0, f64::max)
+}

@@ -1,0 +1,60 @@
+//! Solvers that advance a body in time. Built so far: the explicit central-difference
+//! solver ([`explicit`]) with lumped mass, a stable step from the dilatational wave speed,
+//! prescribed displacements, reaction forces and an energy balance. Still to come
+//! (elements-and-solvers issue): mass scaling, bulk viscosity, the implicit solver, nodal
+//! forces and rigid drivers.
+
+mod chunk;
+pub mod explicit;
+mod part;
+
+pub use part::{Part, PrescribedDisplacement};
+
+use thiserror::Error;
+
+use musclefem_materials::MaterialError;
+
+/// Why a solve stopped.
+#[derive(Debug, Error)]
+pub enum SolverError {
+    #[error("part on block {block}: {source}")]
+    Element {
+        block: usize,
+        source: crate::element::ElementError,
+    },
+    #[error("at t = {time:.6e} s, block '{block}', element {element}: {source}")]
+    Material {
+        time: f64,
+        block: String,
+        element: usize,
+        source: MaterialError,
+    },
+    #[error("part on block {block}: {reason}")]
+    InvalidPart { block: usize, reason: String },
+    #[error("prescribed displacement: {0}")]
+    InvalidBoundaryCondition(String),
+    #[error("explicit settings: {0}")]
+    InvalidSettings(String),
+    #[error(
+        "the requested time step {requested:.3e} s exceeds the stable step {stable:.3e} s \
+         (block '{block}', element {element}): the central-difference scheme would blow up"
+    )]
+    UnstableTimeStep {
+        requested: f64,
+        stable: f64,
+        block: String,
+        element: usize,
+    },
+    #[error(
+        "at t = {time:.6e} s the energy balance is off by {error:.3e} J ({relative:.1} % of \
+         the largest energy, limit {limit:.1} %): the solution is not to be trusted"
+    )]
+    EnergyBalance {
+        time: f64,
+        error: f64,
+        relative: f64,
+        limit: f64,
+    },
+    #[error("at t = {time:.6e} s node {node} has a non-finite velocity: the solution diverged")]
+    Diverged { time: f64, node: usize },
+}
