@@ -8,12 +8,13 @@
 //!   generators (hexes, linear or quadratic tets) with a random interior distortion for
 //!   patch tests.
 //!
-//! - [`element`]: total-Lagrangian element kernels; so far the fully integrated hex8.
+//! - [`element`]: total-Lagrangian element kernels; so far the fully integrated hex8 and
+//!   the F-bar (mean dilatation) hex8 that does not lock.
 //! - [`solver`]: the explicit central-difference solver with lumped mass, a stable step
 //!   from the current acoustic modulus, prescribed displacements, reactions, an energy
 //!   balance check, parallel element updates and a deterministic force assembly.
 //!
-//! Not built yet (the rest of the elements-and-solvers issue): F-bar and one-point
+//! Not built yet (the rest of the elements-and-solvers issue): the one-point
 //! hourglass-controlled hex8, tet4, tet10, mass scaling, bulk viscosity, the implicit
 //! solver, nodal loads, rigid drivers and the trait through which contact forces enter a
 //! solve.

@@ -54,9 +54,13 @@ fn uniaxial(mesh: &Mesh, stretch: f64, duration: f64) -> Vec<PrescribedDisplacem
 }
 
 fn part(material: Arc<dyn Material>) -> Vec<Part> {
+    part_with(material, Technology::Hex8Full)
+}
+
+fn part_with(material: Arc<dyn Material>, technology: Technology) -> Vec<Part> {
     vec![Part {
         block: 0,
-        technology: Technology::Hex8Full,
+        technology,
         material,
         density: 1000.0,
     }]
@@ -67,12 +71,21 @@ fn part(material: Arc<dyn Material>) -> Vec<Part> {
 /// material-point driver, an independent solution path) within 1 %.
 #[test]
 fn slow_uniaxial_stretch_matches_the_homogeneous_solution() {
+    uniaxial_stretch_matches(Technology::Hex8Full);
+}
+
+#[test]
+fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_fbar() {
+    uniaxial_stretch_matches(Technology::Hex8FBar);
+}
+
+fn uniaxial_stretch_matches(technology: Technology) {
     let mesh = box_of_hexes([SIDE; 3], [2, 2, 2]).unwrap();
     let material = neo_hookean();
     let settings = ExplicitSettings::new(2.0);
     let result = run_explicit(
         &mesh,
-        &part(material.clone()),
+        &part_with(material.clone(), technology),
         &uniaxial(&mesh, 1.5, 2.0),
         &settings,
     )
@@ -83,7 +96,7 @@ fn slow_uniaxial_stretch_matches_the_homogeneous_solution() {
     let last = result.history.last().unwrap();
     let reaction = last.reactions[0];
     println!(
-        "{} steps, reaction {reaction:.6} N, homogeneous {expected:.6} N, W_int {:.3e} J, \
+        "{technology:?}: {} steps, reaction {reaction:.6} N, homogeneous {expected:.6} N, W_int {:.3e} J, \
          W_ext {:.3e} J, K {:.3e} J",
         result.steps, last.internal_energy, last.external_work, last.kinetic_energy
     );

@@ -6,10 +6,17 @@
 //! internal force of node a is f_a = Σ_q P_q ∇_X N_a(q) w_q det J₀(q), with P = J σ F⁻ᵀ
 //! the first Piola–Kirchhoff stress.
 //!
-//! Built so far: the fully integrated hex8 ([`Technology::Hex8Full`]), which locks for
-//! nearly incompressible tissue and is kept as the reference. F-bar and one-point
-//! hourglass-controlled hex8, tet4 and tet10 are still to come (elements-and-solvers issue).
+//! Built so far:
+//! - [`Technology::Hex8Full`]: the fully integrated hex8, which locks for nearly
+//!   incompressible tissue and is kept as the reference;
+//! - [`Technology::Hex8FBar`]: the same points with the F-bar modification
+//!   F̄ = (J̄/J)^{1/3} F, J̄ the element's mean dilatation (see `fbar.rs`), which removes
+//!   volumetric locking.
+//!
+//! One-point hourglass-controlled hex8, tet4 and tet10 are still to come
+//! (elements-and-solvers issue).
 
+mod fbar;
 mod hex8_full;
 
 use nalgebra::{Matrix3, Vector3};
@@ -22,20 +29,23 @@ use crate::mesh::{ElementBlock, ElementShape, Nodes};
 pub enum Technology {
     /// Trilinear hexahedron, 2×2×2 Gauss points (locks when nearly incompressible).
     Hex8Full,
+    /// Trilinear hexahedron, 2×2×2 Gauss points, F-bar: the volume change of every point
+    /// replaced by the element's mean dilatation.
+    Hex8FBar,
 }
 
 impl Technology {
     /// The element shape this technology works on.
     pub fn shape(self) -> ElementShape {
         match self {
-            Technology::Hex8Full => ElementShape::Hex8,
+            Technology::Hex8Full | Technology::Hex8FBar => ElementShape::Hex8,
         }
     }
 
     /// Integration points per element.
     pub fn points_per_element(self) -> usize {
         match self {
-            Technology::Hex8Full => 8,
+            Technology::Hex8Full | Technology::Hex8FBar => 8,
         }
     }
 }
@@ -92,9 +102,9 @@ impl BlockKernel {
                 found: block.shape.name(),
             });
         }
-        match technology {
-            Technology::Hex8Full => hex8_full::reference_data(nodes, block),
-        }
+        let mut kernel = hex8_full::reference_data(nodes, block)?;
+        kernel.technology = technology;
+        Ok(kernel)
     }
 
     pub fn technology(&self) -> Technology {
@@ -146,6 +156,51 @@ impl BlockKernel {
             f += x * g.transpose();
         }
         f
+    }
+
+    /// The deformation gradients the material sees at every point of `element`, from its
+    /// current nodal `positions`: F itself, or F̄ for F-bar.
+    pub fn element_deformation_gradients(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+        out: &mut [Matrix3<f64>],
+    ) {
+        let ppe = self.points_per_element;
+        for (q, f) in out.iter_mut().enumerate() {
+            *f = self.deformation_gradient(element * ppe + q, positions);
+        }
+        if self.technology == Technology::Hex8FBar {
+            fbar::modify(self, element, out);
+        }
+    }
+
+    /// Add the internal nodal forces of `element` [N] from the Cauchy stresses `stress`
+    /// the material returned at the deformation gradients `material_f` (those of
+    /// [`Self::element_deformation_gradients`]) at its current `positions`.
+    pub fn add_element_forces(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+        material_f: &[Matrix3<f64>],
+        stress: &[musclefem_materials::VoigtStress],
+        forces: &mut [Vector3<f64>],
+    ) {
+        let ppe = self.points_per_element;
+        match self.technology {
+            Technology::Hex8Full => {
+                for q in 0..ppe {
+                    let piola = musclefem_materials::tensor::first_piola_from_cauchy(
+                        &material_f[q],
+                        &stress[q],
+                    );
+                    self.add_internal_forces(element * ppe + q, &piola, forces);
+                }
+            }
+            Technology::Hex8FBar => {
+                fbar::add_element_forces(self, element, positions, stress, forces);
+            }
+        }
     }
 
     /// Add the point's contribution P ∇_X N_a w det J₀ to the element's nodal forces [N].

@@ -5,7 +5,6 @@ use std::ops::Range;
 
 use nalgebra::{Matrix3, Vector3};
 
-use musclefem_materials::tensor::first_piola_from_cauchy;
 use musclefem_materials::{
     Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
 };
@@ -92,13 +91,12 @@ impl ElementChunk {
         let ppe = kernel.points_per_element();
         let npe = kernel.nodes_per_element();
         for (local, element) in self.elements.clone().enumerate() {
-            for (x, &id) in self.positions.iter_mut().zip(block.element_nodes(element)) {
-                *x = positions[id as usize];
-            }
-            for q in 0..ppe {
-                self.f_new[local * ppe + q] =
-                    kernel.deformation_gradient(element * ppe + q, &self.positions);
-            }
+            gather(&mut self.positions, block.element_nodes(element), positions);
+            kernel.element_deformation_gradients(
+                element,
+                &self.positions,
+                &mut self.f_new[local * ppe..(local + 1) * ppe],
+            );
         }
         let points = PointBlock {
             time,
@@ -123,12 +121,15 @@ impl ElementChunk {
         })?;
         self.forces.fill(Vector3::zeros());
         for (local, element) in self.elements.clone().enumerate() {
-            let forces = &mut self.forces[local * npe..(local + 1) * npe];
-            for q in 0..ppe {
-                let point = local * ppe + q;
-                let piola = first_piola_from_cauchy(&self.f_new[point], &self.stress[point]);
-                kernel.add_internal_forces(element * ppe + q, &piola, forces);
-            }
+            gather(&mut self.positions, block.element_nodes(element), positions);
+            let points = local * ppe..(local + 1) * ppe;
+            kernel.add_element_forces(
+                element,
+                &self.positions,
+                &self.f_new[points.clone()],
+                &self.stress[points],
+                &mut self.forces[local * npe..(local + 1) * npe],
+            );
         }
         Ok(())
     }
@@ -193,6 +194,14 @@ impl ElementChunk {
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.state_old, &mut self.state_new);
         std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+}
+
+/// The element's node positions out of all nodes' `positions`.
+#[inline]
+fn gather(out: &mut [Vector3<f64>], ids: &[u32], positions: &[Vector3<f64>]) {
+    for (x, &id) in out.iter_mut().zip(ids) {
+        *x = positions[id as usize];
     }
 }
 
