@@ -8,16 +8,18 @@
 //!   generators (hexes, linear or quadratic tets) with a random interior distortion for
 //!   patch tests.
 //!
-//! - [`element`]: total-Lagrangian element kernels; so far the fully integrated hex8 and
-//!   the F-bar (mean dilatation) hex8 that does not lock.
+//! - [`element`]: total-Lagrangian element kernels, each passing the patch tests on
+//!   distorted meshes: the fully integrated hex8, the F-bar (mean dilatation) hex8 that
+//!   does not lock, the one-point hex8 with the mean gradient and stiffness-type hourglass
+//!   control (Flanagan–Belytschko), the one-point tet4 and the 4-point tet10.
 //! - [`solver`]: the explicit central-difference solver with lumped mass, a stable step
 //!   from the current acoustic modulus, prescribed displacements, reactions, an energy
 //!   balance check, parallel element updates and a deterministic force assembly.
 //!
-//! Not built yet (the rest of the elements-and-solvers issue): the one-point
-//! hourglass-controlled hex8, tet4, tet10, mass scaling, bulk viscosity, the implicit
-//! solver, nodal loads, rigid drivers and the trait through which contact forces enter a
-//! solve.
+//! Not built yet (the rest of the elements-and-solvers issue): a locking-free tet, mass
+//! scaling, bulk viscosity, a separate hourglass-energy output of the solver, nodal
+//! loads, rigid drivers and the trait through which contact forces enter a solve (the
+//! implicit solver is being written).
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
 //! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.

@@ -1,11 +1,13 @@
-//! End-to-end checks of the explicit solver on a cube of fully integrated hex8.
+//! End-to-end checks of the explicit solver on a cube: fully integrated hex8, and a slow
+//! uniaxial stretch with every element technology.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use musclefem_core::element::Technology;
+use musclefem_core::mesh::ElementShape;
 use musclefem_core::mesh::Mesh;
-use musclefem_core::mesh::generate::box_of_hexes;
+use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit};
 use musclefem_core::solver::{Part, PrescribedDisplacement, SolverError};
 use musclefem_materials::driver::{StretchHistory, run_uniaxial_stress};
@@ -79,8 +81,30 @@ fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_fbar() {
     uniaxial_stretch_matches(Technology::Hex8FBar);
 }
 
+#[test]
+fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_one_point_hex8() {
+    // μ = 10 kPa: the default hourglass modulus (homogeneous stretch: no hourglass mode).
+    uniaxial_stretch_matches(Technology::hex8_one_point(1e4));
+}
+
+#[test]
+fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_tet4() {
+    uniaxial_stretch_matches(Technology::Tet4);
+}
+
+#[test]
+fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_tet10() {
+    uniaxial_stretch_matches(Technology::Tet10);
+}
+
+/// 2 × 2 × 2 cells: 8 hexes, or 48 tets (Kuhn split).
 fn uniaxial_stretch_matches(technology: Technology) {
-    let mesh = box_of_hexes([SIDE; 3], [2, 2, 2]).unwrap();
+    let mesh = match technology.shape() {
+        ElementShape::Hex8 => box_of_hexes([SIDE; 3], [2, 2, 2]),
+        ElementShape::Tet4 => box_of_tets([SIDE; 3], [2, 2, 2], TetOrder::Linear),
+        ElementShape::Tet10 => box_of_tets([SIDE; 3], [2, 2, 2], TetOrder::Quadratic),
+    }
+    .unwrap();
     let material = neo_hookean();
     let settings = ExplicitSettings::new(2.0);
     let result = run_explicit(

@@ -1,9 +1,11 @@
 //! Fully integrated trilinear hexahedron: 2×2×2 Gauss–Legendre points, weights 1.
+//! N_a = (1 + ξ_a ξ)(1 + η_a η)(1 + ζ_a ζ)/8; F = Σ_a x_a ⊗ ∇_X N_a at each point;
+//! f_a = Σ_q P_q ∇_X N_a(q) det J₀(q) [N]. Locks when nearly incompressible (8 points
+//! each constrained to J ≈ 1); kept as the reference for the other hex8 technologies.
 
-use nalgebra::{Matrix3, Vector3};
-
+use super::isoparametric::{RulePoint, reference_data as isoparametric};
 use super::{BlockKernel, ElementError, Technology};
-use crate::mesh::geometry::{hex8_gradients, jacobian};
+use crate::mesh::geometry::hex8_gradients;
 use crate::mesh::{ElementBlock, Nodes};
 
 /// 1/√3, the 2-point Gauss–Legendre abscissa on [−1, 1].
@@ -23,36 +25,14 @@ pub(super) fn gauss_points() -> [[f64; 3]; 8] {
 pub(super) fn reference_data(
     nodes: &Nodes,
     block: &ElementBlock,
+    technology: Technology,
 ) -> Result<BlockKernel, ElementError> {
-    let points = gauss_points();
-    let reference_gradients: Vec<[[f64; 3]; 8]> =
-        points.iter().map(|&xi| hex8_gradients(xi)).collect();
-    let mut gradients = Vec::with_capacity(block.len() * 64);
-    let mut weights = Vec::with_capacity(block.len() * 8);
-    let mut coords = [Vector3::zeros(); 8];
-    for (element, ids) in block.elements().enumerate() {
-        nodes.gather(ids, &mut coords);
-        for (point, local) in reference_gradients.iter().enumerate() {
-            let j0: Matrix3<f64> = jacobian(&coords, local);
-            let det_j = j0.determinant();
-            let inverse_transpose = j0.try_inverse().map(|inv| inv.transpose());
-            let Some(inverse_transpose) = inverse_transpose.filter(|_| det_j > 0.0) else {
-                return Err(ElementError::InvertedReference {
-                    block: block.name.clone(),
-                    element,
-                    point,
-                    det_j,
-                });
-            };
-            gradients.extend(local.iter().map(|g| inverse_transpose * Vector3::from(*g)));
-            weights.push(det_j);
-        }
-    }
-    Ok(BlockKernel {
-        technology: Technology::Hex8Full,
-        nodes_per_element: 8,
-        points_per_element: 8,
-        gradients,
-        weights,
-    })
+    let rule: Vec<RulePoint> = gauss_points()
+        .iter()
+        .map(|&xi| RulePoint {
+            gradients: hex8_gradients(xi).to_vec(),
+            weight: 1.0,
+        })
+        .collect();
+    isoparametric(nodes, block, technology, &rule)
 }

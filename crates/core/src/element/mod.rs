@@ -6,39 +6,73 @@
 //! internal force of node a is f_a = Σ_q P_q ∇_X N_a(q) w_q det J₀(q), with P = J σ F⁻ᵀ
 //! the first Piola–Kirchhoff stress.
 //!
-//! Built so far:
-//! - [`Technology::Hex8Full`]: the fully integrated hex8, which locks for nearly
-//!   incompressible tissue and is kept as the reference;
-//! - [`Technology::Hex8FBar`]: the same points with the F-bar modification
-//!   F̄ = (J̄/J)^{1/3} F, J̄ the element's mean dilatation (see `fbar.rs`), which removes
-//!   volumetric locking.
+//! Built so far, a file each:
+//! - [`Technology::Hex8Full`] (`hex8_full.rs`): the fully integrated hex8 (2×2×2 Gauss),
+//!   which locks for nearly incompressible tissue and is kept as the reference;
+//! - [`Technology::Hex8FBar`] (`fbar.rs`): the same points with the F-bar modification
+//!   F̄ = (J̄/J)^{1/3} F, J̄ the element's mean dilatation, which removes volumetric
+//!   locking;
+//! - [`Technology::Hex8OnePoint`] (`hex8_one_point.rs`): one point with the uniform
+//!   (mean) gradient of Flanagan & Belytschko and a stiffness-type hourglass control
+//!   whose energy [`BlockKernel::hourglass_energy`] reports;
+//! - [`Technology::Tet4`] (`tet4.rs`): the constant-strain linear tet, one point (locks
+//!   when nearly incompressible);
+//! - [`Technology::Tet10`] (`tet10.rs`): the quadratic tet with the 4-point rule of
+//!   degree 2, exact for straight-sided elements (no treatment of incompressibility).
 //!
-//! One-point hourglass-controlled hex8, tet4 and tet10 are still to come
-//! (elements-and-solvers issue).
+//! Every technology passes the patch tests (linear fields, constant stress) on distorted
+//! meshes. Not built: a locking-free tet (F-bar or mixed tet10, averaged-nodal tet4).
 
 mod fbar;
 mod hex8_full;
+mod hex8_one_point;
+mod isoparametric;
+mod tet10;
+mod tet4;
+
+pub use hex8_one_point::DEFAULT_HOURGLASS_FACTOR;
 
 use nalgebra::{Matrix3, Vector3};
 use thiserror::Error;
 
 use crate::mesh::{ElementBlock, ElementShape, Nodes};
 
-/// The element formulations a block can use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The element formulations a block can use. `PartialEq` only: a parameter is an `f64`.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Technology {
     /// Trilinear hexahedron, 2×2×2 Gauss points (locks when nearly incompressible).
     Hex8Full,
     /// Trilinear hexahedron, 2×2×2 Gauss points, F-bar: the volume change of every point
     /// replaced by the element's mean dilatation.
     Hex8FBar,
+    /// Trilinear hexahedron, one point with the mean gradient, and stiffness-type
+    /// hourglass control of modulus `hourglass_modulus` G_hg [Pa] (≥ 0; see
+    /// `hex8_one_point.rs` for the scaling, [`Technology::hex8_one_point`] for a default).
+    Hex8OnePoint { hourglass_modulus: f64 },
+    /// Linear tetrahedron, one point.
+    Tet4,
+    /// Quadratic tetrahedron, 4 points (degree 2).
+    Tet10,
 }
 
 impl Technology {
+    /// [`Technology::Hex8OnePoint`] with the default hourglass modulus
+    /// G_hg = [`DEFAULT_HOURGLASS_FACTOR`] × `shear_modulus` [Pa] (the material's shear
+    /// modulus at rest, e.g. μ of a neo-Hookean solid, or 2c·b of the Hill matrix term).
+    pub fn hex8_one_point(shear_modulus: f64) -> Self {
+        Technology::Hex8OnePoint {
+            hourglass_modulus: DEFAULT_HOURGLASS_FACTOR * shear_modulus,
+        }
+    }
+
     /// The element shape this technology works on.
     pub fn shape(self) -> ElementShape {
         match self {
-            Technology::Hex8Full | Technology::Hex8FBar => ElementShape::Hex8,
+            Technology::Hex8Full | Technology::Hex8FBar | Technology::Hex8OnePoint { .. } => {
+                ElementShape::Hex8
+            }
+            Technology::Tet4 => ElementShape::Tet4,
+            Technology::Tet10 => ElementShape::Tet10,
         }
     }
 
@@ -46,6 +80,8 @@ impl Technology {
     pub fn points_per_element(self) -> usize {
         match self {
             Technology::Hex8Full | Technology::Hex8FBar => 8,
+            Technology::Hex8OnePoint { .. } | Technology::Tet4 => 1,
+            Technology::Tet10 => 4,
         }
     }
 }
@@ -71,6 +107,12 @@ pub enum ElementError {
         point: usize,
         det_j: f64,
     },
+    #[error("block '{block}': technology {technology:?}: {reason}")]
+    InvalidParameter {
+        block: String,
+        technology: Technology,
+        reason: String,
+    },
 }
 
 /// Reference data of one block for its technology, computed once: per integration point,
@@ -85,6 +127,8 @@ pub struct BlockKernel {
     gradients: Vec<Vector3<f64>>,
     /// w det J₀ [m³], one per point.
     weights: Vec<f64>,
+    /// Hourglass vectors and stiffnesses ([`Technology::Hex8OnePoint`] only).
+    hourglass: Option<hex8_one_point::Hourglass>,
 }
 
 impl BlockKernel {
@@ -102,9 +146,16 @@ impl BlockKernel {
                 found: block.shape.name(),
             });
         }
-        let mut kernel = hex8_full::reference_data(nodes, block)?;
-        kernel.technology = technology;
-        Ok(kernel)
+        match technology {
+            Technology::Hex8Full | Technology::Hex8FBar => {
+                hex8_full::reference_data(nodes, block, technology)
+            }
+            Technology::Hex8OnePoint { hourglass_modulus } => {
+                hex8_one_point::reference_data(nodes, block, hourglass_modulus)
+            }
+            Technology::Tet4 => tet4::reference_data(nodes, block),
+            Technology::Tet10 => tet10::reference_data(nodes, block),
+        }
     }
 
     pub fn technology(&self) -> Technology {
@@ -159,7 +210,8 @@ impl BlockKernel {
     }
 
     /// The deformation gradients the material sees at every point of `element`, from its
-    /// current nodal `positions`: F itself, or F̄ for F-bar.
+    /// current nodal `positions`: F itself (with the mean gradient for the one-point hex8),
+    /// or F̄ for F-bar.
     pub fn element_deformation_gradients(
         &self,
         element: usize,
@@ -188,7 +240,13 @@ impl BlockKernel {
     ) {
         let ppe = self.points_per_element;
         match self.technology {
-            Technology::Hex8Full => {
+            Technology::Hex8FBar => {
+                fbar::add_element_forces(self, element, positions, stress, forces);
+            }
+            Technology::Hex8Full
+            | Technology::Hex8OnePoint { .. }
+            | Technology::Tet4
+            | Technology::Tet10 => {
                 for q in 0..ppe {
                     let piola = musclefem_materials::tensor::first_piola_from_cauchy(
                         &material_f[q],
@@ -196,11 +254,39 @@ impl BlockKernel {
                     );
                     self.add_internal_forces(element * ppe + q, &piola, forces);
                 }
-            }
-            Technology::Hex8FBar => {
-                fbar::add_element_forces(self, element, positions, stress, forces);
+                self.add_hourglass_forces(element, positions, forces);
             }
         }
+    }
+
+    /// Add the hourglass forces f_a = k Σ_α q^α γ^α_a [N] of `element` at its current
+    /// `positions` ([`Technology::Hex8OnePoint`]; nothing for the other technologies).
+    /// [`Self::add_element_forces`] includes them.
+    pub fn add_hourglass_forces(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+        forces: &mut [Vector3<f64>],
+    ) {
+        if let Some(hourglass) = &self.hourglass {
+            hourglass.add_forces(element, positions, forces);
+        }
+    }
+
+    /// Hourglass energy E_hg = ½ k Σ_α |q^α|² [J] of `element` at its current
+    /// `positions` (zero for technologies without hourglass control). It is part of the
+    /// internal energy the forces of [`Self::add_element_forces`] do work against.
+    pub fn hourglass_energy(&self, element: usize, positions: &[Vector3<f64>]) -> f64 {
+        self.hourglass
+            .as_ref()
+            .map_or(0.0, |h| h.energy(element, positions))
+    }
+
+    /// The hourglass vectors γ^α_a (4 modes × 8 nodes, dimensionless) and stiffness k
+    /// [N/m] of `element`, for a stiffness matrix K_ab = k Σ_α γ^α_a γ^α_b I
+    /// ([`Technology::Hex8OnePoint`] only).
+    pub fn hourglass_vectors(&self, element: usize) -> Option<(&[[f64; 8]; 4], f64)> {
+        self.hourglass.as_ref().map(|h| h.of(element))
     }
 
     /// Add the point's contribution P ∇_X N_a w det J₀ to the element's nodal forces [N].
@@ -218,5 +304,9 @@ impl BlockKernel {
     }
 }
 
+#[cfg(test)]
+mod hourglass_tests;
+#[cfg(test)]
+mod technology_tests;
 #[cfg(test)]
 mod tests;
