@@ -10,7 +10,7 @@ use musclefem_materials::{
 };
 
 use crate::element::BlockKernel;
-use crate::mesh::{ElementBlock, ElementShape, Nodes};
+use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
 /// Elements per chunk: 64 hex8 = 512 material points per material call.
 pub(crate) const ELEMENTS_PER_CHUNK: usize = 64;
@@ -27,7 +27,8 @@ pub(crate) struct ElementChunk {
     stress: Vec<VoigtStress>,
     /// Internal nodal forces, `nodes_per_element` per element [N].
     pub forces: Vec<Vector3<f64>>,
-    /// Reference length of each element: volume / largest face area [m].
+    /// Reference characteristic length of each element for the stable step [m]
+    /// ([`characteristic_length`]).
     reference_length: Vec<f64>,
     /// Largest acoustic modulus of each element at its first integration point, from the
     /// material tangent, refreshed by `refresh_wave_moduli` [Pa].
@@ -38,7 +39,6 @@ pub(crate) struct ElementChunk {
 impl ElementChunk {
     pub fn new(
         elements: Range<usize>,
-        nodes: &Nodes,
         kernel: &BlockKernel,
         block: &ElementBlock,
         material: &dyn Material,
@@ -51,15 +51,9 @@ impl ElementChunk {
             })
             .collect();
         let npe = kernel.nodes_per_element();
-        let mut coords = vec![Vector3::zeros(); npe];
         let reference_length = elements
             .clone()
-            .map(|e| {
-                for (x, &id) in coords.iter_mut().zip(block.element_nodes(e)) {
-                    *x = nodes.position(id as usize);
-                }
-                kernel.reference_volume(e) / largest_face_area(block.shape, &coords)
-            })
+            .map(|e| characteristic_length(kernel, e))
             .collect();
         ElementChunk {
             f_old: vec![Matrix3::identity(); points],
@@ -205,30 +199,25 @@ fn gather(out: &mut [Vector3<f64>], ids: &[u32], positions: &[Vector3<f64>]) {
     }
 }
 
-/// Largest face area of an element from its node positions [m²] (quad faces by their
-/// diagonals' cross product, exact for planar quads).
-fn largest_face_area(shape: ElementShape, x: &[Vector3<f64>]) -> f64 {
-    shape
-        .faces()
-        .iter()
-        .map(|face| match face.len() {
-            4 => {
-                let (a, b, c, d) = (
-                    x[face[0] as usize],
-                    x[face[1] as usize],
-                    x[face[2] as usize],
-                    x[face[3] as usize],
-                );
-                0.5 * (c - a).cross(&(d - b)).norm()
-            }
-            _ => {
-                let (a, b, c) = (
-                    x[face[0] as usize],
-                    x[face[1] as usize],
-                    x[face[2] as usize],
-                );
-                0.5 * (b - a).cross(&(c - a)).norm()
-            }
-        })
-        .fold(0.0, f64::max)
+/// Characteristic length of an element for the central-difference stability limit [m]:
+/// with lumped masses ρV/n on its n nodes and b_a = (1/V) Σ_q w_q ∇_X N_a(q) the mean
+/// gradients, the largest eigenfrequency is bounded by ω² ≤ n (M/ρ) Σ_a b_a·b_a
+/// (Flanagan & Belytschko 1981), so Δt = 2/ω ≥ L/c with L = 2/√(n Σ_a b_a·b_a).
+/// A cube of side h gives h/√3, the exact limit of its one-point hexahedron (volume over
+/// largest face area, h, is not conservative for the hourglass-like modes).
+fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64 {
+    let ppe = kernel.points_per_element();
+    let npe = kernel.nodes_per_element();
+    let mut mean = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+    let mut volume = 0.0;
+    for q in 0..ppe {
+        let point = element * ppe + q;
+        let w = kernel.weight(point);
+        for (b, g) in mean.iter_mut().zip(kernel.gradients(point)) {
+            *b += g * w;
+        }
+        volume += w;
+    }
+    let sum: f64 = mean[..npe].iter().map(|b| b.norm_squared()).sum::<f64>() / (volume * volume);
+    2.0 / (npe as f64 * sum).sqrt()
 }

@@ -6,7 +6,8 @@
 //! - prescribed displacement components take v^{n+½} = (ū(t^{n+1}) − u^n)/Δt^{n+½}.
 //!
 //! The step is Δt = safety × min over elements of L₀ √(ρ₀/M): total Lagrangian, so the
-//! reference length L₀ (volume over largest face area) and density ρ₀ with the current
+//! reference characteristic length L₀ (Flanagan–Belytschko bound from the element's mean
+//! shape-function gradients, h/√3 for a cube of side h) and density ρ₀ with the current
 //! acoustic modulus M, the largest eigenvalue of the acoustic tensor
 //! Q_ik = ∂P_iJ/∂F_kL n_J n_L over n = e_x, e_y, e_z at the element's first integration
 //! point, refreshed from the material tangent every [`MODULUS_REFRESH_INTERVAL`] steps.
@@ -350,7 +351,7 @@ fn prepare_part<'a>(
         .step_by(ELEMENTS_PER_CHUNK)
         .map(|start| {
             let end = (start + ELEMENTS_PER_CHUNK).min(block.len());
-            ElementChunk::new(start..end, &mesh.nodes, &kernel, block, material)
+            ElementChunk::new(start..end, &kernel, block, material)
         })
         .collect();
     Ok(PartRun {
