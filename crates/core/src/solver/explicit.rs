@@ -22,8 +22,12 @@
 //! step (the start-up error of the half-step velocities is of that size, and matters while
 //! the energies are still small); an instability grows past both quickly.
 //!
-//! Not built yet: mass scaling, bulk viscosity, hourglass energy (no hourglass-controlled
-//! element exists yet), nodal loads, rigid bodies.
+//! The hourglass forces of the one-point hex8 are part of its internal forces, so their
+//! work is in W_int (`BlockKernel::hourglass_energy` gives it per element; the history does
+//! not report it separately yet).
+//!
+//! Not built yet: mass scaling, bulk viscosity, a separate hourglass energy in the
+//! history, nodal loads, rigid bodies.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
