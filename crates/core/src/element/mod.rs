@@ -27,6 +27,7 @@ mod fbar;
 mod hex8_full;
 mod hex8_one_point;
 mod isoparametric;
+mod stiffness;
 mod tet10;
 mod tet4;
 

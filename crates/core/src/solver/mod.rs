@@ -1,12 +1,17 @@
 //! Solvers that advance a body in time. Built so far: the explicit central-difference
 //! solver ([`explicit`]) with lumped mass, a stable step from the dilatational wave speed,
-//! prescribed displacements, reaction forces and an energy balance. Still to come
-//! (elements-and-solvers issue): mass scaling, bulk viscosity, the implicit solver, nodal
-//! forces and rigid drivers.
+//! prescribed displacements, reaction forces and an energy balance; the quasi-static
+//! implicit solver ([`implicit`]): Newton with the consistent tangent, line search, sparse
+//! direct solves (faer) and step cutting. Still to come (elements-and-solvers issue): mass
+//! scaling, bulk viscosity, implicit dynamics, nodal forces and rigid drivers.
 
 mod chunk;
 pub mod explicit;
+pub mod implicit;
+mod implicit_chunk;
+mod implicit_model;
 mod part;
+mod sparse;
 
 pub use part::{Part, PrescribedDisplacement};
 
@@ -57,4 +62,28 @@ pub enum SolverError {
     },
     #[error("at t = {time:.6e} s node {node} has a non-finite velocity: the solution diverged")]
     Diverged { time: f64, node: usize },
+    #[error("implicit settings: {0}")]
+    InvalidImplicitSettings(String),
+    #[error(
+        "part on block {block}: technology {technology:?} has no consistent tangent yet, so \
+         the implicit solver cannot use it (use Hex8Full, Hex8OnePoint, Tet4 or Tet10, or the \
+         explicit solver)"
+    )]
+    NoConsistentTangent {
+        block: usize,
+        technology: crate::element::Technology,
+    },
+    #[error(
+        "at t = {time:.6e} s (increment {increment:.3e} s, the smallest allowed) Newton did \
+         not converge after {iterations} iterations, relative residual {residual:.3e}: {reason}"
+    )]
+    NotConverged {
+        time: f64,
+        increment: f64,
+        iterations: usize,
+        residual: f64,
+        reason: String,
+    },
+    #[error("at t = {time:.6e} s the linear solve failed: {reason}")]
+    LinearSolve { time: f64, reason: String },
 }

@@ -1,0 +1,238 @@
+//! Element stiffness (the consistent tangent of the internal forces) for the technologies
+//! whose forces are a plain sum over integration points, f_a = Σ_q P(F_q) ∇_X N_a(q) w_q
+//! with F_q = Σ_b x_b ⊗ ∇_X N_b(q) (no modification of F): then
+//!
+//! K_ab,ik = ∂f_a,i/∂x_b,k = Σ_q ∇_X N_a,J(q) 𝔸_iJkL(q) ∇_X N_b,L(q) w_q,
+//!
+//! 𝔸 = ∂P/∂F the material's first elasticity tensor, entry (i + 3J, k + 3L) of its 9×9
+//! matrix on column-major vec(F). The element matrix is dense, row a·3 + i, column b·3 + k,
+//! row-major. That covers [`Technology::Hex8Full`], [`Technology::Tet4`],
+//! [`Technology::Tet10`] and the point part of [`Technology::Hex8OnePoint`] (whose
+//! gradients are the mean ones); the one-point hex8 adds its hourglass stiffness, the
+//! derivative of the hourglass forces f_a = k Σ_α q^α γ^α_a, q^α = Σ_b x_b γ^α_b, which is
+//! K_ab,ik = k Σ_α γ^α_a γ^α_b δ_ik.
+//!
+//! F-bar couples every point to the element's mean dilatation, so its tangent has extra
+//! terms that are not built yet: [`BlockKernel::has_consistent_tangent`] says so, and
+//! [`BlockKernel::add_element_stiffness`] refuses, rather than return a matrix that would
+//! silently spoil Newton's convergence.
+
+use musclefem_materials::Tangent;
+
+use super::{BlockKernel, Technology};
+use crate::mesh::MAX_NODES_PER_ELEMENT;
+
+impl BlockKernel {
+    /// Whether [`Self::add_element_stiffness`] builds the consistent tangent of this
+    /// kernel's internal forces (true for the per-point technologies, false for F-bar).
+    pub fn has_consistent_tangent(&self) -> bool {
+        match self.technology {
+            Technology::Hex8Full
+            | Technology::Hex8OnePoint { .. }
+            | Technology::Tet4
+            | Technology::Tet10 => true,
+            Technology::Hex8FBar => false,
+        }
+    }
+
+    /// Size of the square element stiffness matrix: 3 × nodes per element.
+    pub fn element_dofs(&self) -> usize {
+        3 * self.nodes_per_element
+    }
+
+    /// Add the stiffness of `element` [N/m] to `stiffness` (dense, row-major,
+    /// `element_dofs()`², row a·3 + i, column b·3 + k) from the material tangents 𝔸 = ∂P/∂F
+    /// at its integration points (`points_per_element` of them, at the deformation gradients
+    /// of [`Self::element_deformation_gradients`]). Returns false, adding nothing, when the
+    /// technology has no consistent tangent yet (see [`Self::has_consistent_tangent`]).
+    pub fn add_element_stiffness(
+        &self,
+        element: usize,
+        tangents: &[Tangent],
+        stiffness: &mut [f64],
+    ) -> bool {
+        if !self.has_consistent_tangent() {
+            return false;
+        }
+        let npe = self.nodes_per_element;
+        let ppe = self.points_per_element;
+        let dofs = 3 * npe;
+        debug_assert_eq!(tangents.len(), ppe);
+        debug_assert_eq!(stiffness.len(), dofs * dofs);
+        // H_a[i][k + 3L] = Σ_J G_a,J 𝔸[(i + 3J), (k + 3L)] w, then K_ab,ik = Σ_L H_a G_b,L.
+        let mut h = [[[0.0; 9]; 3]; MAX_NODES_PER_ELEMENT];
+        let h = &mut h[..npe];
+        for (q, tangent) in tangents.iter().enumerate() {
+            let point = element * ppe + q;
+            let w = self.weight(point);
+            let gradients = self.gradients(point);
+            for (ha, g) in h.iter_mut().zip(gradients) {
+                for (i, row) in ha.iter_mut().enumerate() {
+                    for (column, value) in row.iter_mut().enumerate() {
+                        *value = w
+                            * (g[0] * tangent[(i, column)]
+                                + g[1] * tangent[(i + 3, column)]
+                                + g[2] * tangent[(i + 6, column)]);
+                    }
+                }
+            }
+            for (a, ha) in h.iter().enumerate() {
+                for (i, row) in ha.iter().enumerate() {
+                    let out = &mut stiffness[(3 * a + i) * dofs..(3 * a + i + 1) * dofs];
+                    for (b, g) in gradients.iter().enumerate() {
+                        for k in 0..3 {
+                            out[3 * b + k] += row[k] * g[0] + row[k + 3] * g[1] + row[k + 6] * g[2];
+                        }
+                    }
+                }
+            }
+        }
+        if let Some((gamma, k)) = self.hourglass_vectors(element) {
+            for a in 0..npe {
+                for b in 0..npe {
+                    let kab = k * gamma.iter().map(|g| g[a] * g[b]).sum::<f64>();
+                    for i in 0..3 {
+                        stiffness[(3 * a + i) * dofs + 3 * b + i] += kab;
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Matrix3, Vector3};
+
+    use musclefem_materials::{MaterialLibrary, PointBlock, PointResponse, VoigtStress};
+
+    use super::*;
+    use crate::mesh::ElementShape;
+    use crate::mesh::generate::{TetOrder, box_of_hexes, box_of_tets, distort};
+
+    /// The element stiffness of a distorted, deformed element of neo-Hookean material
+    /// equals the central finite difference of its internal forces (relative 1e-6), for
+    /// every technology that has one.
+    fn stiffness_is_the_derivative_of_the_forces(technology: Technology) {
+        let size = [0.01, 0.012, 0.008];
+        let mut mesh = match technology.shape() {
+            ElementShape::Hex8 => box_of_hexes(size, [2, 2, 2]),
+            ElementShape::Tet4 => box_of_tets(size, [2, 2, 2], TetOrder::Linear),
+            ElementShape::Tet10 => box_of_tets(size, [2, 2, 2], TetOrder::Quadratic),
+        }
+        .unwrap();
+        assert!(distort(&mut mesh, 0.3, 3).unwrap() > 0);
+        let block = &mesh.blocks[0];
+        let kernel = BlockKernel::new(&mesh.nodes, block, technology).unwrap();
+        let params =
+            std::collections::BTreeMap::from([("mu".to_string(), 1e4), ("D".to_string(), 1e-5)]);
+        let material = MaterialLibrary::with_builtins()
+            .create("neo-hookean", &params)
+            .unwrap();
+        let a = Matrix3::new(1.2, 0.1, -0.05, 0.03, 0.9, 0.1, -0.02, 0.04, 1.05);
+        let (npe, ppe) = (kernel.nodes_per_element(), kernel.points_per_element());
+        let dofs = kernel.element_dofs();
+        // An element with an interior node (the one the distortion moved).
+        let element = block.len() / 2 + 1;
+        let ids = block.element_nodes(element);
+        let positions: Vec<Vector3<f64>> = ids
+            .iter()
+            .enumerate()
+            .map(|(n, &id)| {
+                let x = mesh.nodes.position(id as usize);
+                a * x + Vector3::new(1e-4 * (n as f64).sin(), 2e-4 * (n as f64).cos(), 0.0)
+            })
+            .collect();
+        let evaluate = |x: &[Vector3<f64>], tangents: Option<&mut [Tangent]>| {
+            let mut f = vec![Matrix3::identity(); ppe];
+            kernel.element_deformation_gradients(element, x, &mut f);
+            let mut stress = vec![VoigtStress::zeros(); ppe];
+            let points = PointBlock {
+                time: 1.0,
+                dt: 1.0,
+                deformation_gradient_old: &vec![Matrix3::identity(); ppe],
+                deformation_gradient_new: &f,
+                fiber_direction: &vec![Vector3::x(); ppe],
+                state_old: &[],
+            };
+            let mut response = PointResponse {
+                cauchy_stress: &mut stress,
+                state_new: &mut [],
+                tangent: tangents,
+            };
+            material.update(&points, &mut response).unwrap();
+            let mut forces = vec![Vector3::zeros(); npe];
+            kernel.add_element_forces(element, x, &f, &stress, &mut forces);
+            forces
+        };
+        let mut tangents = vec![Tangent::zeros(); ppe];
+        evaluate(&positions, Some(&mut tangents));
+        let mut k = vec![0.0; dofs * dofs];
+        assert!(kernel.add_element_stiffness(element, &tangents, &mut k));
+        let h = 1e-7 * 0.005;
+        let mut largest: f64 = 0.0;
+        let mut error: f64 = 0.0;
+        for b in 0..npe {
+            for kk in 0..3 {
+                let mut plus = positions.clone();
+                let mut minus = positions.clone();
+                plus[b][kk] += h;
+                minus[b][kk] -= h;
+                let (fp, fm) = (evaluate(&plus, None), evaluate(&minus, None));
+                for a in 0..npe {
+                    for i in 0..3 {
+                        let numeric = (fp[a][i] - fm[a][i]) / (2.0 * h);
+                        let analytic = k[(3 * a + i) * dofs + 3 * b + kk];
+                        largest = largest.max(numeric.abs());
+                        error = error.max((numeric - analytic).abs());
+                    }
+                }
+            }
+        }
+        println!(
+            "{technology:?}: largest stiffness entry {largest:.3e} N/m, largest error \
+             {error:.3e} N/m"
+        );
+        assert!(
+            error < 1e-6 * largest,
+            "{technology:?}: {error} vs {largest}"
+        );
+        // Symmetric, since the neo-Hookean tangent has major symmetry.
+        for r in 0..dofs {
+            for c in 0..dofs {
+                assert!((k[r * dofs + c] - k[c * dofs + r]).abs() < 1e-12 * largest);
+            }
+        }
+    }
+
+    #[test]
+    fn hex8_full_stiffness_is_the_derivative_of_the_forces() {
+        stiffness_is_the_derivative_of_the_forces(Technology::Hex8Full);
+    }
+
+    #[test]
+    fn hex8_one_point_stiffness_is_the_derivative_of_the_forces() {
+        stiffness_is_the_derivative_of_the_forces(Technology::hex8_one_point(1e4));
+    }
+
+    #[test]
+    fn tet4_stiffness_is_the_derivative_of_the_forces() {
+        stiffness_is_the_derivative_of_the_forces(Technology::Tet4);
+    }
+
+    #[test]
+    fn tet10_stiffness_is_the_derivative_of_the_forces() {
+        stiffness_is_the_derivative_of_the_forces(Technology::Tet10);
+    }
+
+    #[test]
+    fn fbar_has_no_stiffness_yet() {
+        let mesh = box_of_hexes([0.01; 3], [1, 1, 1]).unwrap();
+        let kernel = BlockKernel::new(&mesh.nodes, &mesh.blocks[0], Technology::Hex8FBar).unwrap();
+        assert!(!kernel.has_consistent_tangent());
+        let mut k = vec![0.0; 24 * 24];
+        assert!(!kernel.add_element_stiffness(0, &[Tangent::zeros(); 8], &mut k));
+        assert!(k.iter().all(|&x| x == 0.0));
+    }
+}

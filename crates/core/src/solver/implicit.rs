@@ -1,0 +1,470 @@
+//! Quasi-static implicit solver: equilibrium f_int(u) = 0 on the free degrees of freedom
+//! at every load step, by Newton's method with the consistent tangent.
+//!
+//! - Time is the load parameter [s]: prescribed displacements follow their amplitudes, and
+//!   materials update over each step with Δt = the step length (rate-dependent materials
+//!   see the loading rate; no inertia).
+//! - Each step starts with a predictor: the tangent at the converged state carries the
+//!   prescribed increment Δū into the free unknowns, K_ff Δu_f = −(r_f + K_fp Δū); then
+//!   Newton iterations K_ff δu = −r_f with a backtracking line search on ‖r_f‖ (step halved
+//!   until ‖r(u + α δu)‖ ≤ (1 − 10⁻⁴ α) ‖r(u)‖).
+//! - Converged when ‖r_f‖ ≤ tol_r ‖f_int‖ (all degrees of freedom, so the reactions set
+//!   the scale) and the last correction max |α δu| ≤ tol_u max |u|.
+//! - Prescribed degrees of freedom are eliminated: the sparse matrix holds the free ones
+//!   only (pattern built once from the connectivity, values refilled every iteration,
+//!   serially in element order, so results do not depend on the thread count). Solved with
+//!   faer's sparse Cholesky (symbolic analysis reused), LU if Cholesky fails or a material
+//!   tangent is not symmetric; serially unless
+//!   [`ImplicitSettings::parallel_factorization_unknowns`] says otherwise.
+//! - Steps: a fixed number, or with [`StepCutting`] a failed step (no convergence within
+//!   the iteration limit, a line search that cannot reduce the residual, an inverted
+//!   element, a failed solve) is retried from the last converged state with half the
+//!   increment, down to a limit; after consecutive easy steps the increment grows back.
+//!
+//! Reactions: the internal force summed over the nodes of each prescribed displacement in
+//! its direction, at the converged state. Material states are committed after convergence.
+//!
+//! Element technologies: those with a consistent element stiffness
+//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8OnePoint, Tet4
+//! and Tet10. F-bar is refused ([`SolverError::NoConsistentTangent`]) until its tangent is
+//! built. Not built yet: nodal loads, contact, implicit dynamics.
+//!
+//! Memory besides the factor: every element keeps its dense stiffness between the parallel
+//! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192
+//! positions, 0.8 kB, per hex8).
+
+use nalgebra::Vector3;
+
+use super::implicit_chunk::ImplicitChunk;
+use super::implicit_model::Model;
+use super::sparse::PRESCRIBED;
+use super::{Part, PrescribedDisplacement, SolverError};
+use crate::mesh::Mesh;
+
+pub use super::sparse::Factorization;
+
+/// Automatic step cutting: halve a failed increment, grow it back after easy steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepCutting {
+    /// Halvings allowed below the initial increment (smallest = initial / 2^max_cuts).
+    pub max_cuts: u32,
+    /// Factor by which the increment grows after `easy_steps` easy steps in a row (≥ 1),
+    /// up to the initial increment.
+    pub growth: f64,
+    /// A step is easy if it converged in at most this many Newton iterations.
+    pub easy_iterations: usize,
+    /// Easy steps in a row before the increment grows.
+    pub easy_steps: usize,
+}
+
+impl Default for StepCutting {
+    /// 10 halvings, growth 1.5 after 2 steps of at most 5 iterations.
+    fn default() -> Self {
+        StepCutting {
+            max_cuts: 10,
+            growth: 1.5,
+            easy_iterations: 5,
+            easy_steps: 2,
+        }
+    }
+}
+
+/// Settings of a quasi-static run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImplicitSettings {
+    /// End of the load history [s] (the run starts at t = 0).
+    pub end_time: f64,
+    /// Number of equal increments (the initial and largest increment with cutting).
+    pub increments: usize,
+    /// Automatic cutting, or `None` for fixed increments (a failed step is an error).
+    pub cutting: Option<StepCutting>,
+    /// Newton iterations allowed per step, predictor included (default 25).
+    pub max_iterations: usize,
+    /// Relative residual tolerance tol_r (default 1e-10).
+    pub residual_tolerance: f64,
+    /// Relative correction tolerance tol_u (default 1e-6).
+    pub correction_tolerance: f64,
+    /// Halvings the line search may try per iteration (default 8).
+    pub line_search_cuts: usize,
+    /// Unknowns from which the sparse factorizations run on rayon's threads; below,
+    /// they run serially. Default `usize::MAX`: always serial, so that whole runs are the
+    /// same, bit for bit, on any number of threads (element updates are parallel and
+    /// deterministic either way). faer's parallel factorization is not reproducible across
+    /// thread counts (a 20×20×20 hex8 cube, 26 019 unknowns, differed between 1 and 2
+    /// threads), and on 2 busy cores it was not consistently faster (one step, 4 Newton
+    /// iterations: 7.6–8.4 s serial, 6.7–11.9 s on 2 threads).
+    pub parallel_factorization_unknowns: usize,
+}
+
+impl ImplicitSettings {
+    /// `increments` fixed increments to `end_time`, default tolerances, no cutting.
+    pub fn new(end_time: f64, increments: usize) -> Self {
+        ImplicitSettings {
+            end_time,
+            increments,
+            cutting: None,
+            max_iterations: 25,
+            residual_tolerance: 1e-10,
+            correction_tolerance: 1e-6,
+            line_search_cuts: 8,
+            parallel_factorization_unknowns: usize::MAX,
+        }
+    }
+
+    /// The same with automatic cutting (default [`StepCutting`]).
+    pub fn with_cutting(mut self) -> Self {
+        self.cutting = Some(StepCutting::default());
+        self
+    }
+}
+
+/// One converged step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImplicitHistoryRow {
+    /// Time at the end of the step [s].
+    pub time: f64,
+    /// Increment of the step [s].
+    pub increment: f64,
+    /// Newton iterations (predictor included).
+    pub iterations: usize,
+    /// Reaction force of each prescribed displacement, in its direction, summed over its
+    /// nodes [N].
+    pub reactions: Vec<f64>,
+}
+
+/// How one converged step went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepReport {
+    pub time: f64,
+    pub increment: f64,
+    pub iterations: usize,
+    /// ‖r_f‖ / ‖f_int‖ after the predictor and after each iteration.
+    pub residuals: Vec<f64>,
+    /// Line-search halvings taken over the step.
+    pub line_search_cuts: usize,
+    /// The factorization of the last solve.
+    pub factorization: Factorization,
+}
+
+/// What a quasi-static run returns.
+#[derive(Debug, Clone)]
+pub struct ImplicitResult {
+    pub history: Vec<ImplicitHistoryRow>,
+    pub steps: Vec<StepReport>,
+    /// Failed attempts that were cut.
+    pub cuts: usize,
+    /// Nodal displacements at the end [m].
+    pub displacement: Vec<Vector3<f64>>,
+    /// Unknowns (free degrees of freedom) and stored matrix entries.
+    pub equations: usize,
+    pub matrix_entries: usize,
+}
+
+/// Why a step attempt failed.
+enum StepFailure {
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        reason: String,
+    },
+    Error(SolverError),
+}
+
+/// Run the quasi-static implicit solver on `mesh` with `parts` and `prescribed`
+/// displacements.
+pub fn run_quasi_static(
+    mesh: &Mesh,
+    parts: &[Part],
+    prescribed: &[PrescribedDisplacement],
+    settings: &ImplicitSettings,
+) -> Result<ImplicitResult, SolverError> {
+    check_settings(settings)?;
+    let mut model = Model::new(
+        mesh,
+        parts,
+        prescribed,
+        settings.parallel_factorization_unknowns,
+    )?;
+    let node_count = mesh.nodes.len();
+    let reference: Vec<Vector3<f64>> = (0..node_count).map(|i| mesh.nodes.position(i)).collect();
+    let mut displacement = vec![Vector3::zeros(); node_count];
+    let mut converged = displacement.clone();
+    let mut history = Vec::new();
+    let mut steps = Vec::new();
+    let mut cuts = 0;
+    let end = settings.end_time;
+    let initial = end / settings.increments as f64;
+    let smallest = settings
+        .cutting
+        .as_ref()
+        .map_or(initial, |c| initial / 2f64.powi(c.max_cuts as i32));
+    let mut increment = initial;
+    let mut easy = 0;
+    let mut time = 0.0;
+    while time < end {
+        let mut step = increment.min(end - time);
+        if end - (time + step) < 1e-9 * step {
+            step = end - time;
+        }
+        let attempt = newton_step(
+            &mut model,
+            &reference,
+            &mut displacement,
+            prescribed,
+            settings,
+            time,
+            step,
+        );
+        match attempt {
+            Ok(report) => {
+                for run in &mut model.runs {
+                    run.chunks.iter_mut().for_each(ImplicitChunk::commit);
+                }
+                time = if end - (time + step) < 1e-9 * step {
+                    end
+                } else {
+                    time + step
+                };
+                converged.copy_from_slice(&displacement);
+                history.push(ImplicitHistoryRow {
+                    time,
+                    increment: step,
+                    iterations: report.iterations,
+                    reactions: model.reactions(prescribed),
+                });
+                if let Some(cutting) = &settings.cutting {
+                    if report.iterations <= cutting.easy_iterations {
+                        easy += 1;
+                        if easy >= cutting.easy_steps {
+                            increment = (increment * cutting.growth).min(initial);
+                            easy = 0;
+                        }
+                    } else {
+                        easy = 0;
+                    }
+                }
+                steps.push(report);
+            }
+            Err(failure) => {
+                displacement.copy_from_slice(&converged);
+                let half = step / 2.0;
+                if settings.cutting.is_some() && half >= smallest * (1.0 - 1e-12) {
+                    increment = half;
+                    easy = 0;
+                    cuts += 1;
+                    continue;
+                }
+                return Err(match failure {
+                    StepFailure::Error(error) => error,
+                    StepFailure::NotConverged {
+                        iterations,
+                        residual,
+                        reason,
+                    } => SolverError::NotConverged {
+                        time: time + step,
+                        increment: step,
+                        iterations,
+                        residual,
+                        reason,
+                    },
+                });
+            }
+        }
+    }
+    Ok(ImplicitResult {
+        history,
+        steps,
+        cuts,
+        displacement,
+        equations: model.system.size(),
+        matrix_entries: model.system.entries(),
+    })
+}
+
+fn check_settings(settings: &ImplicitSettings) -> Result<(), SolverError> {
+    let bad = |what: String| Err(SolverError::InvalidImplicitSettings(what));
+    if !(settings.end_time.is_finite() && settings.end_time > 0.0) {
+        return bad(format!("end time {} must be positive", settings.end_time));
+    }
+    if settings.increments == 0 {
+        return bad("at least one increment is needed".to_string());
+    }
+    if settings.max_iterations == 0 {
+        return bad("at least one Newton iteration is needed".to_string());
+    }
+    for (name, value) in [
+        ("residual tolerance", settings.residual_tolerance),
+        ("correction tolerance", settings.correction_tolerance),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return bad(format!("{name} {value} must be positive"));
+        }
+    }
+    if let Some(cutting) = &settings.cutting
+        && !(cutting.growth.is_finite() && cutting.growth >= 1.0)
+    {
+        return bad(format!("growth factor {} must be >= 1", cutting.growth));
+    }
+    Ok(())
+}
+
+/// One attempt at the step from `time` to `time + step`: predictor, then Newton with line
+/// search. Leaves `displacement` at the converged state (or wherever it failed).
+fn newton_step(
+    model: &mut Model,
+    reference: &[Vector3<f64>],
+    displacement: &mut [Vector3<f64>],
+    prescribed: &[PrescribedDisplacement],
+    settings: &ImplicitSettings,
+    time: f64,
+    step: f64,
+) -> Result<StepReport, StepFailure> {
+    let end = time + step;
+    let node_count = displacement.len();
+    // Prescribed increments Δū (the last condition on a component wins).
+    let mut target = vec![f64::NAN; 3 * node_count];
+    for bc in prescribed {
+        let value = bc.amplitude.value_at(end);
+        for &n in &bc.nodes {
+            target[3 * n as usize + bc.dof] = value;
+        }
+    }
+    let delta: Vec<f64> = target
+        .iter()
+        .enumerate()
+        .map(|(d, t)| {
+            if t.is_nan() {
+                0.0
+            } else {
+                t - displacement[d / 3][d % 3]
+            }
+        })
+        .collect();
+    let mut positions: Vec<Vector3<f64>> = reference
+        .iter()
+        .zip(displacement.iter())
+        .map(|(x, u)| x + u)
+        .collect();
+    let error = |e: SolverError| StepFailure::Error(e);
+
+    // Predictor.
+    model
+        .evaluate(&positions, end, step, true, Some(&delta))
+        .map_err(error)?;
+    let mut correction: Vec<f64> = model
+        .residual
+        .iter()
+        .zip(&model.lift)
+        .map(|(r, l)| -(r + l))
+        .collect();
+    let mut factorization = model.solve(&mut correction, end).map_err(error)?;
+    let mut largest_correction: f64 = 0.0;
+    for (d, &eq) in model.equation.iter().enumerate() {
+        let u = &mut displacement[d / 3][d % 3];
+        if eq == PRESCRIBED {
+            if !target[d].is_nan() {
+                largest_correction = largest_correction.max((target[d] - *u).abs());
+                *u = target[d];
+            }
+        } else {
+            *u += correction[eq as usize];
+            largest_correction = largest_correction.max(correction[eq as usize].abs());
+        }
+    }
+    set_positions(&mut positions, reference, displacement);
+    let mut iterations = 1;
+    let mut residuals = Vec::new();
+    let mut line_search_cuts = 0;
+    let mut evaluated = false;
+    let mut base = displacement.to_vec();
+    loop {
+        let norms = if evaluated {
+            model.norms()
+        } else {
+            match model.evaluate(&positions, end, step, true, None) {
+                Ok(norms) => norms,
+                Err(e) => {
+                    return Err(StepFailure::NotConverged {
+                        iterations,
+                        residual: f64::INFINITY,
+                        reason: e.to_string(),
+                    });
+                }
+            }
+        };
+        let relative = norms.relative();
+        residuals.push(relative);
+        if !relative.is_finite() {
+            return Err(StepFailure::NotConverged {
+                iterations,
+                residual: relative,
+                reason: "the residual is not finite".to_string(),
+            });
+        }
+        let largest_displacement = displacement.iter().map(|u| u.amax()).fold(0.0, f64::max);
+        if relative <= settings.residual_tolerance
+            && largest_correction <= settings.correction_tolerance * largest_displacement
+        {
+            return Ok(StepReport {
+                time: end,
+                increment: step,
+                iterations,
+                residuals,
+                line_search_cuts,
+                factorization,
+            });
+        }
+        if iterations >= settings.max_iterations {
+            return Err(StepFailure::NotConverged {
+                iterations,
+                residual: relative,
+                reason: format!("iteration limit {} reached", settings.max_iterations),
+            });
+        }
+        let mut direction: Vec<f64> = model.residual.iter().map(|r| -r).collect();
+        factorization = model.solve(&mut direction, end).map_err(error)?;
+        iterations += 1;
+        base.copy_from_slice(displacement);
+        // Line search: the full step first, with the stiffness for the next iteration.
+        let mut alpha = 1.0;
+        let mut accepted = false;
+        for trial in 0..=settings.line_search_cuts {
+            model.apply(displacement, &base, &direction, alpha);
+            set_positions(&mut positions, reference, displacement);
+            let with_stiffness = trial == 0;
+            let trial_norms = model.evaluate(&positions, end, step, with_stiffness, None);
+            if let Ok(trial_norms) = trial_norms
+                && trial_norms.residual.is_finite()
+                && (trial_norms.residual <= (1.0 - 1e-4 * alpha) * norms.residual
+                    || trial_norms.relative() <= settings.residual_tolerance)
+            {
+                accepted = true;
+                evaluated = with_stiffness;
+                break;
+            }
+            alpha *= 0.5;
+            line_search_cuts += 1;
+        }
+        if !accepted {
+            return Err(StepFailure::NotConverged {
+                iterations,
+                residual: relative,
+                reason: format!(
+                    "the line search found no decrease of the residual in {} halvings",
+                    settings.line_search_cuts
+                ),
+            });
+        }
+        largest_correction = alpha * direction.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    }
+}
+
+fn set_positions(
+    positions: &mut [Vector3<f64>],
+    reference: &[Vector3<f64>],
+    displacement: &[Vector3<f64>],
+) {
+    for ((x, x0), u) in positions.iter_mut().zip(reference).zip(displacement) {
+        *x = x0 + u;
+    }
+}

@@ -1,0 +1,339 @@
+//! The implicit solver's discrete problem: the parts with their element chunks, the
+//! equation numbers of the free degrees of freedom, the sparse stiffness and its scatter
+//! maps, and the evaluation of internal forces, residual and stiffness at given positions
+//! (elements in parallel chunks, everything gathered serially in element order, so the
+//! result does not depend on the number of threads).
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use musclefem_materials::Material;
+
+use super::implicit_chunk::{ELEMENTS_PER_CHUNK, ImplicitChunk};
+use super::sparse::{PRESCRIBED, SparseSystem};
+use super::{Part, PrescribedDisplacement, SolverError};
+use crate::element::BlockKernel;
+use crate::mesh::{ElementBlock, Mesh};
+
+/// One part during a run.
+pub(super) struct PartRun<'a> {
+    pub block: usize,
+    pub kernel: BlockKernel,
+    pub material: &'a dyn Material,
+    pub chunks: Vec<ImplicitChunk>,
+    /// Where each element's stiffness goes: for element e, column c = 3b + k of its
+    /// matrix and node a, the position in the sparse values of the first free degree of
+    /// freedom of node a in the column of (b, k) (the node's free rows follow it), or
+    /// [`PRESCRIBED`] when (b, k) is prescribed or node a is held in every direction.
+    pub scatter: Vec<u32>,
+}
+
+/// The discrete problem: parts, equation numbers, the sparse system and work vectors.
+pub(super) struct Model<'a> {
+    pub mesh: &'a Mesh,
+    pub runs: Vec<PartRun<'a>>,
+    /// Equation of each degree of freedom 3 node + dof, or [`PRESCRIBED`].
+    pub equation: Vec<u32>,
+    pub system: SparseSystem,
+    /// Internal forces of all nodes [N].
+    pub force: Vec<Vector3<f64>>,
+    /// Residual of the free degrees of freedom [N].
+    pub residual: Vec<f64>,
+    /// K_fp Δū of the predictor [N].
+    pub lift: Vec<f64>,
+    pub symmetric: bool,
+}
+
+/// Norms of one evaluation.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Norms {
+    pub residual: f64,
+    pub force: f64,
+}
+
+impl Norms {
+    pub fn relative(self) -> f64 {
+        if self.residual == 0.0 {
+            0.0
+        } else {
+            self.residual / self.force
+        }
+    }
+}
+
+/// The scatter map of a block (see [`PartRun::scatter`]).
+fn scatter_map(block: &ElementBlock, equation: &[u32], system: &SparseSystem) -> Vec<u32> {
+    let npe = block.shape.nodes_per_element();
+    let mut map = Vec::with_capacity(block.len() * 3 * npe * npe);
+    for ids in block.elements() {
+        for &b in ids {
+            for k in 0..3 {
+                let column = equation[3 * b as usize + k];
+                for &a in ids {
+                    let rows = &equation[3 * a as usize..3 * a as usize + 3];
+                    let first = rows.iter().find(|&&r| r != PRESCRIBED);
+                    map.push(match (column, first) {
+                        (PRESCRIBED, _) | (_, None) => PRESCRIBED,
+                        (column, Some(&row)) => {
+                            system.position(row as usize, column as usize) as u32
+                        }
+                    });
+                }
+            }
+        }
+    }
+    map
+}
+
+impl<'a> Model<'a> {
+    pub fn new(
+        mesh: &'a Mesh,
+        parts: &'a [Part],
+        prescribed: &[PrescribedDisplacement],
+        parallel_factorization_unknowns: usize,
+    ) -> Result<Self, SolverError> {
+        let node_count = mesh.nodes.len();
+        let mut runs = Vec::with_capacity(parts.len());
+        let mut used = vec![false; node_count];
+        for part in parts {
+            let block = mesh
+                .blocks
+                .get(part.block)
+                .ok_or_else(|| SolverError::InvalidPart {
+                    block: part.block,
+                    reason: format!("the mesh has {} blocks", mesh.blocks.len()),
+                })?;
+            let kernel =
+                BlockKernel::new(&mesh.nodes, block, part.technology).map_err(|source| {
+                    SolverError::Element {
+                        block: part.block,
+                        source,
+                    }
+                })?;
+            if !kernel.has_consistent_tangent() {
+                return Err(SolverError::NoConsistentTangent {
+                    block: part.block,
+                    technology: part.technology,
+                });
+            }
+            for &id in &block.connectivity {
+                used[id as usize] = true;
+            }
+            let material = part.material.as_ref();
+            let chunks = (0..block.len())
+                .step_by(ELEMENTS_PER_CHUNK)
+                .map(|start| {
+                    let end = (start + ELEMENTS_PER_CHUNK).min(block.len());
+                    ImplicitChunk::new(start..end, &kernel, block, material)
+                })
+                .collect();
+            runs.push(PartRun {
+                block: part.block,
+                kernel,
+                material,
+                chunks,
+                scatter: Vec::new(),
+            });
+        }
+        let mut is_prescribed = vec![false; 3 * node_count];
+        for bc in prescribed {
+            if bc.dof > 2 {
+                return Err(SolverError::InvalidBoundaryCondition(format!(
+                    "component {} is not 0, 1 or 2",
+                    bc.dof
+                )));
+            }
+            for &n in &bc.nodes {
+                if n as usize >= node_count {
+                    return Err(SolverError::InvalidBoundaryCondition(format!(
+                        "node {n} does not exist (the mesh has {node_count})"
+                    )));
+                }
+                is_prescribed[3 * n as usize + bc.dof] = true;
+            }
+        }
+        let mut equation = vec![PRESCRIBED; 3 * node_count];
+        let mut free = 0u32;
+        for (d, e) in equation.iter_mut().enumerate() {
+            if is_prescribed[d] {
+                continue;
+            }
+            if !used[d / 3] {
+                return Err(SolverError::InvalidPart {
+                    block: parts.first().map_or(0, |p| p.block),
+                    reason: format!(
+                        "node {} belongs to no element of any part and is not held: \
+                         nothing resists its motion",
+                        d / 3
+                    ),
+                });
+            }
+            *e = free;
+            free += 1;
+        }
+        let free = free as usize;
+        let system = SparseSystem::new(
+            node_count,
+            &equation,
+            free,
+            runs.iter().map(|r| &mesh.blocks[r.block]),
+            parallel_factorization_unknowns,
+        );
+        if system.entries() >= PRESCRIBED as usize {
+            return Err(SolverError::InvalidPart {
+                block: parts.first().map_or(0, |p| p.block),
+                reason: format!(
+                    "the stiffness would have {} entries, more than 2^32 - 1",
+                    system.entries()
+                ),
+            });
+        }
+        for run in &mut runs {
+            run.scatter = scatter_map(&mesh.blocks[run.block], &equation, &system);
+        }
+        Ok(Model {
+            mesh,
+            runs,
+            equation,
+            system,
+            force: vec![Vector3::zeros(); node_count],
+            residual: vec![0.0; free],
+            lift: vec![0.0; free],
+            symmetric: true,
+        })
+    }
+
+    /// Internal forces (and with `with_stiffness` the stiffness of the free degrees of
+    /// freedom, and with `delta` the lift K_fp Δū) at `positions`, materials updated over
+    /// the step of `dt` ending at `time`. Elements update in parallel chunks; everything is
+    /// gathered serially in element order.
+    pub fn evaluate(
+        &mut self,
+        positions: &[Vector3<f64>],
+        time: f64,
+        dt: f64,
+        with_stiffness: bool,
+        delta: Option<&[f64]>,
+    ) -> Result<Norms, SolverError> {
+        self.force.fill(Vector3::zeros());
+        self.lift.fill(0.0);
+        if with_stiffness {
+            self.system.clear();
+            self.symmetric = true;
+        }
+        let mesh = self.mesh;
+        for run in &mut self.runs {
+            let block = &mesh.blocks[run.block];
+            let (kernel, material) = (&run.kernel, run.material);
+            run.chunks
+                .par_iter_mut()
+                .try_for_each(|chunk| {
+                    chunk.update(kernel, block, material, positions, time, dt, with_stiffness)
+                })
+                .map_err(|(element, source)| SolverError::Material {
+                    time,
+                    block: block.name.clone(),
+                    element,
+                    source,
+                })?;
+            let npe = kernel.nodes_per_element();
+            let dofs = kernel.element_dofs();
+            for chunk in &run.chunks {
+                for (local, element) in chunk.elements.clone().enumerate() {
+                    let ids = block.element_nodes(element);
+                    for (&id, f) in ids
+                        .iter()
+                        .zip(&chunk.forces[local * npe..(local + 1) * npe])
+                    {
+                        self.force[id as usize] += f;
+                    }
+                    if !with_stiffness {
+                        continue;
+                    }
+                    let k = &chunk.stiffness[local * dofs * dofs..(local + 1) * dofs * dofs];
+                    let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
+                    let values = self.system.values_mut();
+                    for (c, starts) in map.chunks_exact(npe).enumerate() {
+                        let dof = 3 * ids[c / 3] as usize + c % 3;
+                        let column = self.equation[dof];
+                        for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
+                            let rows = &self.equation[3 * id as usize..3 * id as usize + 3];
+                            let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
+                                continue;
+                            };
+                            for (i, &row) in rows.iter().enumerate() {
+                                if row == PRESCRIBED {
+                                    continue;
+                                }
+                                let value = k[(3 * a + i) * dofs + c];
+                                if column != PRESCRIBED {
+                                    values[(start + row - first) as usize] += value;
+                                } else if let Some(delta) = delta {
+                                    self.lift[row as usize] += value * delta[dof];
+                                }
+                            }
+                        }
+                    }
+                }
+                self.symmetric &= !with_stiffness || chunk.symmetric;
+            }
+        }
+        for (d, &eq) in self.equation.iter().enumerate() {
+            if eq != PRESCRIBED {
+                self.residual[eq as usize] = self.force[d / 3][d % 3];
+            }
+        }
+        Ok(self.norms())
+    }
+
+    pub fn norms(&self) -> Norms {
+        Norms {
+            residual: self.residual.iter().map(|r| r * r).sum::<f64>().sqrt(),
+            force: self
+                .force
+                .iter()
+                .map(|f| f.norm_squared())
+                .sum::<f64>()
+                .sqrt(),
+        }
+    }
+
+    pub fn solve(
+        &mut self,
+        rhs: &mut [f64],
+        time: f64,
+    ) -> Result<super::sparse::Factorization, SolverError> {
+        self.system
+            .solve(rhs, self.symmetric)
+            .map_err(|reason| SolverError::LinearSolve { time, reason })
+    }
+
+    /// u = base + α δu on the free degrees of freedom (prescribed ones unchanged).
+    pub fn apply(
+        &self,
+        displacement: &mut [Vector3<f64>],
+        base: &[Vector3<f64>],
+        direction: &[f64],
+        alpha: f64,
+    ) {
+        for (d, &eq) in self.equation.iter().enumerate() {
+            if eq != PRESCRIBED {
+                displacement[d / 3][d % 3] = base[d / 3][d % 3] + alpha * direction[eq as usize];
+            }
+        }
+    }
+
+    /// Sum of the internal forces over each prescribed displacement's nodes in its
+    /// direction [N].
+    pub fn reactions(&self, prescribed: &[PrescribedDisplacement]) -> Vec<f64> {
+        prescribed
+            .iter()
+            .map(|bc| {
+                bc.nodes
+                    .iter()
+                    .map(|&n| self.force[n as usize][bc.dof])
+                    .sum()
+            })
+            .collect()
+    }
+}
