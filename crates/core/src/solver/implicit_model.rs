@@ -42,13 +42,28 @@ pub(super) struct Model<'a> {
     /// K_fp Δū of the predictor [N].
     pub lift: Vec<f64>,
     pub symmetric: bool,
+    /// Positions of the diagonal entries in the sparse values.
+    pub diagonal: Vec<usize>,
+    /// Largest |K_ii| of the last stiffness [N/m].
+    pub stiffness_scale: f64,
+    /// Largest |x| of the last evaluation's positions [m].
+    pub position_scale: f64,
 }
+
+/// Factor on the round-off estimate of the residual (see [`Norms::floor`]).
+const ROUND_OFF_FACTOR: f64 = 10.0;
 
 /// Norms of one evaluation.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Norms {
+    /// ‖r_f‖ [N].
     pub residual: f64,
+    /// ‖f_int‖ over all degrees of freedom [N].
     pub force: f64,
+    /// Round-off level of ‖r_f‖ [N]: F = Σ x_a ⊗ ∇N_a carries errors ε|x|/h, so nodal
+    /// forces carry ε |x| K_ii; the floor is 10 ε max|x| max|K_ii| √n. For a nearly
+    /// incompressible material at small loads it lies above tol_r ‖f_int‖.
+    pub floor: f64,
 }
 
 impl Norms {
@@ -191,6 +206,7 @@ impl<'a> Model<'a> {
         for run in &mut runs {
             run.scatter = scatter_map(&mesh.blocks[run.block], &equation, &system);
         }
+        let diagonal = (0..free).map(|i| system.position(i, i)).collect();
         Ok(Model {
             mesh,
             runs,
@@ -200,6 +216,9 @@ impl<'a> Model<'a> {
             residual: vec![0.0; free],
             lift: vec![0.0; free],
             symmetric: true,
+            diagonal,
+            stiffness_scale: 0.0,
+            position_scale: 0.0,
         })
     }
 
@@ -283,6 +302,14 @@ impl<'a> Model<'a> {
                 self.residual[eq as usize] = self.force[d / 3][d % 3];
             }
         }
+        if with_stiffness {
+            let values = self.system.values_mut();
+            self.stiffness_scale = self
+                .diagonal
+                .iter()
+                .fold(0.0, |m, &p| m.max(values[p].abs()));
+        }
+        self.position_scale = positions.iter().fold(0.0, |m, x| m.max(x.amax()));
         Ok(self.norms())
     }
 
@@ -295,6 +322,11 @@ impl<'a> Model<'a> {
                 .map(|f| f.norm_squared())
                 .sum::<f64>()
                 .sqrt(),
+            floor: ROUND_OFF_FACTOR
+                * f64::EPSILON
+                * self.stiffness_scale
+                * self.position_scale
+                * (self.residual.len() as f64).sqrt(),
         }
     }
 
