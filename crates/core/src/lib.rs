@@ -14,12 +14,14 @@
 //!   control (Flanagan–Belytschko), the one-point tet4 and the 4-point tet10.
 //! - [`solver`]: the explicit central-difference solver with lumped mass, a stable step
 //!   from the current acoustic modulus, prescribed displacements, reactions, an energy
-//!   balance check, parallel element updates and a deterministic force assembly.
+//!   balance check, parallel element updates and a deterministic force assembly; and the
+//!   quasi-static implicit solver (Newton with the consistent tangent, line search, step
+//!   cutting, faer sparse Cholesky/LU with the symbolic factorization reused).
 //!
-//! Not built yet (the rest of the elements-and-solvers issue): a locking-free tet, mass
-//! scaling, bulk viscosity, a separate hourglass-energy output of the solver, nodal
-//! loads, rigid drivers and the trait through which contact forces enter a solve (the
-//! implicit solver is being written).
+//! Not built yet (the rest of the elements-and-solvers issue): a locking-free tet, the
+//! F-bar tangent, implicit dynamics, mass scaling, bulk viscosity, a separate
+//! hourglass-energy output, nodal loads, rigid drivers and the trait through which contact
+//! forces enter a solve.
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
 //! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.
