@@ -1,5 +1,8 @@
 //! A run of consecutive elements of one block with everything their update needs, owned,
-//! so that chunks update in parallel without sharing and without allocating.
+//! so that chunks update in parallel without sharing and without allocating: deformation
+//! gradients, material states, stresses, optionally tangents, element forces, and the
+//! explicit solver's stable-step data. The implicit solver wraps it with element
+//! stiffness matrices (`implicit_chunk.rs`).
 
 use std::ops::Range;
 
@@ -25,6 +28,8 @@ pub(crate) struct ElementChunk {
     state_old: Vec<f64>,
     state_new: Vec<f64>,
     stress: Vec<VoigtStress>,
+    /// Consistent tangents ∂P/∂F of the last update that asked for them (empty before).
+    tangent: Vec<Tangent>,
     /// Internal nodal forces, `nodes_per_element` per element [N].
     pub forces: Vec<Vector3<f64>>,
     /// Reference characteristic length of each element for the stable step [m]
@@ -62,6 +67,7 @@ impl ElementChunk {
             state_old: material.initial_state(points),
             state_new: material.initial_state(points),
             stress: vec![VoigtStress::zeros(); points],
+            tangent: Vec::new(),
             forces: vec![Vector3::zeros(); elements.len() * npe],
             reference_length,
             wave_modulus: vec![0.0; elements.len()],
@@ -71,8 +77,9 @@ impl ElementChunk {
     }
 
     /// Deformation gradients at the current `positions`, the material update over the
-    /// step of `dt` ending at `time`, the internal nodal forces and the element lengths.
-    /// On a material error, returns the element (of the block) and the error.
+    /// step of `dt` ending at `time` (with the consistent tangents when `with_tangent`),
+    /// and the internal nodal forces. On a material error, returns the element (of the
+    /// block) and the error.
     pub fn update(
         &mut self,
         kernel: &BlockKernel,
@@ -81,6 +88,7 @@ impl ElementChunk {
         positions: &[Vector3<f64>],
         time: f64,
         dt: f64,
+        with_tangent: bool,
     ) -> Result<(), (usize, MaterialError)> {
         let ppe = kernel.points_per_element();
         let npe = kernel.nodes_per_element();
@@ -100,10 +108,13 @@ impl ElementChunk {
             fiber_direction: &self.fiber,
             state_old: &self.state_old,
         };
+        if with_tangent && self.tangent.len() != self.f_new.len() {
+            self.tangent = vec![Tangent::zeros(); self.f_new.len()];
+        }
         let mut response = PointResponse {
             cauchy_stress: &mut self.stress,
             state_new: &mut self.state_new,
-            tangent: None,
+            tangent: with_tangent.then_some(self.tangent.as_mut_slice()),
         };
         material.update(&points, &mut response).map_err(|error| {
             let element = match &error {
@@ -182,6 +193,12 @@ impl ElementChunk {
             .fold((f64::INFINITY, self.elements.start), |a, b| {
                 if b.0 < a.0 { b } else { a }
             })
+    }
+
+    /// Tangents ∂P/∂F of the last update with `with_tangent`, `points_per_element` per
+    /// element.
+    pub fn tangents(&self) -> &[Tangent] {
+        &self.tangent
     }
 
     /// Accept the step: the new state and deformation become the old ones.

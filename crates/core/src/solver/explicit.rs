@@ -390,7 +390,7 @@ fn internal_forces<'a>(
         run.chunks
             .par_iter_mut()
             .try_for_each(|chunk| {
-                chunk.update(kernel, block, material, positions, time, dt)?;
+                chunk.update(kernel, block, material, positions, time, dt, false)?;
                 if refresh {
                     chunk.refresh_wave_moduli(kernel, material, time, dt)?;
                 }

@@ -9,7 +9,8 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
-use super::implicit_chunk::{ELEMENTS_PER_CHUNK, ImplicitChunk};
+use super::chunk::ELEMENTS_PER_CHUNK;
+use super::implicit_chunk::ImplicitChunk;
 use super::sparse::{PRESCRIBED, SparseSystem};
 use super::{Part, PrescribedDisplacement, SolverError};
 use crate::element::BlockKernel;
@@ -258,11 +259,11 @@ impl<'a> Model<'a> {
             let npe = kernel.nodes_per_element();
             let dofs = kernel.element_dofs();
             for chunk in &run.chunks {
-                for (local, element) in chunk.elements.clone().enumerate() {
+                for (local, element) in chunk.elements().enumerate() {
                     let ids = block.element_nodes(element);
                     for (&id, f) in ids
                         .iter()
-                        .zip(&chunk.forces[local * npe..(local + 1) * npe])
+                        .zip(&chunk.forces()[local * npe..(local + 1) * npe])
                     {
                         self.force[id as usize] += f;
                     }
