@@ -18,6 +18,13 @@ use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 /// Elements per chunk: 64 hex8 = 512 material points per material call.
 pub(crate) const ELEMENTS_PER_CHUNK: usize = 64;
 
+/// The element ranges of a block of `elements` elements, [`ELEMENTS_PER_CHUNK`] each.
+pub(crate) fn chunk_ranges(elements: usize) -> impl Iterator<Item = Range<usize>> {
+    (0..elements)
+        .step_by(ELEMENTS_PER_CHUNK)
+        .map(move |start| start..(start + ELEMENTS_PER_CHUNK).min(elements))
+}
+
 #[derive(Debug)]
 pub(crate) struct ElementChunk {
     /// Elements of the block in this chunk.

@@ -34,7 +34,7 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
-use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk};
+use super::chunk::{ElementChunk, chunk_ranges};
 use super::{Part, PrescribedDisplacement, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::Mesh;
@@ -351,12 +351,8 @@ fn prepare_part<'a>(
         }
     }
     let material = part.material.as_ref();
-    let chunks = (0..block.len())
-        .step_by(ELEMENTS_PER_CHUNK)
-        .map(|start| {
-            let end = (start + ELEMENTS_PER_CHUNK).min(block.len());
-            ElementChunk::new(start..end, &kernel, block, material)
-        })
+    let chunks = chunk_ranges(block.len())
+        .map(|range| ElementChunk::new(range, &kernel, block, material))
         .collect();
     Ok(PartRun {
         block: part.block,

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
-use super::chunk::ELEMENTS_PER_CHUNK;
+use super::chunk::chunk_ranges;
 use super::implicit_chunk::ImplicitChunk;
 use super::sparse::{PRESCRIBED, SparseSystem};
 use super::{Part, PrescribedDisplacement, SolverError};
@@ -136,12 +136,8 @@ impl<'a> Model<'a> {
                 used[id as usize] = true;
             }
             let material = part.material.as_ref();
-            let chunks = (0..block.len())
-                .step_by(ELEMENTS_PER_CHUNK)
-                .map(|start| {
-                    let end = (start + ELEMENTS_PER_CHUNK).min(block.len());
-                    ImplicitChunk::new(start..end, &kernel, block, material)
-                })
+            let chunks = chunk_ranges(block.len())
+                .map(|range| ImplicitChunk::new(range, &kernel, block, material))
                 .collect();
             runs.push(PartRun {
                 block: part.block,
