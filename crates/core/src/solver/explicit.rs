@@ -3,7 +3,9 @@
 //! With M the lumped (diagonal) mass, f the internal nodal forces and half-step velocities:
 //! - v^{n+½} = v^{n−½} + Δt^n M⁻¹ (f_ext^n − f^n), Δt^n = ½ (Δt^{n−½} + Δt^{n+½});
 //! - u^{n+1} = u^n + Δt^{n+½} v^{n+½};
-//! - prescribed displacement components take v^{n+½} = (ū(t^{n+1}) − u^n)/Δt^{n+½}.
+//! - prescribed displacement components (and nodes tied to a rigid body with prescribed
+//!   motion) take v^{n+½} = (ū(t^{n+1}) − u^n)/Δt^{n+½};
+//! - nodal forces enter as f_ext^n, dead loads at t^n.
 //!
 //! The step is Δt = safety × min over elements of L₀ √(ρ₀/M): total Lagrangian, so the
 //! reference characteristic length L₀ (Flanagan–Belytschko bound from the element's mean
@@ -15,8 +17,9 @@
 //! caught by the energy balance.
 //!
 //! Energies (trapezoidal rule over each step): internal W_int = Σ ½(f^{n−1} + f^n)·Δu,
-//! external W_ext = Σ ½(R^{n−1} + R^n)·Δu over the prescribed components, whose force is
-//! the reaction R = f + M a; kinetic K = ½ Σ m |v^n|², v^n = ½ (v^{n−½} + v^{n+½}).
+//! external W_ext = Σ ½(R^{n−1} + R^n + f_ext^{n−1} + f_ext^n)·Δu, with the reaction
+//! R = f − f_ext + M a on the prescribed components (zero elsewhere); kinetic
+//! K = ½ Σ m |v^n|², v^n = ½ (v^{n−½} + v^{n+½}).
 //! The total W_int + K − W_ext must stay at its value after the first step within a
 //! fraction of the largest energy reached so far, or within 10× the energies of the first
 //! step (the start-up error of the half-step velocities is of that size, and matters while
@@ -27,7 +30,7 @@
 //! not report it separately yet).
 //!
 //! Not built yet: mass scaling, bulk viscosity, a separate hourglass energy in the
-//! history, nodal loads, rigid bodies.
+//! history.
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -35,7 +38,7 @@ use rayon::prelude::*;
 use musclefem_materials::Material;
 
 use super::chunk::{ElementChunk, chunk_ranges};
-use super::{Part, PrescribedDisplacement, SolverError};
+use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::Mesh;
 
@@ -77,6 +80,8 @@ pub struct HistoryRow {
     /// Reaction force of each prescribed displacement, in its direction, summed over its
     /// nodes [N].
     pub reactions: Vec<f64>,
+    /// Resultant reaction force and moment of each rigid tie.
+    pub rigid_reactions: Vec<RigidReaction>,
     /// Internal (strain) energy W_int [J].
     pub internal_energy: f64,
     /// Kinetic energy K [J].
@@ -108,11 +113,11 @@ struct PartRun<'a> {
     chunks: Vec<ElementChunk>,
 }
 
-/// Run the explicit solver on `mesh` with `parts` and `prescribed` displacements.
+/// Run the explicit solver on `mesh` with `parts` under `loads`.
 pub fn run_explicit(
     mesh: &Mesh,
     parts: &[Part],
-    prescribed: &[PrescribedDisplacement],
+    loads: &Loads,
     settings: &ExplicitSettings,
 ) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
@@ -122,19 +127,7 @@ pub fn run_explicit(
     for part in parts {
         runs.push(prepare_part(mesh, part, &mut mass)?);
     }
-    for bc in prescribed {
-        if bc.dof > 2 {
-            return Err(SolverError::InvalidBoundaryCondition(format!(
-                "component {} is not 0, 1 or 2",
-                bc.dof
-            )));
-        }
-        if let Some(&n) = bc.nodes.iter().find(|&&n| n as usize >= node_count) {
-            return Err(SolverError::InvalidBoundaryCondition(format!(
-                "node {n} does not exist (the mesh has {node_count})"
-            )));
-        }
-    }
+    loads.validate(node_count)?;
     if let Some(n) = mass.iter().position(|&m| m <= 0.0) {
         return Err(SolverError::InvalidPart {
             block: parts.first().map_or(0, |p| p.block),
@@ -150,8 +143,18 @@ pub fn run_explicit(
     let mut force = vec![Vector3::zeros(); node_count];
     let mut previous_force = vec![Vector3::zeros(); node_count];
     let mut previous_displacement = vec![Vector3::zeros(); node_count];
-    let mut reactions = vec![0.0; prescribed.len()];
-    let mut previous_reactions = vec![0.0; prescribed.len()];
+    // Constrained degrees of freedom 3 node + component, their targets ū, the nodal
+    // reactions R (zero on free components) and the external forces.
+    let held: Vec<usize> = (loads.constrained_components(node_count).iter())
+        .enumerate()
+        .filter_map(|(d, &h)| h.then_some(d))
+        .collect();
+    let mut target = vec![0.0; 3 * node_count];
+    let mut reaction = vec![Vector3::zeros(); node_count];
+    let mut previous_reaction = vec![Vector3::zeros(); node_count];
+    let mut external = vec![Vector3::zeros(); node_count];
+    let mut previous_external = vec![Vector3::zeros(); node_count];
+    loads.external_forces(0.0, &mut external);
 
     let mut time = 0.0;
     let (mut stable_step, mut critical) =
@@ -165,10 +168,15 @@ pub fn run_explicit(
     let mut next_record = 0.0;
     let mut steps = 0;
 
-    while time < settings.end_time * (1.0 - 1e-12) {
+    loop {
+        // At the end time one more velocity update closes the books at t^N: the free
+        // components get v^{N+½} from the forces, the prescribed ones keep their rate.
+        let closing = time >= settings.end_time * (1.0 - 1e-12);
         let stable = stable_step;
         let mut dt = stable * settings.safety_factor;
-        if let Some(fixed) = settings.fixed_time_step {
+        if closing {
+            dt = half_step;
+        } else if let Some(fixed) = settings.fixed_time_step {
             if fixed > stable {
                 return Err(SolverError::UnstableTimeStep {
                     requested: fixed,
@@ -179,36 +187,34 @@ pub fn run_explicit(
             }
             dt = fixed;
         }
-        dt = dt.min(settings.end_time - time);
+        if !closing {
+            dt = dt.min(settings.end_time - time);
+        }
         let average_step = 0.5 * (half_step + dt);
 
         // Velocities at n + ½: free components from the forces, prescribed from ū.
         old_velocity.copy_from_slice(&velocity);
-        for ((v, f), m) in velocity.iter_mut().zip(&force).zip(&mass) {
-            *v -= f * (average_step / m);
+        for (((v, f), f_ext), m) in velocity.iter_mut().zip(&force).zip(&external).zip(&mass) {
+            *v += (f_ext - f) * (average_step / m);
         }
-        for bc in prescribed {
-            let target = bc.amplitude.value_at(time + dt);
-            for &n in &bc.nodes {
-                let n = n as usize;
-                velocity[n][bc.dof] = (target - displacement[n][bc.dof]) / dt;
-            }
+        loads.prescribed_displacements(time + dt, &reference, &mut target);
+        for &d in &held {
+            let (n, k) = (d / 3, d % 3);
+            velocity[n][k] = if closing {
+                old_velocity[n][k]
+            } else {
+                (target[d] - displacement[n][k]) / dt
+            };
         }
-        // Reactions at n: R = f + m a on the prescribed components.
-        for (r, bc) in reactions.iter_mut().zip(prescribed) {
-            *r = bc
-                .nodes
-                .iter()
-                .map(|&n| {
-                    let n = n as usize;
-                    let acceleration = if average_step > 0.0 {
-                        (velocity[n][bc.dof] - old_velocity[n][bc.dof]) / average_step
-                    } else {
-                        0.0
-                    };
-                    force[n][bc.dof] + mass[n] * acceleration
-                })
-                .sum();
+        // Reactions at n: R = f − f_ext + m a on the prescribed components.
+        for &d in &held {
+            let (n, k) = (d / 3, d % 3);
+            let acceleration = if average_step > 0.0 {
+                (velocity[n][k] - old_velocity[n][k]) / average_step
+            } else {
+                0.0
+            };
+            reaction[n][k] = force[n][k] - external[n][k] + mass[n] * acceleration;
         }
         // Energies at n.
         internal_energy += (0..node_count)
@@ -217,12 +223,10 @@ pub fn run_explicit(
                     .dot(&(displacement[i] - previous_displacement[i]))
             })
             .sum::<f64>();
-        external_work += prescribed
-            .iter()
-            .zip(reactions.iter().zip(&previous_reactions))
-            .map(|(bc, (r, r_old))| {
-                let moved = bc.amplitude.value_at(time) - bc.amplitude.value_at(time - half_step);
-                0.5 * (r + r_old) * moved
+        external_work += (0..node_count)
+            .map(|i| {
+                0.5 * (previous_reaction[i] + reaction[i] + previous_external[i] + external[i])
+                    .dot(&(displacement[i] - previous_displacement[i]))
             })
             .sum::<f64>();
         let kinetic_energy: f64 = (0..node_count)
@@ -243,11 +247,12 @@ pub fn run_explicit(
                 limit: 100.0 * settings.energy_tolerance,
             });
         }
-        if time >= next_record {
+        if time >= next_record || closing {
             history.push(HistoryRow {
                 time,
                 time_step: half_step,
-                reactions: reactions.clone(),
+                reactions: loads.displacement_reactions(&reaction),
+                rigid_reactions: loads.rigid_reactions(time, &positions, &reaction),
                 internal_energy,
                 kinetic_energy,
                 external_work,
@@ -260,11 +265,15 @@ pub fn run_explicit(
         {
             return Err(SolverError::Diverged { time, node });
         }
+        if closing {
+            break;
+        }
 
         // Positions at n + 1 and forces there.
         previous_displacement.copy_from_slice(&displacement);
         previous_force.copy_from_slice(&force);
-        previous_reactions.copy_from_slice(&reactions);
+        previous_reaction.copy_from_slice(&reaction);
+        previous_external.copy_from_slice(&external);
         for i in 0..node_count {
             displacement[i] += velocity[i] * dt;
             positions[i] = reference[i] + displacement[i];
@@ -272,6 +281,9 @@ pub fn run_explicit(
         time += dt;
         half_step = dt;
         steps += 1;
+        if loads.has_forces() {
+            loads.external_forces(time, &mut external);
+        }
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
         (stable_step, critical) =
             internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
@@ -279,17 +291,6 @@ pub fn run_explicit(
             run.chunks.iter_mut().for_each(ElementChunk::commit);
         }
     }
-    history.push(HistoryRow {
-        time,
-        time_step: half_step,
-        reactions: reactions.clone(),
-        internal_energy,
-        kinetic_energy: 0.5
-            * (0..node_count)
-                .map(|i| mass[i] * velocity[i].norm_squared())
-                .sum::<f64>(),
-        external_work,
-    });
     Ok(ExplicitResult {
         history,
         displacement,
