@@ -7,6 +7,7 @@
 //! components, nodal forces and nodes tied to rigid bodies with prescribed translation and
 //! rotation, with reactions (and rigid-tie force and moment resultants).
 
+pub mod bulk_viscosity;
 mod chunk;
 pub mod explicit;
 pub mod implicit;
