@@ -229,7 +229,7 @@ fn gather(out: &mut [Vector3<f64>], ids: &[u32], positions: &[Vector3<f64>]) {
 /// (Flanagan & Belytschko 1981), so Δt = 2/ω ≥ L/c with L = 2/√(n Σ_a b_a·b_a).
 /// A cube of side h gives h/√3, the exact limit of its one-point hexahedron (volume over
 /// largest face area, h, is not conservative for the hourglass-like modes).
-fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64 {
+pub(crate) fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64 {
     let ppe = kernel.points_per_element();
     let npe = kernel.nodes_per_element();
     let mut mean = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];

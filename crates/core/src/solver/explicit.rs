@@ -35,8 +35,9 @@ use rayon::prelude::*;
 use musclefem_materials::Material;
 
 use super::chunk::{ElementChunk, chunk_ranges};
+use super::nodal_average::NodalAveragePart;
 use super::{Part, PrescribedDisplacement, SolverError};
-use crate::element::BlockKernel;
+use crate::element::{BlockKernel, Technology};
 use crate::mesh::Mesh;
 
 /// Settings of an explicit run.
@@ -106,6 +107,9 @@ struct PartRun<'a> {
     material: &'a dyn Material,
     density: f64,
     chunks: Vec<ElementChunk>,
+    /// The block-level passes of [`Technology::Tet4NodalAverage`] (then `chunks` is
+    /// empty).
+    nodal_average: Option<NodalAveragePart>,
 }
 
 /// Run the explicit solver on `mesh` with `parts` and `prescribed` displacements.
@@ -277,6 +281,9 @@ pub fn run_explicit(
             internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
         for run in &mut runs {
             run.chunks.iter_mut().for_each(ElementChunk::commit);
+            run.nodal_average
+                .iter_mut()
+                .for_each(NodalAveragePart::commit);
         }
     }
     history.push(HistoryRow {
@@ -351,9 +358,15 @@ fn prepare_part<'a>(
         }
     }
     let material = part.material.as_ref();
-    let chunks = chunk_ranges(block.len())
-        .map(|range| ElementChunk::new(range, &kernel, block, material))
-        .collect();
+    let (chunks, nodal_average) = if part.technology == Technology::Tet4NodalAverage {
+        let averaged = NodalAveragePart::new(&kernel, block, material);
+        (Vec::new(), Some(averaged))
+    } else {
+        let chunks = chunk_ranges(block.len())
+            .map(|range| ElementChunk::new(range, &kernel, block, material))
+            .collect();
+        (chunks, None)
+    };
     Ok(PartRun {
         block: part.block,
         name: &block.name,
@@ -361,6 +374,7 @@ fn prepare_part<'a>(
         material,
         density: part.density,
         chunks,
+        nodal_average,
     })
 }
 
@@ -383,6 +397,21 @@ fn internal_forces<'a>(
     for run in runs.iter_mut() {
         let block = &mesh.blocks[run.block];
         let (kernel, material) = (&run.kernel, run.material);
+        if let Some(averaged) = &mut run.nodal_average {
+            averaged
+                .add_internal_forces(kernel, block, material, positions, time, dt, refresh, force)
+                .map_err(|(element, source)| SolverError::Material {
+                    time,
+                    block: block.name.clone(),
+                    element,
+                    source,
+                })?;
+            let (step, element) = averaged.stable_step(run.density);
+            if step < stable.0 {
+                stable = (step, (run.name, element));
+            }
+            continue;
+        }
         run.chunks
             .par_iter_mut()
             .try_for_each(|chunk| {
