@@ -22,6 +22,10 @@
 //! step (the start-up error of the half-step velocities is of that size, and matters while
 //! the energies are still small); an instability grows past both quickly.
 //!
+//! A [`Technology::Tet4NodalAverage`] block couples neighbouring elements through nodal
+//! averages, so it is evaluated in passes over the whole block (`nodal_average.rs`) rather
+//! than element by element; its mass and stable step are those of the plain tet4.
+//!
 //! The hourglass forces of the one-point hex8 are part of its internal forces, so their
 //! work is in W_int (`BlockKernel::hourglass_energy` gives it per element; the history does
 //! not report it separately yet).

@@ -325,4 +325,6 @@ impl AveragedChunk {
 }
 
 #[cfg(test)]
+mod locking_tests;
+#[cfg(test)]
 mod tests;
