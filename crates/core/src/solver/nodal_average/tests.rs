@@ -267,3 +267,52 @@ fn forces_are_the_gradient_of_the_strain_energy() {
     );
     assert!(difference > 1e-2 * scale, "{difference}");
 }
+
+/// An inverted tet is reported with its element (the averaged J̄ of its nodes could still be
+/// positive, so the material alone would not notice).
+#[test]
+fn an_inverted_element_is_reported() {
+    let mesh = box_of_tets(SIZE, [2, 2, 2], TetOrder::Linear).unwrap();
+    let block = &mesh.blocks[0];
+    let kernel = BlockKernel::new(&mesh.nodes, block, Technology::Tet4NodalAverage).unwrap();
+    let material = neo_hookean(1e4, 1e5);
+    let mut part = NodalAveragePart::new(&kernel, block, material.as_ref());
+    let mut positions: Vec<_> = (0..mesh.nodes.len())
+        .map(|i| mesh.nodes.position(i))
+        .collect();
+    // The centre node (1, 1, 1) of the lattice pushed along the diagonal of cell
+    // (1, 1, 1) past its far corner: the 6 tets of that cell turn inside out.
+    let centre = 1 + 3 * (1 + 3);
+    let far = Vector3::new(SIZE[0], SIZE[1], SIZE[2]);
+    let start = positions[centre];
+    positions[centre] = start + (far - start) * 1.2;
+    let mut force = vec![Vector3::zeros(); positions.len()];
+    let (element, error) = part
+        .add_internal_forces(
+            &kernel,
+            block,
+            material.as_ref(),
+            &positions,
+            0.0,
+            1e-3,
+            false,
+            &mut force,
+        )
+        .unwrap_err();
+    let ids = block.element_nodes(element);
+    assert!(ids.contains(&(centre as u32)), "{element}: {ids:?}");
+    let x: Vec<_> = ids.iter().map(|&i| positions[i as usize]).collect();
+    assert!(kernel.deformation_gradient(element, &x).determinant() <= 0.0);
+    assert!(error.to_string().contains("inverted"), "{error}");
+}
+
+#[test]
+fn a_hex_block_is_refused() {
+    let hexes = crate::mesh::generate::box_of_hexes(SIZE, [1, 1, 1]).unwrap();
+    let err =
+        BlockKernel::new(&hexes.nodes, &hexes.blocks[0], Technology::Tet4NodalAverage).unwrap_err();
+    assert!(
+        matches!(err, crate::element::ElementError::WrongShape { .. }),
+        "{err}"
+    );
+}
