@@ -24,14 +24,15 @@ use crate::mesh::MAX_NODES_PER_ELEMENT;
 
 impl BlockKernel {
     /// Whether [`Self::add_element_stiffness`] builds the consistent tangent of this
-    /// kernel's internal forces (true for the per-point technologies, false for F-bar).
+    /// kernel's internal forces (true for the per-point technologies, false for F-bar and
+    /// the nodally averaged tet4, whose tangent couples the 2-ring of elements).
     pub fn has_consistent_tangent(&self) -> bool {
         match self.technology {
             Technology::Hex8Full
             | Technology::Hex8OnePoint { .. }
             | Technology::Tet4
             | Technology::Tet10 => true,
-            Technology::Hex8FBar => false,
+            Technology::Hex8FBar | Technology::Tet4NodalAverage => false,
         }
     }
 

@@ -14,6 +14,8 @@
 //! The linear term lowers the stable step to Δt = (2/ω)(√(1 + b₁²) − b₁); the solver applies
 //! that factor. The quadratic term's further reduction in fast compression is not; it is
 //! small at the defaults and the energy balance would catch an instability.
+//!
+//! Not available for `Tet4NodalAverage` blocks yet (the solver refuses the combination).
 
 use std::ops::Range;
 

@@ -205,14 +205,6 @@ impl ElementChunk {
             })
     }
 
-    /// Smallest of [`Self::element_stable_steps`] and its element.
-    pub fn stable_step(&self, density: &[f64]) -> (f64, usize) {
-        self.element_stable_steps(density)
-            .fold((f64::INFINITY, self.elements.start), |a, b| {
-                if b.0 < a.0 { b } else { a }
-            })
-    }
-
     /// Reference characteristic length L₀ of each element of the chunk [m].
     pub fn reference_lengths(&self) -> &[f64] {
         &self.reference_length
@@ -250,7 +242,7 @@ fn gather(out: &mut [Vector3<f64>], ids: &[u32], positions: &[Vector3<f64>]) {
 /// (Flanagan & Belytschko 1981), so Δt = 2/ω ≥ L/c with L = 2/√(n Σ_a b_a·b_a).
 /// A cube of side h gives h/√3, the exact limit of its one-point hexahedron (volume over
 /// largest face area, h, is not conservative for the hourglass-like modes).
-fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64 {
+pub(crate) fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64 {
     let ppe = kernel.points_per_element();
     let npe = kernel.nodes_per_element();
     let mut mean = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];

@@ -27,6 +27,10 @@
 //! ⅛ Σ m |a Δt|², which dominates while the energies are small (a load ramped from zero
 //! gives almost none for many steps); an instability grows past both quickly.
 //!
+//! A [`Technology::Tet4NodalAverage`] block couples neighbouring elements through nodal
+//! averages, so it is evaluated in passes over the whole block (`nodal_average.rs`) rather
+//! than element by element; its mass and stable step are those of the plain tet4.
+//!
 //! The hourglass forces of the one-point hex8 are part of its internal forces, so their
 //! work is in W_int (`BlockKernel::hourglass_energy` gives it per element; the history does
 //! not report it separately yet).
@@ -53,8 +57,9 @@ use musclefem_materials::Material;
 
 use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
 use super::chunk::{ElementChunk, chunk_ranges};
+use super::nodal_average::NodalAveragePart;
 use super::{Loads, Part, RigidReaction, SolverError};
-use crate::element::BlockKernel;
+use crate::element::{BlockKernel, Technology};
 use crate::mesh::Mesh;
 
 /// Settings of an explicit run.
@@ -145,6 +150,9 @@ struct PartRun<'a> {
     chunks: Vec<ElementChunk>,
     /// Bulk-viscosity state when it is on.
     viscous: Option<ViscousBlock>,
+    /// The block-level passes of [`Technology::Tet4NodalAverage`] (then `chunks` is
+    /// empty).
+    nodal_average: Option<NodalAveragePart>,
 }
 
 /// Run the explicit solver on `mesh` with `parts` under `loads`.
@@ -178,11 +186,18 @@ pub fn run_explicit(
     let mut previous_force = vec![Vector3::zeros(); node_count];
     let mut viscous_force = vec![Vector3::zeros(); node_count];
     let mut previous_viscous_force = vec![Vector3::zeros(); node_count];
-    if let Some(coefficients) = &settings.bulk_viscosity {
+    if settings.bulk_viscosity.is_some() {
         for run in &mut runs {
+            if run.nodal_average.is_some() {
+                return Err(SolverError::InvalidPart {
+                    block: run.block,
+                    reason: "bulk viscosity is not available for Tet4NodalAverage blocks yet \
+                             (use Tet4 or Tet10, or run without bulk viscosity)"
+                        .to_string(),
+                });
+            }
             run.viscous = Some(ViscousBlock::new(&run.kernel));
         }
-        debug_assert!(coefficients.stable_step_factor() > 0.0);
     }
     let step_factor = settings.safety_factor
         * settings
@@ -375,6 +390,9 @@ pub fn run_explicit(
         }
         for run in &mut runs {
             run.chunks.iter_mut().for_each(ElementChunk::commit);
+            run.nodal_average
+                .iter_mut()
+                .for_each(NodalAveragePart::commit);
         }
     }
     Ok(ExplicitResult {
@@ -439,9 +457,15 @@ fn prepare_part<'a>(
         }
     }
     let material = part.material.as_ref();
-    let chunks = chunk_ranges(block.len())
-        .map(|range| ElementChunk::new(range, &kernel, block, material))
-        .collect();
+    let (chunks, nodal_average) = if part.technology == Technology::Tet4NodalAverage {
+        let averaged = NodalAveragePart::new(&kernel, block, material);
+        (Vec::new(), Some(averaged))
+    } else {
+        let chunks = chunk_ranges(block.len())
+            .map(|range| ElementChunk::new(range, &kernel, block, material))
+            .collect();
+        (chunks, None)
+    };
     Ok(PartRun {
         block: part.block,
         name: &block.name,
@@ -450,6 +474,7 @@ fn prepare_part<'a>(
         element_density: vec![part.density; block.len()],
         chunks,
         viscous: None,
+        nodal_average,
     })
 }
 
@@ -471,6 +496,17 @@ fn internal_forces<'a>(
     for run in runs.iter_mut() {
         let block = &mesh.blocks[run.block];
         let (kernel, material) = (&run.kernel, run.material);
+        if let Some(averaged) = &mut run.nodal_average {
+            averaged
+                .add_internal_forces(kernel, block, material, positions, time, dt, refresh, force)
+                .map_err(|(element, source)| SolverError::Material {
+                    time,
+                    block: block.name.clone(),
+                    element,
+                    source,
+                })?;
+            continue;
+        }
         run.chunks
             .par_iter_mut()
             .try_for_each(|chunk| {
@@ -502,12 +538,23 @@ fn internal_forces<'a>(
     Ok(smallest_stable_step(runs))
 }
 
+/// The stable step of every element of a part, with its element index.
+fn element_stable_steps<'r>(run: &'r PartRun) -> Box<dyn Iterator<Item = (f64, usize)> + 'r> {
+    match &run.nodal_average {
+        Some(averaged) => Box::new(averaged.element_stable_steps(&run.element_density)),
+        None => Box::new(
+            run.chunks
+                .iter()
+                .flat_map(|chunk| chunk.element_stable_steps(&run.element_density)),
+        ),
+    }
+}
+
 /// The smallest stable step of all elements and its (block name, element).
 fn smallest_stable_step<'a>(runs: &[PartRun<'a>]) -> (f64, (&'a str, usize)) {
     let mut stable = (f64::INFINITY, ("", 0));
     for run in runs {
-        for chunk in &run.chunks {
-            let (step, element) = chunk.stable_step(&run.element_density);
+        for (step, element) in element_stable_steps(run) {
             if step < stable.0 {
                 stable = (step, (run.name, element));
             }
@@ -525,14 +572,12 @@ fn scale_masses(mesh: &Mesh, runs: &mut [PartRun], mass: &mut [f64], target: f64
         let block = &mesh.blocks[run.block];
         let npe = run.kernel.nodes_per_element();
         let mut raised = Vec::new();
-        for chunk in &run.chunks {
-            for (step, element) in chunk.element_stable_steps(&run.element_density) {
-                if step < target {
-                    raised.push((
-                        element,
-                        run.element_density[element] * (target / step).powi(2),
-                    ));
-                }
+        for (step, element) in element_stable_steps(run) {
+            if step < target {
+                raised.push((
+                    element,
+                    run.element_density[element] * (target / step).powi(2),
+                ));
             }
         }
         for (element, density) in raised {

@@ -30,10 +30,11 @@
 //!
 //! Element technologies: those with a consistent element stiffness
 //! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8OnePoint, Tet4
-//! and Tet10. F-bar is refused ([`SolverError::NoConsistentTangent`]) until its tangent is
-//! built. Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes
-//! tied to a rigid body are prescribed in every component. Not built yet: contact,
-//! implicit dynamics.
+//! and Tet10. F-bar and the nodally averaged tet4 are refused
+//! ([`SolverError::NoConsistentTangent`]) until their tangents are built (the latter's
+//! couples the 2-ring of elements around a node, a wider sparsity pattern). Nodal forces
+//! enter the residual r = f_int − f_ext at the end of the step; nodes tied to a rigid body
+//! are prescribed in every component. Not built yet: contact, implicit dynamics.
 //!
 //! Memory besides the factor: every element keeps its dense stiffness between the parallel
 //! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192

@@ -16,6 +16,7 @@ pub mod implicit;
 mod implicit_chunk;
 mod implicit_model;
 mod loads;
+mod nodal_average;
 mod part;
 mod sparse;
 
