@@ -10,13 +10,19 @@
 //!   faces, in element order.
 //!
 //! The mesh has one block, named `hexes` or `tets`, with every fiber along e_x.
+//!
+//! [`cooks_membrane`] maps such a box onto Cook's tapered panel (a locking benchmark).
 
+mod cooks_membrane;
 mod distort;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use nalgebra::Vector3;
 
+pub use cooks_membrane::{
+    COOKS_MEMBRANE_AREA, COOKS_MEMBRANE_CORNERS, consistent_nodal_areas, cooks_membrane,
+};
 pub use distort::distort;
 
 use super::error::MeshError;
