@@ -25,7 +25,8 @@
 
 mod fbar;
 mod hex8_full;
-mod hex8_one_point;
+pub(crate) mod hex8_one_point;
+pub(crate) mod hex8_one_point_batch;
 mod isoparametric;
 mod stiffness;
 mod tet10;
