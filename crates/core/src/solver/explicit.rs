@@ -34,10 +34,13 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
-use super::chunk::{ElementChunk, chunk_ranges};
+use super::assembly::NodeAdjacency;
+use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk, chunk_ranges};
+use super::hex8_one_point_chunk::OnePointHexChunk;
+use super::nodal::{NODES_PER_TASK, advance_positions, deterministic_sum, update_velocities};
 use super::{Part, PrescribedDisplacement, SolverError};
-use crate::element::BlockKernel;
-use crate::mesh::Mesh;
+use crate::element::{BlockKernel, Technology};
+use crate::mesh::{ElementShape, Mesh};
 
 /// Settings of an explicit run.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,14 +101,32 @@ pub struct ExplicitResult {
 /// Steps between refreshes of the elements' acoustic moduli (stable step).
 pub const MODULUS_REFRESH_INTERVAL: usize = 10;
 
-/// One part during a run: its kernel, material, density and element chunks.
+/// One part during a run: its material, density, element chunks and node adjacency.
 struct PartRun<'a> {
     block: usize,
     name: &'a str,
-    kernel: BlockKernel,
     material: &'a dyn Material,
     density: f64,
-    chunks: Vec<ElementChunk>,
+    elements: PartElements,
+    /// Node → element force slots, for the assembly.
+    adjacency: NodeAdjacency,
+    /// Smallest stable step of the part [s] and its element, from the last refresh.
+    stable: (f64, usize),
+}
+
+/// The element data of a part.
+enum PartElements {
+    /// Any technology: the general kernel and chunks (forces in the chunks).
+    General {
+        kernel: BlockKernel,
+        chunks: Vec<ElementChunk>,
+    },
+    /// One-point hex8: the batched kernel, and the nodal forces of all elements, 8 per
+    /// element, in element order [N].
+    OnePointHex {
+        chunks: Vec<OnePointHexChunk>,
+        forces: Vec<Vector3<f64>>,
+    },
 }
 
 /// Run the explicit solver on `mesh` with `parts` and `prescribed` displacements.
@@ -183,10 +204,13 @@ pub fn run_explicit(
         let average_step = 0.5 * (half_step + dt);
 
         // Velocities at n + ½: free components from the forces, prescribed from ū.
-        old_velocity.copy_from_slice(&velocity);
-        for ((v, f), m) in velocity.iter_mut().zip(&force).zip(&mass) {
-            *v -= f * (average_step / m);
-        }
+        update_velocities(
+            &mut velocity,
+            &mut old_velocity,
+            &force,
+            &mass,
+            average_step,
+        );
         for bc in prescribed {
             let target = bc.amplitude.value_at(time + dt);
             for &n in &bc.nodes {
@@ -211,12 +235,9 @@ pub fn run_explicit(
                 .sum();
         }
         // Energies at n.
-        internal_energy += (0..node_count)
-            .map(|i| {
-                0.5 * (previous_force[i] + force[i])
-                    .dot(&(displacement[i] - previous_displacement[i]))
-            })
-            .sum::<f64>();
+        internal_energy += deterministic_sum(node_count, |i| {
+            0.5 * (previous_force[i] + force[i]).dot(&(displacement[i] - previous_displacement[i]))
+        });
         external_work += prescribed
             .iter()
             .zip(reactions.iter().zip(&previous_reactions))
@@ -225,9 +246,9 @@ pub fn run_explicit(
                 0.5 * (r + r_old) * moved
             })
             .sum::<f64>();
-        let kinetic_energy: f64 = (0..node_count)
-            .map(|i| 0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared())
-            .sum();
+        let kinetic_energy = deterministic_sum(node_count, |i| {
+            0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared()
+        });
         let total = internal_energy + kinetic_energy - external_work;
         let drift = total - *initial_balance.get_or_insert(total);
         largest_energy = largest_energy
@@ -254,30 +275,33 @@ pub fn run_explicit(
             });
             next_record += settings.history_interval;
         }
-        if let Some(node) = velocity
-            .iter()
-            .position(|v| !v.iter().all(|x| x.is_finite()))
+        // A non-finite velocity makes K non-finite: look for it only then.
+        if !kinetic_energy.is_finite()
+            && let Some(node) = velocity
+                .iter()
+                .position(|v| !v.iter().all(|x| x.is_finite()))
         {
             return Err(SolverError::Diverged { time, node });
         }
 
         // Positions at n + 1 and forces there.
-        previous_displacement.copy_from_slice(&displacement);
-        previous_force.copy_from_slice(&force);
+        std::mem::swap(&mut previous_force, &mut force);
         previous_reactions.copy_from_slice(&reactions);
-        for i in 0..node_count {
-            displacement[i] += velocity[i] * dt;
-            positions[i] = reference[i] + displacement[i];
-        }
+        advance_positions(
+            &mut displacement,
+            &mut previous_displacement,
+            &mut positions,
+            &reference,
+            &velocity,
+            dt,
+        );
         time += dt;
         half_step = dt;
         steps += 1;
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
         (stable_step, critical) =
             internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
-        for run in &mut runs {
-            run.chunks.iter_mut().for_each(ElementChunk::commit);
-        }
+        runs.iter_mut().for_each(PartRun::commit);
     }
     history.push(HistoryRow {
         time,
@@ -337,38 +361,113 @@ fn prepare_part<'a>(
             reason: format!("density {} kg/m3 must be positive", part.density),
         });
     }
-    let kernel = BlockKernel::new(&mesh.nodes, block, part.technology).map_err(|source| {
-        SolverError::Element {
-            block: part.block,
-            source,
-        }
-    })?;
-    let npe = kernel.nodes_per_element();
-    for (element, ids) in block.elements().enumerate() {
-        let share = part.density * kernel.reference_volume(element) / npe as f64;
-        for &id in ids {
-            mass[id as usize] += share;
-        }
-    }
+    let element_error = |source| SolverError::Element {
+        block: part.block,
+        source,
+    };
     let material = part.material.as_ref();
-    let chunks = chunk_ranges(block.len())
-        .map(|range| ElementChunk::new(range, &kernel, block, material))
-        .collect();
+    let elements = match part.technology {
+        Technology::Hex8OnePoint { hourglass_modulus } if block.shape == ElementShape::Hex8 => {
+            let chunks = chunk_ranges(block.len())
+                .map(|range| {
+                    OnePointHexChunk::new(range, &mesh.nodes, block, hourglass_modulus, material)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(element_error)?;
+            let volumes = chunks.iter().flat_map(OnePointHexChunk::volumes);
+            for (ids, volume) in block.elements().zip(volumes) {
+                let share = part.density * volume / 8.0;
+                for &id in ids {
+                    mass[id as usize] += share;
+                }
+            }
+            PartElements::OnePointHex {
+                chunks,
+                forces: vec![Vector3::zeros(); block.connectivity.len()],
+            }
+        }
+        technology => {
+            let kernel = BlockKernel::new(&mesh.nodes, block, technology).map_err(element_error)?;
+            let npe = kernel.nodes_per_element();
+            for (element, ids) in block.elements().enumerate() {
+                let share = part.density * kernel.reference_volume(element) / npe as f64;
+                for &id in ids {
+                    mass[id as usize] += share;
+                }
+            }
+            let chunks = chunk_ranges(block.len())
+                .map(|range| ElementChunk::new(range, &kernel, block, material))
+                .collect();
+            PartElements::General { kernel, chunks }
+        }
+    };
     Ok(PartRun {
         block: part.block,
         name: &block.name,
-        kernel,
         material,
         density: part.density,
-        chunks,
+        elements,
+        adjacency: NodeAdjacency::new(mass.len(), &block.connectivity),
+        stable: (f64::INFINITY, 0),
     })
 }
 
+impl PartRun<'_> {
+    /// Accept the step in every chunk.
+    fn commit(&mut self) {
+        match &mut self.elements {
+            PartElements::General { chunks, .. } => {
+                chunks.iter_mut().for_each(ElementChunk::commit)
+            }
+            PartElements::OnePointHex { chunks, .. } => {
+                chunks.iter_mut().for_each(OnePointHexChunk::commit)
+            }
+        }
+    }
+
+    /// Add the part's element forces to the nodal forces `out` of the nodes from `first`
+    /// on [N], each node's in ascending element order.
+    fn add_node_forces(&self, first: usize, out: &mut [Vector3<f64>]) {
+        match &self.elements {
+            PartElements::OnePointHex { forces, .. } => {
+                for (i, f) in out.iter_mut().enumerate() {
+                    for &slot in self.adjacency.of(first + i) {
+                        *f += forces[slot as usize];
+                    }
+                }
+            }
+            PartElements::General { kernel, chunks } => match kernel.nodes_per_element() {
+                4 => add_chunk_forces::<4>(&self.adjacency, chunks, first, out),
+                8 => add_chunk_forces::<8>(&self.adjacency, chunks, first, out),
+                10 => add_chunk_forces::<10>(&self.adjacency, chunks, first, out),
+                n => unreachable!("{n} nodes per element"),
+            },
+        }
+    }
+}
+
+/// [`PartRun::add_node_forces`] for forces held in the chunks, `NPE` per element.
+fn add_chunk_forces<const NPE: usize>(
+    adjacency: &NodeAdjacency,
+    chunks: &[ElementChunk],
+    first: usize,
+    out: &mut [Vector3<f64>],
+) {
+    let per_chunk = ELEMENTS_PER_CHUNK * NPE;
+    for (i, f) in out.iter_mut().enumerate() {
+        for &slot in adjacency.of(first + i) {
+            let slot = slot as usize;
+            *f += chunks[slot / per_chunk].forces[slot % per_chunk];
+        }
+    }
+}
+
 /// Internal nodal forces at `positions` after a step of `dt` ending at `time` (material
-/// states updated but not committed). Elements are updated in parallel chunks; forces are
-/// gathered into nodes serially in element order, so the sum is the same, bit for bit,
-/// on any number of threads. With `refresh`, the acoustic moduli are recomputed too.
-/// Returns the stable step and its (block, element).
+/// states updated but not committed). Elements are updated in parallel chunks, each
+/// writing its own element forces; each node then sums its elements' forces in element
+/// order, in parallel over nodes (`assembly.rs`), so the sum is the same, bit for bit, on
+/// any number of threads. With `refresh`, the acoustic moduli and the stable steps are
+/// recomputed too. Returns the stable step and its (block, element).
 fn internal_forces<'a>(
     mesh: &Mesh,
     runs: &mut [PartRun<'a>],
@@ -378,42 +477,74 @@ fn internal_forces<'a>(
     refresh: bool,
     force: &mut [Vector3<f64>],
 ) -> Result<(f64, (&'a str, usize)), SolverError> {
-    force.fill(Vector3::zeros());
+    let first_smallest = |a: (f64, usize), b: (f64, usize)| if b.0 < a.0 { b } else { a };
     let mut stable = (f64::INFINITY, ("", 0));
     for run in runs.iter_mut() {
         let block = &mesh.blocks[run.block];
-        let (kernel, material) = (&run.kernel, run.material);
-        run.chunks
-            .par_iter_mut()
-            .try_for_each(|chunk| {
-                chunk.update(kernel, block, material, positions, time, dt, false)?;
+        let (material, density) = (run.material, run.density);
+        let material_error = |(element, source)| SolverError::Material {
+            time,
+            block: block.name.clone(),
+            element,
+            source,
+        };
+        match &mut run.elements {
+            PartElements::General { kernel, chunks } => {
+                let kernel = &*kernel;
+                chunks
+                    .par_iter_mut()
+                    .try_for_each(|chunk| {
+                        chunk.update(kernel, block, material, positions, time, dt, false)?;
+                        if refresh {
+                            chunk.refresh_wave_moduli(kernel, material, time, dt)?;
+                        }
+                        Ok(())
+                    })
+                    .map_err(material_error)?;
                 if refresh {
-                    chunk.refresh_wave_moduli(kernel, material, time, dt)?;
-                }
-                Ok(())
-            })
-            .map_err(|(element, source)| SolverError::Material {
-                time,
-                block: block.name.clone(),
-                element,
-                source,
-            })?;
-        let npe = run.kernel.nodes_per_element();
-        for chunk in &run.chunks {
-            for (local, element) in chunk.elements.clone().enumerate() {
-                for (&id, f) in block
-                    .element_nodes(element)
-                    .iter()
-                    .zip(&chunk.forces[local * npe..(local + 1) * npe])
-                {
-                    force[id as usize] += f;
+                    run.stable = chunks
+                        .iter()
+                        .map(|chunk| chunk.stable_step(density))
+                        .fold((f64::INFINITY, 0), first_smallest);
                 }
             }
-            let (step, element) = chunk.stable_step(run.density);
-            if step < stable.0 {
-                stable = (step, (run.name, element));
+            PartElements::OnePointHex { chunks, forces } => {
+                let refresh_density = refresh.then_some(density);
+                chunks
+                    .par_iter_mut()
+                    .zip(forces.par_chunks_mut(ELEMENTS_PER_CHUNK * 8))
+                    .try_for_each(|(chunk, forces)| {
+                        chunk.update(
+                            block,
+                            material,
+                            positions,
+                            time,
+                            dt,
+                            refresh_density,
+                            forces,
+                        )
+                    })
+                    .map_err(material_error)?;
+                if refresh {
+                    run.stable = chunks
+                        .iter()
+                        .map(OnePointHexChunk::stable_step)
+                        .fold((f64::INFINITY, 0), first_smallest);
+                }
             }
         }
+        if run.stable.0 < stable.0 {
+            stable = (run.stable.0, (run.name, run.stable.1));
+        }
     }
+    let runs = &*runs;
+    force
+        .par_chunks_mut(NODES_PER_TASK)
+        .enumerate()
+        .for_each(|(task, out)| {
+            out.fill(Vector3::zeros());
+            runs.iter()
+                .for_each(|run| run.add_node_forces(task * NODES_PER_TASK, out));
+        });
     Ok(stable)
 }

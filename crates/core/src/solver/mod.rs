@@ -5,11 +5,14 @@
 //! direct solves (faer) and step cutting. Still to come (elements-and-solvers issue): mass
 //! scaling, bulk viscosity, implicit dynamics, nodal forces and rigid drivers.
 
+mod assembly;
 mod chunk;
 pub mod explicit;
+mod hex8_one_point_chunk;
 pub mod implicit;
 mod implicit_chunk;
 mod implicit_model;
+mod nodal;
 mod part;
 mod sparse;
 
