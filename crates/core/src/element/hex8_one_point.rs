@@ -42,9 +42,10 @@
 //! Since G_hg ≤ μ the hourglass stiffness does not shorten the stable explicit step,
 //! which is set by the dilatational modulus.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::{BlockKernel, ElementError, Technology, hex8_full};
+use crate::mesh::geometry::{hex8_gradients, jacobian};
 use crate::mesh::{ElementBlock, ElementShape, Nodes};
 
 /// Default ratio of the hourglass modulus G_hg to the material's shear modulus.
@@ -71,6 +72,97 @@ pub(super) fn hourglass_base() -> [[f64; 8]; 4] {
     h
 }
 
+/// Reference data of one element for the one-point hex8: the mean gradients B̄_a [1/m],
+/// the volume V [m³] and the hourglass positions Σ_b h^α_b (X_b − X̄) [m] (X̄ the
+/// centroid).
+pub(crate) struct OnePointReference {
+    pub mean_gradients: [Vector3<f64>; 8],
+    pub volume: f64,
+    pub hourglass_positions: [Vector3<f64>; 4],
+}
+
+impl OnePointReference {
+    /// From the element's reference node positions `coords` (C3D8 order): B̄_a =
+    /// (1/V) Σ_q ∇_X N_a(ξ_q) det J₀(ξ_q), V = Σ_q det J₀(ξ_q) over the 2×2×2 Gauss points.
+    /// Errors with (Gauss point, det J₀) where det J₀ ≤ 0.
+    pub fn new(coords: &[Vector3<f64>; 8]) -> Result<Self, (usize, f64)> {
+        let mut mean = [Vector3::zeros(); 8];
+        let mut volume = 0.0;
+        for (point, xi) in hex8_full::gauss_points().into_iter().enumerate() {
+            let local = hex8_gradients(xi);
+            let j0: Matrix3<f64> = jacobian(coords, &local);
+            let det_j = j0.determinant();
+            let inverse_transpose = j0.try_inverse().map(|inv| inv.transpose());
+            let Some(inverse_transpose) = inverse_transpose.filter(|_| det_j > 0.0) else {
+                return Err((point, det_j));
+            };
+            // Weight 1 per Gauss point: w det J₀ = det J₀.
+            for (m, g) in mean.iter_mut().zip(&local) {
+                *m += (inverse_transpose * Vector3::from(*g)) * det_j;
+            }
+            volume += det_j;
+        }
+        mean.iter_mut().for_each(|m| *m /= volume);
+        // Positions from the element's centroid: Σ_b h_b = 0, so h·X does not change,
+        // and the round-off does not grow with the distance from the origin.
+        let centroid = coords.iter().sum::<Vector3<f64>>() / 8.0;
+        let mut hourglass_positions = [Vector3::zeros(); 4];
+        for (hx, h) in hourglass_positions.iter_mut().zip(&hourglass_base()) {
+            *hx = h
+                .iter()
+                .zip(coords)
+                .map(|(hb, x)| (x - centroid) * *hb)
+                .sum();
+        }
+        Ok(OnePointReference {
+            mean_gradients: mean,
+            volume,
+            hourglass_positions,
+        })
+    }
+
+    /// Σ_a |B̄_a|² [1/m²].
+    pub fn gradient_sum_squares(&self) -> f64 {
+        self.mean_gradients.iter().map(|m| m.norm_squared()).sum()
+    }
+
+    /// Hourglass stiffness k = G_hg V Σ_a |B̄_a|² / 24 [N/m] for the hourglass modulus
+    /// G_hg [Pa].
+    pub fn hourglass_stiffness(&self, hourglass_modulus: f64) -> f64 {
+        hourglass_modulus * self.volume * self.gradient_sum_squares() / 24.0
+    }
+
+    /// γ^α_a = h^α_a − (Σ_b h^α_b X_b) · B̄_a (dimensionless).
+    pub fn hourglass_vectors(&self) -> [[f64; 8]; 4] {
+        let mut gamma = [[0.0; 8]; 4];
+        for ((g, h), hx) in gamma
+            .iter_mut()
+            .zip(&hourglass_base())
+            .zip(&self.hourglass_positions)
+        {
+            for a in 0..8 {
+                g[a] = h[a] - hx.dot(&self.mean_gradients[a]);
+            }
+        }
+        gamma
+    }
+}
+
+/// The hourglass modulus checked: finite and ≥ 0.
+pub(crate) fn check_hourglass_modulus(
+    block: &ElementBlock,
+    hourglass_modulus: f64,
+) -> Result<(), ElementError> {
+    if hourglass_modulus.is_finite() && hourglass_modulus >= 0.0 {
+        return Ok(());
+    }
+    Err(ElementError::InvalidParameter {
+        block: block.name.clone(),
+        technology: Technology::Hex8OnePoint { hourglass_modulus },
+        reason: format!("hourglass modulus {hourglass_modulus} Pa must be finite and >= 0"),
+    })
+}
+
 /// Mean gradients B̄_a, V, γ^α_a and k of every element of `block`.
 pub(super) fn reference_data(
     nodes: &Nodes,
@@ -78,15 +170,7 @@ pub(super) fn reference_data(
     hourglass_modulus: f64,
 ) -> Result<BlockKernel, ElementError> {
     let technology = Technology::Hex8OnePoint { hourglass_modulus };
-    if !(hourglass_modulus.is_finite() && hourglass_modulus >= 0.0) {
-        return Err(ElementError::InvalidParameter {
-            block: block.name.clone(),
-            technology,
-            reason: format!("hourglass modulus {hourglass_modulus} Pa must be finite and >= 0"),
-        });
-    }
-    let full = hex8_full::reference_data(nodes, block, technology)?;
-    let base = hourglass_base();
+    check_hourglass_modulus(block, hourglass_modulus)?;
     let count = block.len();
     let mut gradients = Vec::with_capacity(count * 8);
     let mut weights = Vec::with_capacity(count);
@@ -94,36 +178,19 @@ pub(super) fn reference_data(
     let mut stiffness = Vec::with_capacity(count);
     let mut coords = [Vector3::zeros(); 8];
     for (element, ids) in block.elements().enumerate() {
-        let volume = full.reference_volume(element);
-        let mut mean = [Vector3::zeros(); 8];
-        for q in 0..8 {
-            let point = element * 8 + q;
-            let w = full.weight(point);
-            for (m, g) in mean.iter_mut().zip(full.gradients(point)) {
-                *m += g * w;
-            }
-        }
-        mean.iter_mut().for_each(|m| *m /= volume);
-        // Positions from the element's centroid: Σ_b h_b = 0, so h·X does not change,
-        // and the round-off does not grow with the distance from the origin.
         nodes.gather(ids, &mut coords);
-        let centroid = coords.iter().sum::<Vector3<f64>>() / 8.0;
-        let mut gamma = [[0.0; 8]; 4];
-        for (g, h) in gamma.iter_mut().zip(&base) {
-            let hx: Vector3<f64> = h
-                .iter()
-                .zip(&coords)
-                .map(|(hb, x)| (x - centroid) * *hb)
-                .sum();
-            for a in 0..8 {
-                g[a] = h[a] - hx.dot(&mean[a]);
+        let reference = OnePointReference::new(&coords).map_err(|(point, det_j)| {
+            ElementError::InvertedReference {
+                block: block.name.clone(),
+                element,
+                point,
+                det_j,
             }
-        }
-        let sum_squares: f64 = mean.iter().map(|m| m.norm_squared()).sum();
-        gradients.extend_from_slice(&mean);
-        weights.push(volume);
-        vectors.push(gamma);
-        stiffness.push(hourglass_modulus * volume * sum_squares / 24.0);
+        })?;
+        gradients.extend_from_slice(&reference.mean_gradients);
+        weights.push(reference.volume);
+        vectors.push(reference.hourglass_vectors());
+        stiffness.push(reference.hourglass_stiffness(hourglass_modulus));
     }
     Ok(BlockKernel {
         technology,

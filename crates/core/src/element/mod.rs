@@ -29,7 +29,8 @@
 
 mod fbar;
 mod hex8_full;
-mod hex8_one_point;
+pub(crate) mod hex8_one_point;
+pub(crate) mod hex8_one_point_batch;
 mod isoparametric;
 mod stiffness;
 mod tet10;

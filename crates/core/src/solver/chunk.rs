@@ -180,12 +180,7 @@ impl ElementChunk {
             material
                 .update(&block, &mut response)
                 .map_err(|error| (element, error))?;
-            self.wave_modulus[local] = (0..3)
-                .map(|j| {
-                    let acoustic = Matrix3::from_fn(|i, k| tangent[0][(i + 3 * j, k + 3 * j)]);
-                    acoustic.symmetric_eigenvalues().max()
-                })
-                .fold(0.0, f64::max);
+            self.wave_modulus[local] = largest_acoustic_modulus(&tangent[0]);
         }
         Ok(())
     }
@@ -228,6 +223,35 @@ impl ElementChunk {
     }
 }
 
+/// The largest acoustic modulus [Pa] of a material point with tangent ∂P/∂F: the largest
+/// eigenvalue of the acoustic tensor Q_ik = ∂P_iJ/∂F_kL n_J n_L over n = e_x, e_y, e_z
+/// (tangent entry (i + 3J, k + 3L), column-major F).
+pub(crate) fn largest_acoustic_modulus(tangent: &Tangent) -> f64 {
+    (0..3)
+        .map(|j| {
+            let acoustic = Matrix3::from_fn(|i, k| tangent[(i + 3 * j, k + 3 * j)]);
+            largest_symmetric_eigenvalue(&acoustic)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Largest eigenvalue of the symmetric part of a 3×3 matrix, in closed form (Smith 1961):
+/// with q = tr A/3, p² = |A − qI|²/6 and B = (A − qI)/p, λ_max = q + 2p cos(φ),
+/// φ = acos(det B / 2)/3. Relative error ~1e-15 of the spread of the eigenvalues; several
+/// times faster than the iterative symmetric eigen-solver.
+pub(crate) fn largest_symmetric_eigenvalue(a: &Matrix3<f64>) -> f64 {
+    let a = (a + a.transpose()) * 0.5;
+    let q = a.trace() / 3.0;
+    let shifted = a - Matrix3::from_diagonal_element(q);
+    let p = (shifted.norm_squared() / 6.0).sqrt();
+    if p <= f64::EPSILON * q.abs() || p == 0.0 {
+        return q;
+    }
+    let half_det = (shifted / p).determinant() / 2.0;
+    let phi = half_det.clamp(-1.0, 1.0).acos() / 3.0;
+    q + 2.0 * p * phi.cos()
+}
+
 /// The element's node positions out of all nodes' `positions`.
 #[inline]
 fn gather(out: &mut [Vector3<f64>], ids: &[u32], positions: &[Vector3<f64>]) {
@@ -257,4 +281,46 @@ pub(crate) fn characteristic_length(kernel: &BlockKernel, element: usize) -> f64
     }
     let sum: f64 = mean[..npe].iter().map(|b| b.norm_squared()).sum::<f64>() / (volume * volume);
     2.0 / (npe as f64 * sum).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed form agrees with the iterative solver on random, repeated-eigenvalue,
+    /// diagonal and scalar matrices.
+    #[test]
+    fn largest_eigenvalue_in_closed_form() {
+        let mut seed = 12345u64;
+        let mut random = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let rotation = nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner();
+        let mut cases: Vec<Matrix3<f64>> = (0..200)
+            .map(|_| {
+                let m = Matrix3::from_fn(|_, _| random()) * 1e6;
+                m + m.transpose()
+            })
+            .collect();
+        cases.push(Matrix3::from_diagonal(&Vector3::new(3e9, 1e4, 1e4)));
+        cases.push(
+            rotation * Matrix3::from_diagonal(&Vector3::new(1e4, 1e4, 3e9)) * rotation.transpose(),
+        );
+        cases.push(
+            rotation * Matrix3::from_diagonal(&Vector3::new(2e4, 2e4, 1e4)) * rotation.transpose(),
+        );
+        cases.push(Matrix3::from_diagonal_element(7.0));
+        for m in cases {
+            let expected = m.symmetric_eigenvalues().max();
+            let spread = m.symmetric_eigenvalues().amax();
+            let got = largest_symmetric_eigenvalue(&m);
+            assert!(
+                (got - expected).abs() <= 1e-12 * spread,
+                "{got} vs {expected} for {m}"
+            );
+        }
+    }
 }

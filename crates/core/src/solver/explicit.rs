@@ -27,7 +27,7 @@
 //! ⅛ Σ m |a Δt|², which dominates while the energies are small (a load ramped from zero
 //! gives almost none for many steps); an instability grows past both quickly.
 //!
-//! A [`Technology::Tet4NodalAverage`] block couples neighbouring elements through nodal
+//! A [`crate::element::Technology::Tet4NodalAverage`] block couples neighbouring elements through nodal
 //! averages, so it is evaluated in passes over the whole block (`nodal_average.rs`) rather
 //! than element by element; its mass and stable step are those of the plain tet4.
 //!
@@ -51,15 +51,13 @@
 //! W_int, recorded with each row).
 
 use nalgebra::Vector3;
-use rayon::prelude::*;
 
-use musclefem_materials::Material;
-
-use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
-use super::chunk::{ElementChunk, chunk_ranges};
-use super::nodal_average::NodalAveragePart;
+use super::bulk_viscosity::BulkViscosity;
+use super::explicit_parts::{
+    PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
+};
+use super::nodal::{advance_positions, deterministic_sum, update_velocities};
 use super::{Loads, Part, RigidReaction, SolverError};
-use crate::element::{BlockKernel, Technology};
 use crate::mesh::Mesh;
 
 /// Settings of an explicit run.
@@ -139,22 +137,6 @@ pub const STARTUP_STEPS: usize = 20;
 /// Steps between refreshes of the elements' acoustic moduli (stable step).
 pub const MODULUS_REFRESH_INTERVAL: usize = 10;
 
-/// One part during a run: its kernel, material, density and element chunks.
-struct PartRun<'a> {
-    block: usize,
-    name: &'a str,
-    kernel: BlockKernel,
-    material: &'a dyn Material,
-    /// Density of each element, raised where mass scaling added mass [kg/m³].
-    element_density: Vec<f64>,
-    chunks: Vec<ElementChunk>,
-    /// Bulk-viscosity state when it is on.
-    viscous: Option<ViscousBlock>,
-    /// The block-level passes of [`Technology::Tet4NodalAverage`] (then `chunks` is
-    /// empty).
-    nodal_average: Option<NodalAveragePart>,
-}
-
 /// Run the explicit solver on `mesh` with `parts` under `loads`.
 pub fn run_explicit(
     mesh: &Mesh,
@@ -167,7 +149,12 @@ pub fn run_explicit(
     let mut runs = Vec::with_capacity(parts.len());
     let mut mass = vec![0.0; node_count];
     for part in parts {
-        runs.push(prepare_part(mesh, part, &mut mass)?);
+        runs.push(PartRun::new(
+            mesh,
+            part,
+            &mut mass,
+            settings.bulk_viscosity.is_some(),
+        )?);
     }
     loads.validate(node_count)?;
     if let Some(n) = mass.iter().position(|&m| m <= 0.0) {
@@ -186,19 +173,6 @@ pub fn run_explicit(
     let mut previous_force = vec![Vector3::zeros(); node_count];
     let mut viscous_force = vec![Vector3::zeros(); node_count];
     let mut previous_viscous_force = vec![Vector3::zeros(); node_count];
-    if settings.bulk_viscosity.is_some() {
-        for run in &mut runs {
-            if run.nodal_average.is_some() {
-                return Err(SolverError::InvalidPart {
-                    block: run.block,
-                    reason: "bulk viscosity is not available for Tet4NodalAverage blocks yet \
-                             (use Tet4 or Tet10, or run without bulk viscosity)"
-                        .to_string(),
-                });
-            }
-            run.viscous = Some(ViscousBlock::new(&run.kernel));
-        }
-    }
     let step_factor = settings.safety_factor
         * settings
             .bulk_viscosity
@@ -261,16 +235,13 @@ pub fn run_explicit(
         let average_step = 0.5 * (half_step + dt);
 
         // Velocities at n + ½: free components from the forces, prescribed from ū.
-        old_velocity.copy_from_slice(&velocity);
-        for ((((v, f), f_visc), f_ext), m) in velocity
-            .iter_mut()
-            .zip(&force)
-            .zip(&viscous_force)
-            .zip(&external)
-            .zip(&mass)
-        {
-            *v += (f_ext - f - f_visc) * (average_step / m);
-        }
+        update_velocities(
+            &mut velocity,
+            &mut old_velocity,
+            [&force, &viscous_force, &external],
+            &mass,
+            average_step,
+        );
         loads.prescribed_displacements(time + dt, &reference, &mut target);
         for &d in &held {
             let (n, k) = (d / 3, d % 3);
@@ -292,29 +263,22 @@ pub fn run_explicit(
                 force[n][k] + viscous_force[n][k] - external[n][k] + mass[n] * acceleration;
         }
         // Energies at n.
-        internal_energy += (0..node_count)
-            .map(|i| {
-                0.5 * (previous_force[i] + force[i])
-                    .dot(&(displacement[i] - previous_displacement[i]))
-            })
-            .sum::<f64>();
+        internal_energy += deterministic_sum(node_count, |i| {
+            0.5 * (previous_force[i] + force[i]).dot(&(displacement[i] - previous_displacement[i]))
+        });
         if settings.bulk_viscosity.is_some() {
-            viscous_energy += (0..node_count)
-                .map(|i| {
-                    0.5 * (previous_viscous_force[i] + viscous_force[i])
-                        .dot(&(displacement[i] - previous_displacement[i]))
-                })
-                .sum::<f64>();
-        }
-        external_work += (0..node_count)
-            .map(|i| {
-                0.5 * (previous_reaction[i] + reaction[i] + previous_external[i] + external[i])
+            viscous_energy += deterministic_sum(node_count, |i| {
+                0.5 * (previous_viscous_force[i] + viscous_force[i])
                     .dot(&(displacement[i] - previous_displacement[i]))
-            })
-            .sum::<f64>();
-        let kinetic_energy: f64 = (0..node_count)
-            .map(|i| 0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared())
-            .sum();
+            });
+        }
+        external_work += deterministic_sum(node_count, |i| {
+            0.5 * (previous_reaction[i] + reaction[i] + previous_external[i] + external[i])
+                .dot(&(displacement[i] - previous_displacement[i]))
+        });
+        let kinetic_energy = deterministic_sum(node_count, |i| {
+            0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared()
+        });
         let total = internal_energy + viscous_energy + kinetic_energy - external_work;
         let drift = total - *initial_balance.get_or_insert(total);
         largest_energy = largest_energy
@@ -349,9 +313,11 @@ pub fn run_explicit(
             });
             next_record += settings.history_interval;
         }
-        if let Some(node) = velocity
-            .iter()
-            .position(|v| !v.iter().all(|x| x.is_finite()))
+        // A non-finite velocity makes K non-finite: look for it only then.
+        if !kinetic_energy.is_finite()
+            && let Some(node) = velocity
+                .iter()
+                .position(|v| !v.iter().all(|x| x.is_finite()))
         {
             return Err(SolverError::Diverged { time, node });
         }
@@ -359,16 +325,20 @@ pub fn run_explicit(
             break;
         }
 
-        // Positions at n + 1 and forces there.
-        previous_displacement.copy_from_slice(&displacement);
-        previous_force.copy_from_slice(&force);
-        previous_viscous_force.copy_from_slice(&viscous_force);
-        previous_reaction.copy_from_slice(&reaction);
-        previous_external.copy_from_slice(&external);
-        for i in 0..node_count {
-            displacement[i] += velocity[i] * dt;
-            positions[i] = reference[i] + displacement[i];
-        }
+        // Positions at n + 1 and forces there. Each array swapped here is overwritten
+        // where it is not zero before it is read again.
+        std::mem::swap(&mut previous_force, &mut force);
+        std::mem::swap(&mut previous_viscous_force, &mut viscous_force);
+        std::mem::swap(&mut previous_reaction, &mut reaction);
+        std::mem::swap(&mut previous_external, &mut external);
+        advance_positions(
+            &mut displacement,
+            &mut previous_displacement,
+            &mut positions,
+            &reference,
+            &velocity,
+            dt,
+        );
         time += dt;
         half_step = dt;
         steps += 1;
@@ -388,12 +358,7 @@ pub fn run_explicit(
                 &mut viscous_force,
             );
         }
-        for run in &mut runs {
-            run.chunks.iter_mut().for_each(ElementChunk::commit);
-            run.nodal_average
-                .iter_mut()
-                .for_each(NodalAveragePart::commit);
-        }
+        runs.iter_mut().for_each(PartRun::commit);
     }
     Ok(ExplicitResult {
         history,
@@ -421,227 +386,4 @@ fn check_settings(settings: &ExplicitSettings) -> Result<(), SolverError> {
         ));
     }
     Ok(())
-}
-
-/// Kernel, chunks, wave speed and lumped mass (ρ₀ V_e shared equally by the element's
-/// nodes) of one part.
-fn prepare_part<'a>(
-    mesh: &'a Mesh,
-    part: &'a Part,
-    mass: &mut [f64],
-) -> Result<PartRun<'a>, SolverError> {
-    let block = mesh
-        .blocks
-        .get(part.block)
-        .ok_or_else(|| SolverError::InvalidPart {
-            block: part.block,
-            reason: format!("the mesh has {} blocks", mesh.blocks.len()),
-        })?;
-    if !(part.density.is_finite() && part.density > 0.0) {
-        return Err(SolverError::InvalidPart {
-            block: part.block,
-            reason: format!("density {} kg/m3 must be positive", part.density),
-        });
-    }
-    let kernel = BlockKernel::new(&mesh.nodes, block, part.technology).map_err(|source| {
-        SolverError::Element {
-            block: part.block,
-            source,
-        }
-    })?;
-    let npe = kernel.nodes_per_element();
-    for (element, ids) in block.elements().enumerate() {
-        let share = part.density * kernel.reference_volume(element) / npe as f64;
-        for &id in ids {
-            mass[id as usize] += share;
-        }
-    }
-    let material = part.material.as_ref();
-    let (chunks, nodal_average) = if part.technology == Technology::Tet4NodalAverage {
-        let averaged = NodalAveragePart::new(&kernel, block, material);
-        (Vec::new(), Some(averaged))
-    } else {
-        let chunks = chunk_ranges(block.len())
-            .map(|range| ElementChunk::new(range, &kernel, block, material))
-            .collect();
-        (chunks, None)
-    };
-    Ok(PartRun {
-        block: part.block,
-        name: &block.name,
-        kernel,
-        material,
-        element_density: vec![part.density; block.len()],
-        chunks,
-        viscous: None,
-        nodal_average,
-    })
-}
-
-/// Internal nodal forces at `positions` after a step of `dt` ending at `time` (material
-/// states updated but not committed). Elements are updated in parallel chunks; forces are
-/// gathered into nodes serially in element order, so the sum is the same, bit for bit,
-/// on any number of threads. With `refresh`, the acoustic moduli are recomputed too.
-/// Returns the stable step and its (block, element).
-fn internal_forces<'a>(
-    mesh: &Mesh,
-    runs: &mut [PartRun<'a>],
-    positions: &[Vector3<f64>],
-    time: f64,
-    dt: f64,
-    refresh: bool,
-    force: &mut [Vector3<f64>],
-) -> Result<(f64, (&'a str, usize)), SolverError> {
-    force.fill(Vector3::zeros());
-    for run in runs.iter_mut() {
-        let block = &mesh.blocks[run.block];
-        let (kernel, material) = (&run.kernel, run.material);
-        if let Some(averaged) = &mut run.nodal_average {
-            averaged
-                .add_internal_forces(kernel, block, material, positions, time, dt, refresh, force)
-                .map_err(|(element, source)| SolverError::Material {
-                    time,
-                    block: block.name.clone(),
-                    element,
-                    source,
-                })?;
-            continue;
-        }
-        run.chunks
-            .par_iter_mut()
-            .try_for_each(|chunk| {
-                chunk.update(kernel, block, material, positions, time, dt, false)?;
-                if refresh {
-                    chunk.refresh_wave_moduli(kernel, material, time, dt)?;
-                }
-                Ok(())
-            })
-            .map_err(|(element, source)| SolverError::Material {
-                time,
-                block: block.name.clone(),
-                element,
-                source,
-            })?;
-        let npe = run.kernel.nodes_per_element();
-        for chunk in &run.chunks {
-            for (local, element) in chunk.elements.clone().enumerate() {
-                for (&id, f) in block
-                    .element_nodes(element)
-                    .iter()
-                    .zip(&chunk.forces[local * npe..(local + 1) * npe])
-                {
-                    force[id as usize] += f;
-                }
-            }
-        }
-    }
-    Ok(smallest_stable_step(runs))
-}
-
-/// The stable step of every element of a part, with its element index.
-fn element_stable_steps<'r>(run: &'r PartRun) -> Box<dyn Iterator<Item = (f64, usize)> + 'r> {
-    match &run.nodal_average {
-        Some(averaged) => Box::new(averaged.element_stable_steps(&run.element_density)),
-        None => Box::new(
-            run.chunks
-                .iter()
-                .flat_map(|chunk| chunk.element_stable_steps(&run.element_density)),
-        ),
-    }
-}
-
-/// The smallest stable step of all elements and its (block name, element).
-fn smallest_stable_step<'a>(runs: &[PartRun<'a>]) -> (f64, (&'a str, usize)) {
-    let mut stable = (f64::INFINITY, ("", 0));
-    for run in runs {
-        for (step, element) in element_stable_steps(run) {
-            if step < stable.0 {
-                stable = (step, (run.name, element));
-            }
-        }
-    }
-    stable
-}
-
-/// Mass scaling: raise the density of every element whose stable step is below `target`
-/// [s] to ρ_e (target / Δt_e)² and lump the added mass ρ_e V_e / n onto its nodes.
-/// Returns the added mass [kg].
-fn scale_masses(mesh: &Mesh, runs: &mut [PartRun], mass: &mut [f64], target: f64) -> f64 {
-    let mut added = 0.0;
-    for run in runs.iter_mut() {
-        let block = &mesh.blocks[run.block];
-        let npe = run.kernel.nodes_per_element();
-        let mut raised = Vec::new();
-        for (step, element) in element_stable_steps(run) {
-            if step < target {
-                raised.push((
-                    element,
-                    run.element_density[element] * (target / step).powi(2),
-                ));
-            }
-        }
-        for (element, density) in raised {
-            let extra =
-                (density - run.element_density[element]) * run.kernel.reference_volume(element);
-            run.element_density[element] = density;
-            added += extra;
-            for &id in block.element_nodes(element) {
-                mass[id as usize] += extra / npe as f64;
-            }
-        }
-    }
-    added
-}
-
-/// Bulk-viscosity forces at `positions` after a step of `dt` into `viscous_force`
-/// (elements in parallel, gathered in element order), volumes committed.
-fn viscous_forces(
-    mesh: &Mesh,
-    runs: &mut [PartRun],
-    coefficients: &BulkViscosity,
-    positions: &[Vector3<f64>],
-    dt: f64,
-    viscous_force: &mut [Vector3<f64>],
-) {
-    viscous_force.fill(Vector3::zeros());
-    for run in runs.iter_mut() {
-        let block = &mesh.blocks[run.block];
-        if let Some(viscous) = &mut run.viscous {
-            viscous.evaluate(
-                coefficients,
-                &run.kernel,
-                block,
-                &run.chunks,
-                &run.element_density,
-                positions,
-                dt,
-            );
-            viscous.scatter(block, viscous_force);
-            viscous.commit();
-        }
-    }
-}
-
-/// Hourglass energy Σ ½ k |q|² of all one-point hex8 elements at `positions` [J].
-fn hourglass_energy(mesh: &Mesh, runs: &[PartRun], positions: &[Vector3<f64>]) -> f64 {
-    runs.iter()
-        .filter(|run| run.kernel.hourglass_vectors(0).is_some())
-        .map(|run| {
-            let block = &mesh.blocks[run.block];
-            // Collected in element order and summed serially: the same on any number of
-            // threads.
-            let energies: Vec<f64> = (0..block.len())
-                .into_par_iter()
-                .map(|element| {
-                    let mut local = [Vector3::zeros(); crate::mesh::MAX_NODES_PER_ELEMENT];
-                    let ids = block.element_nodes(element);
-                    for (x, &id) in local.iter_mut().zip(ids) {
-                        *x = positions[id as usize];
-                    }
-                    run.kernel.hourglass_energy(element, &local[..ids.len()])
-                })
-                .collect();
-            energies.iter().sum::<f64>()
-        })
-        .sum()
 }

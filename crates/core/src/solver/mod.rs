@@ -9,13 +9,17 @@
 //! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
 //! force and moment resultants).
 
+mod assembly;
 pub mod bulk_viscosity;
 mod chunk;
 pub mod explicit;
+mod explicit_parts;
+mod hex8_one_point_chunk;
 pub mod implicit;
 mod implicit_chunk;
 mod implicit_model;
 mod loads;
+mod nodal;
 mod nodal_average;
 mod part;
 mod sparse;

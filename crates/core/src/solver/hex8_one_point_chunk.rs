@@ -1,0 +1,314 @@
+//! A chunk of one-point hex8 elements for the explicit solver: the batched kernel of
+//! `element/hex8_one_point_batch.rs` with the material called once on the whole chunk.
+//!
+//! What an element keeps between steps (neo-Hookean, no state variables): its reference
+//! data in the batch (B̄_1…7, V, k, H^α: 280 bytes) and F at the start and end of the
+//! step (2 × 72 bytes), 424 bytes, plus 16 bytes per material state variable; its 8 nodal
+//! forces (192 bytes) are held by the part for the node assembly. Stresses, hourglass
+//! displacements and the F of the batches live on the stack during the update. The fiber
+//! direction is the mesh block's (one point per element), not a copy.
+
+use std::ops::Range;
+
+use nalgebra::{Matrix3, Vector3};
+
+use musclefem_materials::{
+    Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
+};
+
+use super::chunk::{ELEMENTS_PER_CHUNK, largest_acoustic_modulus};
+use crate::element::ElementError;
+use crate::element::hex8_one_point::{OnePointReference, check_hourglass_modulus};
+use crate::element::hex8_one_point_batch::{
+    BatchDeformation, LANES, OnePointBatch, RelativePositions, lane_matrix,
+};
+use crate::mesh::{ElementBlock, Nodes};
+
+/// Batches per chunk.
+const BATCHES: usize = ELEMENTS_PER_CHUNK / LANES;
+/// Points per material call with tangents (stable-step refresh): the tangents of a call
+/// live on the stack (648 bytes each).
+const TANGENT_POINTS: usize = 16;
+
+#[derive(Debug)]
+pub(crate) struct OnePointHexChunk {
+    /// Elements of the block in this chunk.
+    pub elements: Range<usize>,
+    batches: Vec<OnePointBatch>,
+    f_old: Vec<Matrix3<f64>>,
+    f_new: Vec<Matrix3<f64>>,
+    state_old: Vec<f64>,
+    state_new: Vec<f64>,
+    /// Largest acoustic modulus M of each element at the last refresh [Pa].
+    wave_modulus: Vec<f64>,
+}
+
+impl OnePointHexChunk {
+    /// Reference data of `elements` of `block` (reference positions `nodes`). Refuses an
+    /// element inverted at a Gauss point and a negative or non-finite hourglass modulus.
+    pub fn new(
+        elements: Range<usize>,
+        nodes: &Nodes,
+        block: &ElementBlock,
+        hourglass_modulus: f64,
+        material: &dyn Material,
+    ) -> Result<Self, ElementError> {
+        check_hourglass_modulus(block, hourglass_modulus)?;
+        let mut batches = Vec::with_capacity(elements.len().div_ceil(LANES));
+        let mut references = Vec::with_capacity(LANES);
+        let mut coords = [Vector3::zeros(); 8];
+        for start in elements.clone().step_by(LANES) {
+            references.clear();
+            for element in start..(start + LANES).min(elements.end) {
+                nodes.gather(block.element_nodes(element), &mut coords);
+                let reference = OnePointReference::new(&coords).map_err(|(point, det_j)| {
+                    ElementError::InvertedReference {
+                        block: block.name.clone(),
+                        element,
+                        point,
+                        det_j,
+                    }
+                })?;
+                references.push(reference);
+            }
+            batches.push(OnePointBatch::new(&references, hourglass_modulus));
+        }
+        let points = elements.len();
+        Ok(OnePointHexChunk {
+            batches,
+            f_old: vec![Matrix3::identity(); points],
+            f_new: vec![Matrix3::identity(); points],
+            state_old: material.initial_state(points),
+            state_new: material.initial_state(points),
+            wave_modulus: vec![0.0; points],
+            elements,
+        })
+    }
+
+    /// Reference volume of each element [m³], in order.
+    pub fn volumes(&self) -> impl Iterator<Item = f64> + '_ {
+        (0..self.elements.len()).map(|e| self.batches[e / LANES].volume(e % LANES))
+    }
+
+    /// F at the current `positions`, the material update over the step of `dt` ending at
+    /// `time`, and the internal nodal forces into `forces` (8 per element) [N]. With
+    /// `refresh`, the acoustic moduli M are refreshed from the material tangents of this
+    /// update.
+    /// On a material error, returns the element (of the block) and the error.
+    pub fn update(
+        &mut self,
+        block: &ElementBlock,
+        material: &dyn Material,
+        positions: &[Vector3<f64>],
+        time: f64,
+        dt: f64,
+        refresh: bool,
+        forces: &mut [Vector3<f64>],
+    ) -> Result<(), (usize, MaterialError)> {
+        let count = self.elements.len();
+        let mut deformations = [BatchDeformation::default(); BATCHES];
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = std::is_x86_feature_detected!("avx2");
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2 = false;
+        if avx2 {
+            // SAFETY: the processor has AVX2 (checked above).
+            unsafe { self.kinematics_avx2(block, positions, &mut deformations) };
+        } else {
+            self.kinematics(block, positions, &mut deformations);
+        }
+        let mut stress = [VoigtStress::zeros(); ELEMENTS_PER_CHUNK];
+        let fiber = &block.fiber_direction[self.elements.clone()];
+        let nstate = self.state_old.len() / count.max(1);
+        let start = self.elements.start;
+        let on_error = |offset: usize| {
+            move |error: MaterialError| {
+                let element = match &error {
+                    MaterialError::InvalidPoint { point, .. }
+                    | MaterialError::NonFiniteResult { point, .. } => start + offset + point,
+                    _ => start + offset,
+                };
+                (element, error)
+            }
+        };
+        match refresh {
+            false => {
+                let points = PointBlock {
+                    time,
+                    dt,
+                    deformation_gradient_old: &self.f_old,
+                    deformation_gradient_new: &self.f_new,
+                    fiber_direction: fiber,
+                    state_old: &self.state_old,
+                };
+                let mut response = PointResponse {
+                    cauchy_stress: &mut stress[..count],
+                    state_new: &mut self.state_new,
+                    tangent: None,
+                };
+                material
+                    .update(&points, &mut response)
+                    .map_err(on_error(0))?;
+            }
+            true => {
+                let mut tangent = [Tangent::zeros(); TANGENT_POINTS];
+                for first in (0..count).step_by(TANGENT_POINTS) {
+                    let range = first..(first + TANGENT_POINTS).min(count);
+                    let n = range.len();
+                    let states = range.start * nstate..range.end * nstate;
+                    let points = PointBlock {
+                        time,
+                        dt,
+                        deformation_gradient_old: &self.f_old[range.clone()],
+                        deformation_gradient_new: &self.f_new[range.clone()],
+                        fiber_direction: &fiber[range.clone()],
+                        state_old: &self.state_old[states.clone()],
+                    };
+                    let mut response = PointResponse {
+                        cauchy_stress: &mut stress[range.clone()],
+                        state_new: &mut self.state_new[states],
+                        tangent: Some(&mut tangent[..n]),
+                    };
+                    material
+                        .update(&points, &mut response)
+                        .map_err(on_error(first))?;
+                    for (e, t) in range.zip(&tangent) {
+                        self.wave_modulus[e] = largest_acoustic_modulus(t);
+                    }
+                }
+            }
+        }
+        if avx2 {
+            // SAFETY: as above.
+            unsafe { self.nodal_forces_avx2(&deformations, &stress[..count], forces) };
+        } else {
+            self.nodal_forces(&deformations, &stress[..count], forces);
+        }
+        Ok(())
+    }
+
+    /// [`Self::kinematics`] compiled for 256-bit vectors. Rust does not contract a·b + c
+    /// into fused multiply-adds, so it gives the bits of the baseline (SSE2) version.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn kinematics_avx2(
+        &mut self,
+        block: &ElementBlock,
+        positions: &[Vector3<f64>],
+        deformations: &mut [BatchDeformation; BATCHES],
+    ) {
+        self.kinematics(block, positions, deformations)
+    }
+
+    /// [`Self::nodal_forces`] compiled for 256-bit vectors (same bits).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn nodal_forces_avx2(
+        &self,
+        deformations: &[BatchDeformation; BATCHES],
+        stress: &[VoigtStress],
+        forces: &mut [Vector3<f64>],
+    ) {
+        self.nodal_forces(deformations, stress, forces)
+    }
+
+    /// F and q^α of every batch at the current `positions`; F into `f_new`.
+    #[inline(always)]
+    fn kinematics(
+        &mut self,
+        block: &ElementBlock,
+        positions: &[Vector3<f64>],
+        deformations: &mut [BatchDeformation; BATCHES],
+    ) {
+        for (b, (batch, deformation)) in self.batches.iter().zip(deformations).enumerate() {
+            let first = self.elements.start + b * LANES;
+            let lanes = LANES.min(self.elements.end - first);
+            let relative = relative_positions(block, positions, first, lanes);
+            *deformation = batch.deformation(&relative);
+            for l in 0..lanes {
+                self.f_new[b * LANES + l] = lane_matrix(&deformation.deformation_gradient, l);
+            }
+        }
+    }
+
+    /// The nodal forces of every element from its deformation and Cauchy `stress`.
+    #[inline(always)]
+    fn nodal_forces(
+        &self,
+        deformations: &[BatchDeformation; BATCHES],
+        stress: &[VoigtStress],
+        forces: &mut [Vector3<f64>],
+    ) {
+        for (b, (batch, deformation)) in self.batches.iter().zip(deformations).enumerate() {
+            let first = b * LANES;
+            let lanes = LANES.min(stress.len() - first);
+            batch.forces(
+                deformation,
+                &stress[first..first + lanes],
+                &mut forces[first * 8..(first + lanes) * 8],
+            );
+        }
+    }
+
+    /// Stable step L₀ √(ρ/M) of each element [s] with its element (block index), from the
+    /// moduli of the last refresh, `density[e]` the density of element e of the block;
+    /// L₀ = 2/√(8 Σ_a |B̄_a|²) (chunk.rs, `characteristic_length`).
+    pub fn element_stable_steps<'s>(
+        &'s self,
+        density: &'s [f64],
+    ) -> impl Iterator<Item = (f64, usize)> + 's {
+        self.wave_modulus
+            .iter()
+            .enumerate()
+            .map(move |(e, modulus)| {
+                let sum = self.batches[e / LANES].gradient_sum_squares(e % LANES);
+                let length = 2.0 / (8.0 * sum).sqrt();
+                let element = self.elements.start + e;
+                (length * (density[element] / modulus).sqrt(), element)
+            })
+    }
+
+    /// Hourglass energy ½ k Σ_α |q^α|² of the chunk's elements at `positions` [J].
+    pub fn hourglass_energy(&self, block: &ElementBlock, positions: &[Vector3<f64>]) -> f64 {
+        let mut energy = 0.0;
+        for (b, batch) in self.batches.iter().enumerate() {
+            let first = self.elements.start + b * LANES;
+            let lanes = LANES.min(self.elements.end - first);
+            let relative = relative_positions(block, positions, first, lanes);
+            let deformation = batch.deformation(&relative);
+            energy += (0..lanes)
+                .map(|l| batch.hourglass_energy(&deformation, l))
+                .sum::<f64>();
+        }
+        energy
+    }
+
+    /// Accept the step: the new state and deformation become the old ones.
+    pub fn commit(&mut self) {
+        std::mem::swap(&mut self.state_old, &mut self.state_new);
+        std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+}
+
+/// Positions of nodes 1…7 relative to node 0 of the `lanes` elements of `block` from
+/// `first` on (unused lanes zero) [m].
+#[inline(always)]
+fn relative_positions(
+    block: &ElementBlock,
+    positions: &[Vector3<f64>],
+    first: usize,
+    lanes: usize,
+) -> RelativePositions {
+    let mut relative: RelativePositions = [[[0.0; LANES]; 3]; 7];
+    for l in 0..lanes {
+        let ids = block.element_nodes(first + l);
+        let origin = positions[ids[0] as usize];
+        for a in 1..8 {
+            let x = positions[ids[a] as usize];
+            for i in 0..3 {
+                relative[a - 1][i][l] = x[i] - origin[i];
+            }
+        }
+    }
+    relative
+}
