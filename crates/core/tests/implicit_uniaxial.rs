@@ -3,7 +3,6 @@
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
-use std::time::Instant;
 
 use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
@@ -381,34 +380,5 @@ fn fbar_is_refused() {
     assert!(
         matches!(error, SolverError::NoConsistentTangent { .. }),
         "{error}"
-    );
-}
-
-/// Time of a 10×10×10 cube (3 509 unknowns) to λ = 1.5 in 10 steps, printed (no
-/// assertion on time); the reaction still matches the homogeneous one. About 2 s, so
-/// ignored by default: `cargo test --release --test implicit_uniaxial -- --ignored
-/// --nocapture`.
-#[test]
-#[ignore = "timing run (~2 s)"]
-fn timing_of_a_ten_cubed_cube() {
-    let material = compressible();
-    let start = Instant::now();
-    let (_, result) = stretch_cube(material.clone(), 10, 1.5, &ImplicitSettings::new(1.0, 10));
-    let elapsed = start.elapsed();
-    let result = result.unwrap();
-    let iterations: usize = result.steps.iter().map(|s| s.iterations).sum();
-    println!(
-        "10x10x10 hex8: {} unknowns, {} matrix entries, {iterations} Newton iterations in 10 \
-         steps, {:.3} s ({} threads)",
-        result.equations,
-        result.matrix_entries,
-        elapsed.as_secs_f64(),
-        rayon::current_num_threads()
-    );
-    let expected = homogeneous_reaction(material.as_ref(), 1.5);
-    let reaction = result.history.last().unwrap().reactions[0];
-    assert!(
-        (reaction - expected).abs() < 1e-8 * expected,
-        "{reaction} vs {expected}"
     );
 }
