@@ -59,30 +59,29 @@ impl BlockKernel {
         let dofs = 3 * npe;
         debug_assert_eq!(tangents.len(), ppe);
         debug_assert_eq!(stiffness.len(), dofs * dofs);
-        // H_a[i][k + 3L] = Σ_J G_a,J 𝔸[(i + 3J), (k + 3L)] w, then K_ab,ik = Σ_L H_a G_b,L.
+        // H_a[i][k + 3L] = Σ_J G_a,J 𝔸[(i + 3J), (k + 3L)] w, then K_ab,ik = Σ_L H_a G_b,L
+        // (the tangent's 81 values column-major: entry (r, c) at 9c + r).
         let mut h = [[[0.0; 9]; 3]; MAX_NODES_PER_ELEMENT];
         let h = &mut h[..npe];
         for (q, tangent) in tangents.iter().enumerate() {
             let point = element * ppe + q;
             let w = self.weight(point);
             let gradients = self.gradients(point);
+            let values: &[f64] = tangent.as_slice();
             for (ha, g) in h.iter_mut().zip(gradients) {
-                for (i, row) in ha.iter_mut().enumerate() {
-                    for (column, value) in row.iter_mut().enumerate() {
-                        *value = w
-                            * (g[0] * tangent[(i, column)]
-                                + g[1] * tangent[(i + 3, column)]
-                                + g[2] * tangent[(i + 6, column)]);
-                    }
+                let g = g * w;
+                for (column, c) in values.chunks_exact(9).enumerate() {
+                    ha[0][column] = g.x * c[0] + g.y * c[3] + g.z * c[6];
+                    ha[1][column] = g.x * c[1] + g.y * c[4] + g.z * c[7];
+                    ha[2][column] = g.x * c[2] + g.y * c[5] + g.z * c[8];
                 }
             }
-            for (a, ha) in h.iter().enumerate() {
-                for (i, row) in ha.iter().enumerate() {
-                    let out = &mut stiffness[(3 * a + i) * dofs..(3 * a + i + 1) * dofs];
-                    for (b, g) in gradients.iter().enumerate() {
-                        for k in 0..3 {
-                            out[3 * b + k] += row[k] * g[0] + row[k + 3] * g[1] + row[k + 6] * g[2];
-                        }
+            for (rows, ha) in stiffness.chunks_exact_mut(3 * dofs).zip(h.iter()) {
+                for (out, hi) in rows.chunks_exact_mut(dofs).zip(ha) {
+                    for (o, g) in out.chunks_exact_mut(3).zip(gradients) {
+                        o[0] += hi[0] * g.x + hi[3] * g.y + hi[6] * g.z;
+                        o[1] += hi[1] * g.x + hi[4] * g.y + hi[7] * g.z;
+                        o[2] += hi[2] * g.x + hi[5] * g.y + hi[8] * g.z;
                     }
                 }
             }

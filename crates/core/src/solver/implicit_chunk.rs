@@ -79,8 +79,8 @@ impl ImplicitChunk {
                 debug_assert!(added, "checked when the part was prepared");
             }
             self.symmetric = tangents.iter().all(|t| {
-                let scale = t.amax();
-                (t - t.transpose()).amax() <= SYMMETRY_TOLERANCE * scale
+                let limit = SYMMETRY_TOLERANCE * t.amax();
+                (0..9).all(|r| (r + 1..9).all(|c| (t[(r, c)] - t[(c, r)]).abs() <= limit))
             });
         }
         Ok(())

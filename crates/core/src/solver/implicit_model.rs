@@ -4,6 +4,8 @@
 //! (elements in parallel chunks, everything gathered serially in element order, so the
 //! result does not depend on the number of threads).
 
+use std::time::Instant;
+
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -11,7 +13,7 @@ use musclefem_materials::Material;
 
 use super::chunk::chunk_ranges;
 use super::implicit_chunk::ImplicitChunk;
-use super::sparse::{PRESCRIBED, SparseSystem};
+use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
 use super::{Part, PrescribedDisplacement, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, Mesh};
@@ -49,6 +51,19 @@ pub(super) struct Model<'a> {
     pub stiffness_scale: f64,
     /// Largest |x| of the last evaluation's positions [m].
     pub position_scale: f64,
+    pub times: EvaluationTimes,
+}
+
+/// Counts and wall-clock times [s] of a run's evaluations.
+#[derive(Debug, Clone, Default)]
+pub struct EvaluationTimes {
+    /// Evaluations of the internal forces (with or without stiffness).
+    pub evaluations: usize,
+    /// Element updates in parallel: deformation, material (with tangents), nodal forces,
+    /// element stiffness.
+    pub element_seconds: f64,
+    /// Serial gathering of the forces and scattering of the stiffness into the matrix.
+    pub assembly_seconds: f64,
 }
 
 /// Factor on the round-off estimate of the residual (see [`Norms::floor`]).
@@ -184,8 +199,10 @@ impl<'a> Model<'a> {
             free += 1;
         }
         let free = free as usize;
+        let reference: Vec<Vector3<f64>> =
+            (0..node_count).map(|n| mesh.nodes.position(n)).collect();
         let system = SparseSystem::new(
-            node_count,
+            &reference,
             &equation,
             free,
             runs.iter().map(|r| &mesh.blocks[r.block]),
@@ -216,6 +233,7 @@ impl<'a> Model<'a> {
             diagonal,
             stiffness_scale: 0.0,
             position_scale: 0.0,
+            times: EvaluationTimes::default(),
         })
     }
 
@@ -238,7 +256,10 @@ impl<'a> Model<'a> {
             self.symmetric = true;
         }
         let mesh = self.mesh;
+        let mut element_seconds = 0.0;
+        let start = Instant::now();
         for run in &mut self.runs {
+            let update_start = Instant::now();
             let block = &mesh.blocks[run.block];
             let (kernel, material) = (&run.kernel, run.material);
             run.chunks
@@ -252,6 +273,7 @@ impl<'a> Model<'a> {
                     element,
                     source,
                 })?;
+            element_seconds += update_start.elapsed().as_secs_f64();
             let npe = kernel.nodes_per_element();
             let dofs = kernel.element_dofs();
             for chunk in &run.chunks {
@@ -307,6 +329,9 @@ impl<'a> Model<'a> {
                 .fold(0.0, |m, &p| m.max(values[p].abs()));
         }
         self.position_scale = positions.iter().fold(0.0, |m, x| m.max(x.amax()));
+        self.times.evaluations += 1;
+        self.times.element_seconds += element_seconds;
+        self.times.assembly_seconds += start.elapsed().as_secs_f64() - element_seconds;
         Ok(self.norms())
     }
 
@@ -331,9 +356,10 @@ impl<'a> Model<'a> {
         &mut self,
         rhs: &mut [f64],
         time: f64,
+        reuse: Option<&FactorReuse>,
     ) -> Result<super::sparse::Factorization, SolverError> {
         self.system
-            .solve(rhs, self.symmetric)
+            .solve(rhs, self.symmetric, reuse)
             .map_err(|reason| SolverError::LinearSolve { time, reason })
     }
 

@@ -10,6 +10,7 @@ pub mod explicit;
 pub mod implicit;
 mod implicit_chunk;
 mod implicit_model;
+mod ordering;
 mod part;
 mod sparse;
 
