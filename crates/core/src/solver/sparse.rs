@@ -524,7 +524,7 @@ mod tests {
         let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
         let mut system =
             SparseSystem::new(&positions, &equation, 24, mesh.blocks.iter(), usize::MAX);
-        let mut fill = |system: &mut SparseSystem, scale: f64| -> Vec<f64> {
+        let fill = |system: &mut SparseSystem, scale: f64| -> Vec<f64> {
             let entry = |r: usize, c: usize| {
                 if r == c { 4.0 } else { scale * coupling(r, c) }
             };
