@@ -32,9 +32,10 @@
 //! its direction, at the converged state. Material states are committed after convergence.
 //!
 //! Element technologies: those with a consistent element stiffness
-//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8OnePoint, Tet4
-//! and Tet10. F-bar is refused ([`SolverError::NoConsistentTangent`]) until its tangent is
-//! built. Not built yet: nodal loads, contact, implicit dynamics.
+//! ([`crate::element::BlockKernel::has_consistent_tangent`]): all built so far (Hex8Full,
+//! Hex8FBar with the linearization through J̄ of `element/fbar.rs`, Hex8OnePoint, Tet4,
+//! Tet10); a technology without one is refused ([`SolverError::NoConsistentTangent`]).
+//! Not built yet: nodal loads, contact, implicit dynamics.
 //!
 //! Memory besides the factor: every element keeps its dense stiffness between the parallel
 //! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192
