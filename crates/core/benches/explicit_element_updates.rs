@@ -61,7 +61,7 @@ fn bench_case(
         material,
         density: 1060.0,
     }];
-    let prescribed = loading(mesh);
+    let loads = loading(mesh).into();
     let mut settings = ExplicitSettings::new(STEPS as f64 * STEP);
     settings.fixed_time_step = Some(STEP);
     settings.history_interval = 1.0;
@@ -75,7 +75,7 @@ fn bench_case(
             .build()
             .expect("thread pool");
         group.bench_function(format!("{threads}_thread"), |b| {
-            b.iter(|| pool.install(|| run_explicit(mesh, &parts, &prescribed, &settings).unwrap()))
+            b.iter(|| pool.install(|| run_explicit(mesh, &parts, &loads, &settings).unwrap()))
         });
     }
     group.finish();

@@ -20,7 +20,7 @@ use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_core::solver::implicit::{ImplicitSettings, run_quasi_static};
-use musclefem_core::solver::{Part, PrescribedDisplacement};
+use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 /// Side of the cube [m].
@@ -70,7 +70,7 @@ fn implicit_cube(c: &mut Criterion) {
             material: material.clone(),
             density: 1000.0,
         }];
-        let prescribed = uniaxial(&mesh);
+        let loads: Loads = uniaxial(&mesh).into();
         let settings = ImplicitSettings::new(1.0, STEPS);
         group.measurement_time(Duration::from_secs(match divisions {
             10 => 5,
@@ -81,7 +81,7 @@ fn implicit_cube(c: &mut Criterion) {
         let mut summary = None;
         group.bench_function(format!("{divisions}^3"), |b| {
             b.iter(|| {
-                let result = run_quasi_static(&mesh, &parts, &prescribed, &settings).unwrap();
+                let result = run_quasi_static(&mesh, &parts, &loads, &settings).unwrap();
                 let iterations: Vec<usize> = result.steps.iter().map(|s| s.iterations).collect();
                 summary = Some(format!(
                     "{divisions}^3 {TECHNOLOGY:?}: {} unknowns, {} matrix entries, Newton \

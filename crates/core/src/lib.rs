@@ -19,8 +19,7 @@
 //!   cutting, faer sparse Cholesky/LU with the symbolic factorization reused).
 //!
 //! Not built yet (the rest of the elements-and-solvers issue): a locking-free tet, the
-//! F-bar tangent, implicit dynamics, mass scaling, bulk viscosity, a separate
-//! hourglass-energy output, nodal loads, rigid drivers and the trait through which contact
+//! F-bar tangent, implicit dynamics and the trait through which contact
 //! forces enter a solve.
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based

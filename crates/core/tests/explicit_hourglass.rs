@@ -80,7 +80,7 @@ fn run(mesh: &Mesh, technology: Technology) -> (Vec<Vector3<f64>>, f64, f64) {
         density: 1000.0,
     }];
     let settings = ExplicitSettings::new(RAMP * 4.0 / 3.0);
-    let result = run_explicit(mesh, &parts, &loading(mesh), &settings).unwrap();
+    let result = run_explicit(mesh, &parts, &loading(mesh).into(), &settings).unwrap();
     let kernel = BlockKernel::new(&mesh.nodes, &mesh.blocks[0], technology).unwrap();
     let hourglass: f64 = mesh.blocks[0]
         .elements()

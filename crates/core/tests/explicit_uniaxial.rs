@@ -110,7 +110,7 @@ fn uniaxial_stretch_matches(technology: Technology) {
     let result = run_explicit(
         &mesh,
         &part_with(material.clone(), technology),
-        &uniaxial(&mesh, 1.5, 2.0),
+        &uniaxial(&mesh, 1.5, 2.0).into(),
         &settings,
     )
     .unwrap();
@@ -147,7 +147,7 @@ fn results_do_not_depend_on_the_thread_count() {
             run_explicit(
                 &mesh,
                 &part(neo_hookean()),
-                &uniaxial(&mesh, 1.1, 0.05),
+                &uniaxial(&mesh, 1.1, 0.05).into(),
                 &ExplicitSettings::new(0.05),
             )
             .unwrap()
@@ -169,7 +169,7 @@ fn a_step_above_the_stability_limit_is_refused() {
     let err = run_explicit(
         &mesh,
         &part(neo_hookean()),
-        &uniaxial(&mesh, 1.1, 0.1),
+        &uniaxial(&mesh, 1.1, 0.1).into(),
         &settings,
     )
     .unwrap_err();

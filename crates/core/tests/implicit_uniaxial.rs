@@ -78,7 +78,7 @@ fn stretch_cube(
     let result = run_quasi_static(
         &mesh,
         &part(material, Technology::Hex8Full),
-        &uniaxial(&mesh, stretch),
+        &uniaxial(&mesh, stretch).into(),
         settings,
     );
     (mesh, result)
@@ -303,7 +303,7 @@ fn other_technologies_match_the_homogeneous_solution() {
         let result = run_quasi_static(
             &mesh,
             &part(material.clone(), technology),
-            &uniaxial(&mesh, 1.5),
+            &uniaxial(&mesh, 1.5).into(),
             &ImplicitSettings::new(1.0, 10),
         )
         .unwrap();
@@ -336,7 +336,7 @@ fn active_muscle_follows_the_material_point_driver() {
     let result = run_quasi_static(
         &mesh,
         &part(material.clone(), Technology::Hex8Full),
-        &prescribed,
+        &prescribed.into(),
         &ImplicitSettings::new(2.5, 50),
     )
     .unwrap();
@@ -379,7 +379,7 @@ fn fbar_converges_quadratically_on_a_distorted_nearly_incompressible_cube() {
     let result = run_quasi_static(
         &mesh,
         &part(material.clone(), Technology::Hex8FBar),
-        &uniaxial(&mesh, 1.5),
+        &uniaxial(&mesh, 1.5).into(),
         &ImplicitSettings::new(1.0, 10),
     )
     .unwrap();

@@ -190,16 +190,37 @@ impl ElementChunk {
         Ok(())
     }
 
-    /// Smallest stable step of the chunk's elements, L₀ √(ρ₀ / M), and its element
-    /// (total Lagrangian: reference length and density, current acoustic modulus).
-    pub fn stable_step(&self, density: f64) -> (f64, usize) {
+    /// Stable step L₀ √(ρ₀ / M) of each element of the chunk with its element index
+    /// (total Lagrangian: reference length and density, current acoustic modulus), with
+    /// `density[e]` the density of element e of the block.
+    pub fn element_stable_steps<'s>(
+        &'s self,
+        density: &'s [f64],
+    ) -> impl Iterator<Item = (f64, usize)> + 's {
         self.elements
             .clone()
             .zip(self.reference_length.iter().zip(&self.wave_modulus))
-            .map(|(element, (length, modulus))| (length * (density / modulus).sqrt(), element))
+            .map(|(element, (length, modulus))| {
+                (length * (density[element] / modulus).sqrt(), element)
+            })
+    }
+
+    /// Smallest of [`Self::element_stable_steps`] and its element.
+    pub fn stable_step(&self, density: &[f64]) -> (f64, usize) {
+        self.element_stable_steps(density)
             .fold((f64::INFINITY, self.elements.start), |a, b| {
                 if b.0 < a.0 { b } else { a }
             })
+    }
+
+    /// Reference characteristic length L₀ of each element of the chunk [m].
+    pub fn reference_lengths(&self) -> &[f64] {
+        &self.reference_length
+    }
+
+    /// Acoustic modulus M of each element of the chunk at the last refresh [Pa].
+    pub fn wave_moduli(&self) -> &[f64] {
+        &self.wave_modulus
     }
 
     /// Tangents ∂P/∂F of the last update with `with_tangent`, `points_per_element` per

@@ -3,7 +3,9 @@
 //! With M the lumped (diagonal) mass, f the internal nodal forces and half-step velocities:
 //! - v^{n+½} = v^{n−½} + Δt^n M⁻¹ (f_ext^n − f^n), Δt^n = ½ (Δt^{n−½} + Δt^{n+½});
 //! - u^{n+1} = u^n + Δt^{n+½} v^{n+½};
-//! - prescribed displacement components take v^{n+½} = (ū(t^{n+1}) − u^n)/Δt^{n+½}.
+//! - prescribed displacement components (and nodes tied to a rigid body with prescribed
+//!   motion) take v^{n+½} = (ū(t^{n+1}) − u^n)/Δt^{n+½};
+//! - nodal forces enter as f_ext^n, dead loads at t^n.
 //!
 //! The step is Δt = safety × min over elements of L₀ √(ρ₀/M): total Lagrangian, so the
 //! reference characteristic length L₀ (Flanagan–Belytschko bound from the element's mean
@@ -15,27 +17,43 @@
 //! caught by the energy balance.
 //!
 //! Energies (trapezoidal rule over each step): internal W_int = Σ ½(f^{n−1} + f^n)·Δu,
-//! external W_ext = Σ ½(R^{n−1} + R^n)·Δu over the prescribed components, whose force is
-//! the reaction R = f + M a; kinetic K = ½ Σ m |v^n|², v^n = ½ (v^{n−½} + v^{n+½}).
-//! The total W_int + K − W_ext must stay at its value after the first step within a
-//! fraction of the largest energy reached so far, or within 10× the energies of the first
-//! step (the start-up error of the half-step velocities is of that size, and matters while
-//! the energies are still small); an instability grows past both quickly.
+//! external W_ext = Σ ½(R^{n−1} + R^n + f_ext^{n−1} + f_ext^n)·Δu, with the reaction
+//! R = f − f_ext + M a on the prescribed components (zero elsewhere); kinetic
+//! K = ½ Σ m |v^n|², v^n = ½ (v^{n−½} + v^{n+½}).
+//! The total W_int + W_visc + K − W_ext must stay at its value after the first step within a
+//! fraction of the largest energy reached so far, or within 10× the largest energy of the
+//! first [`STARTUP_STEPS`] steps. The second allowance covers the start-up error: K at
+//! whole steps from averaged half-step velocities differs from the work done by about
+//! ⅛ Σ m |a Δt|², which dominates while the energies are small (a load ramped from zero
+//! gives almost none for many steps); an instability grows past both quickly.
 //!
 //! The hourglass forces of the one-point hex8 are part of its internal forces, so their
 //! work is in W_int (`BlockKernel::hourglass_energy` gives it per element; the history does
 //! not report it separately yet).
 //!
-//! Not built yet: mass scaling, bulk viscosity, a separate hourglass energy in the
-//! history, nodal loads, rigid bodies.
+//! Mass scaling ([`ExplicitSettings::mass_scaling_time_step`]): at the start, every element
+//! whose stable step (× safety) is below the target gets its density raised to
+//! ρ_e = ρ₀ (Δt_target / Δt_e)², so that its step reaches the target; the added mass is
+//! lumped like the rest and reported as a fraction of the physical mass. Stiffening later
+//! in the run can still bring the step below the target (the step always follows the
+//! stability limit). Mass scaling adds inertia: check the kinetic energy stays small
+//! against the internal energy in a quasi-static run.
+//!
+//! Bulk viscosity ([`ExplicitSettings::bulk_viscosity`], off by default): see
+//! [`super::bulk_viscosity`]; its dissipated work is the viscous energy W_visc, and the
+//! balance becomes W_int + W_visc + K − W_ext = const.
+//!
+//! The history also reports the hourglass energy of the one-point hex8 (Σ ½ k |q|², part of
+//! W_int, recorded with each row).
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
+use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
 use super::chunk::{ElementChunk, chunk_ranges};
-use super::{Part, PrescribedDisplacement, SolverError};
+use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::Mesh;
 
@@ -50,8 +68,13 @@ pub struct ExplicitSettings {
     pub fixed_time_step: Option<f64>,
     /// A history row is recorded every this many seconds, and at the end.
     pub history_interval: f64,
-    /// Largest allowed |W_int + K − W_ext| relative to the largest energy, default 0.01.
+    /// Largest allowed |W_int + W_visc + K − W_ext| relative to the largest energy,
+    /// default 0.01.
     pub energy_tolerance: f64,
+    /// Target stable step of mass scaling [s]; `None` (default) = no mass scaling.
+    pub mass_scaling_time_step: Option<f64>,
+    /// Linear and quadratic bulk viscosity; `None` (default) = none.
+    pub bulk_viscosity: Option<BulkViscosity>,
 }
 
 impl ExplicitSettings {
@@ -63,6 +86,8 @@ impl ExplicitSettings {
             fixed_time_step: None,
             history_interval: end_time / 100.0,
             energy_tolerance: 0.01,
+            mass_scaling_time_step: None,
+            bulk_viscosity: None,
         }
     }
 }
@@ -77,8 +102,14 @@ pub struct HistoryRow {
     /// Reaction force of each prescribed displacement, in its direction, summed over its
     /// nodes [N].
     pub reactions: Vec<f64>,
+    /// Resultant reaction force and moment of each rigid tie.
+    pub rigid_reactions: Vec<RigidReaction>,
     /// Internal (strain) energy W_int [J].
     pub internal_energy: f64,
+    /// Of the internal energy, the hourglass energy of one-point hex8 elements [J].
+    pub hourglass_energy: f64,
+    /// Work dissipated by bulk viscosity W_visc [J].
+    pub viscous_energy: f64,
     /// Kinetic energy K [J].
     pub kinetic_energy: f64,
     /// External work W_ext [J].
@@ -93,7 +124,12 @@ pub struct ExplicitResult {
     pub displacement: Vec<Vector3<f64>>,
     /// Time steps taken.
     pub steps: usize,
+    /// Mass added by mass scaling over the physical mass (0 without mass scaling).
+    pub added_mass_fraction: f64,
 }
+
+/// Steps over which the energy balance measures its start-up allowance.
+pub const STARTUP_STEPS: usize = 20;
 
 /// Steps between refreshes of the elements' acoustic moduli (stable step).
 pub const MODULUS_REFRESH_INTERVAL: usize = 10;
@@ -104,15 +140,18 @@ struct PartRun<'a> {
     name: &'a str,
     kernel: BlockKernel,
     material: &'a dyn Material,
-    density: f64,
+    /// Density of each element, raised where mass scaling added mass [kg/m³].
+    element_density: Vec<f64>,
     chunks: Vec<ElementChunk>,
+    /// Bulk-viscosity state when it is on.
+    viscous: Option<ViscousBlock>,
 }
 
-/// Run the explicit solver on `mesh` with `parts` and `prescribed` displacements.
+/// Run the explicit solver on `mesh` with `parts` under `loads`.
 pub fn run_explicit(
     mesh: &Mesh,
     parts: &[Part],
-    prescribed: &[PrescribedDisplacement],
+    loads: &Loads,
     settings: &ExplicitSettings,
 ) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
@@ -122,19 +161,7 @@ pub fn run_explicit(
     for part in parts {
         runs.push(prepare_part(mesh, part, &mut mass)?);
     }
-    for bc in prescribed {
-        if bc.dof > 2 {
-            return Err(SolverError::InvalidBoundaryCondition(format!(
-                "component {} is not 0, 1 or 2",
-                bc.dof
-            )));
-        }
-        if let Some(&n) = bc.nodes.iter().find(|&&n| n as usize >= node_count) {
-            return Err(SolverError::InvalidBoundaryCondition(format!(
-                "node {n} does not exist (the mesh has {node_count})"
-            )));
-        }
-    }
+    loads.validate(node_count)?;
     if let Some(n) = mass.iter().position(|&m| m <= 0.0) {
         return Err(SolverError::InvalidPart {
             block: parts.first().map_or(0, |p| p.block),
@@ -149,15 +176,44 @@ pub fn run_explicit(
     let mut old_velocity = vec![Vector3::zeros(); node_count];
     let mut force = vec![Vector3::zeros(); node_count];
     let mut previous_force = vec![Vector3::zeros(); node_count];
+    let mut viscous_force = vec![Vector3::zeros(); node_count];
+    let mut previous_viscous_force = vec![Vector3::zeros(); node_count];
+    if let Some(coefficients) = &settings.bulk_viscosity {
+        for run in &mut runs {
+            run.viscous = Some(ViscousBlock::new(&run.kernel));
+        }
+        debug_assert!(coefficients.stable_step_factor() > 0.0);
+    }
+    let step_factor = settings.safety_factor
+        * settings
+            .bulk_viscosity
+            .as_ref()
+            .map_or(1.0, BulkViscosity::stable_step_factor);
     let mut previous_displacement = vec![Vector3::zeros(); node_count];
-    let mut reactions = vec![0.0; prescribed.len()];
-    let mut previous_reactions = vec![0.0; prescribed.len()];
+    // Constrained degrees of freedom 3 node + component, their targets ū, the nodal
+    // reactions R (zero on free components) and the external forces.
+    let held: Vec<usize> = (loads.constrained_components(node_count).iter())
+        .enumerate()
+        .filter_map(|(d, &h)| h.then_some(d))
+        .collect();
+    let mut target = vec![0.0; 3 * node_count];
+    let mut reaction = vec![Vector3::zeros(); node_count];
+    let mut previous_reaction = vec![Vector3::zeros(); node_count];
+    let mut external = vec![Vector3::zeros(); node_count];
+    let mut previous_external = vec![Vector3::zeros(); node_count];
+    loads.external_forces(0.0, &mut external);
 
     let mut time = 0.0;
     let (mut stable_step, mut critical) =
         internal_forces(mesh, &mut runs, &positions, time, 0.0, true, &mut force)?;
+    let physical_mass: f64 = mass.iter().sum();
+    let mut added_mass = 0.0;
+    if let Some(target) = settings.mass_scaling_time_step {
+        added_mass = scale_masses(mesh, &mut runs, &mut mass, target / step_factor);
+        (stable_step, critical) = smallest_stable_step(&runs);
+    }
     let mut half_step = 0.0;
-    let (mut internal_energy, mut external_work) = (0.0, 0.0);
+    let (mut internal_energy, mut external_work, mut viscous_energy) = (0.0, 0.0, 0.0);
     let mut initial_balance = None;
     let mut startup_energy = None;
     let mut largest_energy: f64 = 0.0;
@@ -165,10 +221,15 @@ pub fn run_explicit(
     let mut next_record = 0.0;
     let mut steps = 0;
 
-    while time < settings.end_time * (1.0 - 1e-12) {
+    loop {
+        // At the end time one more velocity update closes the books at t^N: the free
+        // components get v^{N+½} from the forces, the prescribed ones keep their rate.
+        let closing = time >= settings.end_time * (1.0 - 1e-12);
         let stable = stable_step;
-        let mut dt = stable * settings.safety_factor;
-        if let Some(fixed) = settings.fixed_time_step {
+        let mut dt = stable * step_factor;
+        if closing {
+            dt = half_step;
+        } else if let Some(fixed) = settings.fixed_time_step {
             if fixed > stable {
                 return Err(SolverError::UnstableTimeStep {
                     requested: fixed,
@@ -179,36 +240,41 @@ pub fn run_explicit(
             }
             dt = fixed;
         }
-        dt = dt.min(settings.end_time - time);
+        if !closing {
+            dt = dt.min(settings.end_time - time);
+        }
         let average_step = 0.5 * (half_step + dt);
 
         // Velocities at n + ½: free components from the forces, prescribed from ū.
         old_velocity.copy_from_slice(&velocity);
-        for ((v, f), m) in velocity.iter_mut().zip(&force).zip(&mass) {
-            *v -= f * (average_step / m);
+        for ((((v, f), f_visc), f_ext), m) in velocity
+            .iter_mut()
+            .zip(&force)
+            .zip(&viscous_force)
+            .zip(&external)
+            .zip(&mass)
+        {
+            *v += (f_ext - f - f_visc) * (average_step / m);
         }
-        for bc in prescribed {
-            let target = bc.amplitude.value_at(time + dt);
-            for &n in &bc.nodes {
-                let n = n as usize;
-                velocity[n][bc.dof] = (target - displacement[n][bc.dof]) / dt;
-            }
+        loads.prescribed_displacements(time + dt, &reference, &mut target);
+        for &d in &held {
+            let (n, k) = (d / 3, d % 3);
+            velocity[n][k] = if closing {
+                old_velocity[n][k]
+            } else {
+                (target[d] - displacement[n][k]) / dt
+            };
         }
-        // Reactions at n: R = f + m a on the prescribed components.
-        for (r, bc) in reactions.iter_mut().zip(prescribed) {
-            *r = bc
-                .nodes
-                .iter()
-                .map(|&n| {
-                    let n = n as usize;
-                    let acceleration = if average_step > 0.0 {
-                        (velocity[n][bc.dof] - old_velocity[n][bc.dof]) / average_step
-                    } else {
-                        0.0
-                    };
-                    force[n][bc.dof] + mass[n] * acceleration
-                })
-                .sum();
+        // Reactions at n: R = f + f_visc − f_ext + m a on the prescribed components.
+        for &d in &held {
+            let (n, k) = (d / 3, d % 3);
+            let acceleration = if average_step > 0.0 {
+                (velocity[n][k] - old_velocity[n][k]) / average_step
+            } else {
+                0.0
+            };
+            reaction[n][k] =
+                force[n][k] + viscous_force[n][k] - external[n][k] + mass[n] * acceleration;
         }
         // Energies at n.
         internal_energy += (0..node_count)
@@ -217,24 +283,35 @@ pub fn run_explicit(
                     .dot(&(displacement[i] - previous_displacement[i]))
             })
             .sum::<f64>();
-        external_work += prescribed
-            .iter()
-            .zip(reactions.iter().zip(&previous_reactions))
-            .map(|(bc, (r, r_old))| {
-                let moved = bc.amplitude.value_at(time) - bc.amplitude.value_at(time - half_step);
-                0.5 * (r + r_old) * moved
+        if settings.bulk_viscosity.is_some() {
+            viscous_energy += (0..node_count)
+                .map(|i| {
+                    0.5 * (previous_viscous_force[i] + viscous_force[i])
+                        .dot(&(displacement[i] - previous_displacement[i]))
+                })
+                .sum::<f64>();
+        }
+        external_work += (0..node_count)
+            .map(|i| {
+                0.5 * (previous_reaction[i] + reaction[i] + previous_external[i] + external[i])
+                    .dot(&(displacement[i] - previous_displacement[i]))
             })
             .sum::<f64>();
         let kinetic_energy: f64 = (0..node_count)
             .map(|i| 0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared())
             .sum();
-        let total = internal_energy + kinetic_energy - external_work;
+        let total = internal_energy + viscous_energy + kinetic_energy - external_work;
         let drift = total - *initial_balance.get_or_insert(total);
         largest_energy = largest_energy
             .max(internal_energy.abs())
             .max(kinetic_energy)
             .max(external_work.abs());
-        let startup = *startup_energy.get_or_insert(largest_energy);
+        // The start-up error is measured over the first steps (a load ramped from zero
+        // gives no energy at t = 0, and tiny energies for a while).
+        if steps <= STARTUP_STEPS {
+            startup_energy = Some(largest_energy);
+        }
+        let startup = startup_energy.unwrap_or(largest_energy);
         if drift.abs() > (settings.energy_tolerance * largest_energy).max(10.0 * startup) {
             return Err(SolverError::EnergyBalance {
                 time,
@@ -243,12 +320,15 @@ pub fn run_explicit(
                 limit: 100.0 * settings.energy_tolerance,
             });
         }
-        if time >= next_record {
+        if time >= next_record || closing {
             history.push(HistoryRow {
                 time,
                 time_step: half_step,
-                reactions: reactions.clone(),
+                reactions: loads.displacement_reactions(&reaction),
+                rigid_reactions: loads.rigid_reactions(time, &positions, &reaction),
                 internal_energy,
+                hourglass_energy: hourglass_energy(mesh, &runs, &positions),
+                viscous_energy,
                 kinetic_energy,
                 external_work,
             });
@@ -260,11 +340,16 @@ pub fn run_explicit(
         {
             return Err(SolverError::Diverged { time, node });
         }
+        if closing {
+            break;
+        }
 
         // Positions at n + 1 and forces there.
         previous_displacement.copy_from_slice(&displacement);
         previous_force.copy_from_slice(&force);
-        previous_reactions.copy_from_slice(&reactions);
+        previous_viscous_force.copy_from_slice(&viscous_force);
+        previous_reaction.copy_from_slice(&reaction);
+        previous_external.copy_from_slice(&external);
         for i in 0..node_count {
             displacement[i] += velocity[i] * dt;
             positions[i] = reference[i] + displacement[i];
@@ -272,28 +357,31 @@ pub fn run_explicit(
         time += dt;
         half_step = dt;
         steps += 1;
+        if loads.has_forces() {
+            loads.external_forces(time, &mut external);
+        }
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
         (stable_step, critical) =
             internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
+        if let Some(coefficients) = &settings.bulk_viscosity {
+            viscous_forces(
+                mesh,
+                &mut runs,
+                coefficients,
+                &positions,
+                dt,
+                &mut viscous_force,
+            );
+        }
         for run in &mut runs {
             run.chunks.iter_mut().for_each(ElementChunk::commit);
         }
     }
-    history.push(HistoryRow {
-        time,
-        time_step: half_step,
-        reactions: reactions.clone(),
-        internal_energy,
-        kinetic_energy: 0.5
-            * (0..node_count)
-                .map(|i| mass[i] * velocity[i].norm_squared())
-                .sum::<f64>(),
-        external_work,
-    });
     Ok(ExplicitResult {
         history,
         displacement,
         steps,
+        added_mass_fraction: added_mass / physical_mass,
     })
 }
 
@@ -359,8 +447,9 @@ fn prepare_part<'a>(
         name: &block.name,
         kernel,
         material,
-        density: part.density,
+        element_density: vec![part.density; block.len()],
         chunks,
+        viscous: None,
     })
 }
 
@@ -379,7 +468,6 @@ fn internal_forces<'a>(
     force: &mut [Vector3<f64>],
 ) -> Result<(f64, (&'a str, usize)), SolverError> {
     force.fill(Vector3::zeros());
-    let mut stable = (f64::INFINITY, ("", 0));
     for run in runs.iter_mut() {
         let block = &mesh.blocks[run.block];
         let (kernel, material) = (&run.kernel, run.material);
@@ -409,11 +497,106 @@ fn internal_forces<'a>(
                     force[id as usize] += f;
                 }
             }
-            let (step, element) = chunk.stable_step(run.density);
+        }
+    }
+    Ok(smallest_stable_step(runs))
+}
+
+/// The smallest stable step of all elements and its (block name, element).
+fn smallest_stable_step<'a>(runs: &[PartRun<'a>]) -> (f64, (&'a str, usize)) {
+    let mut stable = (f64::INFINITY, ("", 0));
+    for run in runs {
+        for chunk in &run.chunks {
+            let (step, element) = chunk.stable_step(&run.element_density);
             if step < stable.0 {
                 stable = (step, (run.name, element));
             }
         }
     }
-    Ok(stable)
+    stable
+}
+
+/// Mass scaling: raise the density of every element whose stable step is below `target`
+/// [s] to ρ_e (target / Δt_e)² and lump the added mass ρ_e V_e / n onto its nodes.
+/// Returns the added mass [kg].
+fn scale_masses(mesh: &Mesh, runs: &mut [PartRun], mass: &mut [f64], target: f64) -> f64 {
+    let mut added = 0.0;
+    for run in runs.iter_mut() {
+        let block = &mesh.blocks[run.block];
+        let npe = run.kernel.nodes_per_element();
+        let mut raised = Vec::new();
+        for chunk in &run.chunks {
+            for (step, element) in chunk.element_stable_steps(&run.element_density) {
+                if step < target {
+                    raised.push((
+                        element,
+                        run.element_density[element] * (target / step).powi(2),
+                    ));
+                }
+            }
+        }
+        for (element, density) in raised {
+            let extra =
+                (density - run.element_density[element]) * run.kernel.reference_volume(element);
+            run.element_density[element] = density;
+            added += extra;
+            for &id in block.element_nodes(element) {
+                mass[id as usize] += extra / npe as f64;
+            }
+        }
+    }
+    added
+}
+
+/// Bulk-viscosity forces at `positions` after a step of `dt` into `viscous_force`
+/// (elements in parallel, gathered in element order), volumes committed.
+fn viscous_forces(
+    mesh: &Mesh,
+    runs: &mut [PartRun],
+    coefficients: &BulkViscosity,
+    positions: &[Vector3<f64>],
+    dt: f64,
+    viscous_force: &mut [Vector3<f64>],
+) {
+    viscous_force.fill(Vector3::zeros());
+    for run in runs.iter_mut() {
+        let block = &mesh.blocks[run.block];
+        if let Some(viscous) = &mut run.viscous {
+            viscous.evaluate(
+                coefficients,
+                &run.kernel,
+                block,
+                &run.chunks,
+                &run.element_density,
+                positions,
+                dt,
+            );
+            viscous.scatter(block, viscous_force);
+            viscous.commit();
+        }
+    }
+}
+
+/// Hourglass energy Σ ½ k |q|² of all one-point hex8 elements at `positions` [J].
+fn hourglass_energy(mesh: &Mesh, runs: &[PartRun], positions: &[Vector3<f64>]) -> f64 {
+    runs.iter()
+        .filter(|run| run.kernel.hourglass_vectors(0).is_some())
+        .map(|run| {
+            let block = &mesh.blocks[run.block];
+            // Collected in element order and summed serially: the same on any number of
+            // threads.
+            let energies: Vec<f64> = (0..block.len())
+                .into_par_iter()
+                .map(|element| {
+                    let mut local = [Vector3::zeros(); crate::mesh::MAX_NODES_PER_ELEMENT];
+                    let ids = block.element_nodes(element);
+                    for (x, &id) in local.iter_mut().zip(ids) {
+                        *x = positions[id as usize];
+                    }
+                    run.kernel.hourglass_energy(element, &local[..ids.len()])
+                })
+                .collect();
+            energies.iter().sum::<f64>()
+        })
+        .sum()
 }

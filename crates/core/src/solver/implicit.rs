@@ -8,8 +8,8 @@
 //!   prescribed increment Δū into the free unknowns, K_ff Δu_f = −(r_f + K_fp Δū); then
 //!   Newton iterations K_ff δu = −r_f with a backtracking line search on ‖r_f‖ (step halved
 //!   until ‖r(u + α δu)‖ ≤ (1 − 10⁻⁴ α) ‖r(u)‖).
-//! - Converged when ‖r_f‖ ≤ tol_r ‖f_int‖ (all degrees of freedom, so the reactions set
-//!   the scale) and the last correction max |α δu| ≤ tol_u max |u|, or when a correction
+//! - Converged when ‖r_f‖ ≤ tol_r max(‖f_int‖, ‖f_ext‖) (all degrees of freedom, so the
+//!   reactions set the scale) and the last correction max |α δu| ≤ tol_u max |u|, or when a correction
 //!   is at round-off (max |δu| ≤ 1e-10 max |u|, see
 //!   [`ImplicitSettings::round_off_correction`]), or when ‖r_f‖ is at its round-off floor
 //!   10 ε max|x| max|K_ii| √n (F = Σ x_a ⊗ ∇N_a carries errors ε|x|/h): for a nearly
@@ -35,7 +35,9 @@
 //! ([`crate::element::BlockKernel::has_consistent_tangent`]): all built so far (Hex8Full,
 //! Hex8FBar with the linearization through J̄ of `element/fbar.rs`, Hex8OnePoint, Tet4,
 //! Tet10); a technology without one is refused ([`SolverError::NoConsistentTangent`]).
-//! Not built yet: nodal loads, contact, implicit dynamics.
+//! Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes tied to
+//! a rigid body are prescribed in every component. Not built yet: contact, implicit
+//! dynamics.
 //!
 //! Memory besides the factor: every element keeps its dense stiffness between the parallel
 //! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192
@@ -46,7 +48,7 @@ use nalgebra::Vector3;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
 use super::sparse::PRESCRIBED;
-use super::{Part, PrescribedDisplacement, SolverError};
+use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
 pub use super::implicit_model::EvaluationTimes;
@@ -150,6 +152,8 @@ pub struct ImplicitHistoryRow {
     /// Reaction force of each prescribed displacement, in its direction, summed over its
     /// nodes [N].
     pub reactions: Vec<f64>,
+    /// Resultant reaction force and moment of each rigid tie.
+    pub rigid_reactions: Vec<RigidReaction>,
 }
 
 /// How one converged step went.
@@ -194,21 +198,15 @@ enum StepFailure {
     Error(SolverError),
 }
 
-/// Run the quasi-static implicit solver on `mesh` with `parts` and `prescribed`
-/// displacements.
+/// Run the quasi-static implicit solver on `mesh` with `parts` under `loads`.
 pub fn run_quasi_static(
     mesh: &Mesh,
     parts: &[Part],
-    prescribed: &[PrescribedDisplacement],
+    loads: &Loads,
     settings: &ImplicitSettings,
 ) -> Result<ImplicitResult, SolverError> {
     check_settings(settings)?;
-    let mut model = Model::new(
-        mesh,
-        parts,
-        prescribed,
-        settings.parallel_factorization_unknowns,
-    )?;
+    let mut model = Model::new(mesh, parts, loads, settings.parallel_factorization_unknowns)?;
     let node_count = mesh.nodes.len();
     let reference: Vec<Vector3<f64>> = (0..node_count).map(|i| mesh.nodes.position(i)).collect();
     let mut displacement = vec![Vector3::zeros(); node_count];
@@ -234,7 +232,7 @@ pub fn run_quasi_static(
             &mut model,
             &reference,
             &mut displacement,
-            prescribed,
+            loads,
             settings,
             time,
             step,
@@ -250,11 +248,18 @@ pub fn run_quasi_static(
                     time + step
                 };
                 converged.copy_from_slice(&displacement);
+                let positions: Vec<Vector3<f64>> = reference
+                    .iter()
+                    .zip(&displacement)
+                    .map(|(x, u)| x + u)
+                    .collect();
+                let (reactions, rigid_reactions) = model.reactions(loads, time, &positions);
                 history.push(ImplicitHistoryRow {
                     time,
                     increment: step,
                     iterations: report.iterations,
-                    reactions: model.reactions(prescribed),
+                    reactions,
+                    rigid_reactions,
                 });
                 if let Some(cutting) = &settings.cutting {
                     if report.iterations <= cutting.easy_iterations {
@@ -341,7 +346,7 @@ fn newton_step(
     model: &mut Model,
     reference: &[Vector3<f64>],
     displacement: &mut [Vector3<f64>],
-    prescribed: &[PrescribedDisplacement],
+    loads: &Loads,
     settings: &ImplicitSettings,
     time: f64,
     step: f64,
@@ -350,12 +355,8 @@ fn newton_step(
     let node_count = displacement.len();
     // Prescribed increments Δū (the last condition on a component wins).
     let mut target = vec![f64::NAN; 3 * node_count];
-    for bc in prescribed {
-        let value = bc.amplitude.value_at(end);
-        for &n in &bc.nodes {
-            target[3 * n as usize + bc.dof] = value;
-        }
-    }
+    loads.prescribed_displacements(end, reference, &mut target);
+    loads.external_forces(end, &mut model.external);
     let delta: Vec<f64> = target
         .iter()
         .enumerate()

@@ -14,7 +14,7 @@ use musclefem_materials::Material;
 use super::chunk::chunk_ranges;
 use super::implicit_chunk::ImplicitChunk;
 use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
-use super::{Part, PrescribedDisplacement, SolverError};
+use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, Mesh};
 
@@ -40,6 +40,8 @@ pub(super) struct Model<'a> {
     pub system: SparseSystem,
     /// Internal forces of all nodes [N].
     pub force: Vec<Vector3<f64>>,
+    /// External nodal forces at the end of the step being solved [N].
+    pub external: Vec<Vector3<f64>>,
     /// Residual of the free degrees of freedom [N].
     pub residual: Vec<f64>,
     /// K_fp Δū of the predictor [N].
@@ -74,7 +76,7 @@ const ROUND_OFF_FACTOR: f64 = 10.0;
 pub(super) struct Norms {
     /// ‖r_f‖ [N].
     pub residual: f64,
-    /// ‖f_int‖ over all degrees of freedom [N].
+    /// max(‖f_int‖, ‖f_ext‖) over all degrees of freedom [N].
     pub force: f64,
     /// Round-off level of ‖r_f‖ [N]: F = Σ x_a ⊗ ∇N_a carries errors ε|x|/h, so nodal
     /// forces carry ε |x| K_ii; the floor is 10 ε max|x| max|K_ii| √n. For a nearly
@@ -120,7 +122,7 @@ impl<'a> Model<'a> {
     pub fn new(
         mesh: &'a Mesh,
         parts: &'a [Part],
-        prescribed: &[PrescribedDisplacement],
+        loads: &Loads,
         parallel_factorization_unknowns: usize,
     ) -> Result<Self, SolverError> {
         let node_count = mesh.nodes.len();
@@ -162,23 +164,8 @@ impl<'a> Model<'a> {
                 scatter: Vec::new(),
             });
         }
-        let mut is_prescribed = vec![false; 3 * node_count];
-        for bc in prescribed {
-            if bc.dof > 2 {
-                return Err(SolverError::InvalidBoundaryCondition(format!(
-                    "component {} is not 0, 1 or 2",
-                    bc.dof
-                )));
-            }
-            for &n in &bc.nodes {
-                if n as usize >= node_count {
-                    return Err(SolverError::InvalidBoundaryCondition(format!(
-                        "node {n} does not exist (the mesh has {node_count})"
-                    )));
-                }
-                is_prescribed[3 * n as usize + bc.dof] = true;
-            }
-        }
+        loads.validate(node_count)?;
+        let is_prescribed = loads.constrained_components(node_count);
         let mut equation = vec![PRESCRIBED; 3 * node_count];
         let mut free = 0u32;
         for (d, e) in equation.iter_mut().enumerate() {
@@ -227,6 +214,7 @@ impl<'a> Model<'a> {
             equation,
             system,
             force: vec![Vector3::zeros(); node_count],
+            external: vec![Vector3::zeros(); node_count],
             residual: vec![0.0; free],
             lift: vec![0.0; free],
             symmetric: true,
@@ -318,7 +306,7 @@ impl<'a> Model<'a> {
         }
         for (d, &eq) in self.equation.iter().enumerate() {
             if eq != PRESCRIBED {
-                self.residual[eq as usize] = self.force[d / 3][d % 3];
+                self.residual[eq as usize] = self.force[d / 3][d % 3] - self.external[d / 3][d % 3];
             }
         }
         if with_stiffness {
@@ -343,6 +331,7 @@ impl<'a> Model<'a> {
                 .iter()
                 .map(|f| f.norm_squared())
                 .sum::<f64>()
+                .max(self.external.iter().map(|f| f.norm_squared()).sum::<f64>())
                 .sqrt(),
             floor: ROUND_OFF_FACTOR
                 * f64::EPSILON
@@ -378,17 +367,33 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// Sum of the internal forces over each prescribed displacement's nodes in its
-    /// direction [N].
-    pub fn reactions(&self, prescribed: &[PrescribedDisplacement]) -> Vec<f64> {
-        prescribed
+    /// Nodal reactions f_int − f_ext on the prescribed components (zero on free ones)
+    /// [N], summed over each prescribed displacement's nodes in its direction, and the
+    /// resultant of each rigid tie at time `time` and nodal `positions`.
+    pub fn reactions(
+        &self,
+        loads: &Loads,
+        time: f64,
+        positions: &[Vector3<f64>],
+    ) -> (Vec<f64>, Vec<RigidReaction>) {
+        let reaction: Vec<Vector3<f64>> = self
+            .force
             .iter()
-            .map(|bc| {
-                bc.nodes
-                    .iter()
-                    .map(|&n| self.force[n as usize][bc.dof])
-                    .sum()
+            .zip(&self.external)
+            .enumerate()
+            .map(|(n, (f, f_ext))| {
+                Vector3::from_fn(|k, _| {
+                    if self.equation[3 * n + k] == PRESCRIBED {
+                        f[k] - f_ext[k]
+                    } else {
+                        0.0
+                    }
+                })
             })
-            .collect()
+            .collect();
+        (
+            loads.displacement_reactions(&reaction),
+            loads.rigid_reactions(time, positions, &reaction),
+        )
     }
 }

@@ -2,19 +2,28 @@
 //! solver ([`explicit`]) with lumped mass, a stable step from the dilatational wave speed,
 //! prescribed displacements, reaction forces and an energy balance; the quasi-static
 //! implicit solver ([`implicit`]): Newton with the consistent tangent, line search, sparse
-//! direct solves (faer) and step cutting. Still to come (elements-and-solvers issue): mass
-//! scaling, bulk viscosity, implicit dynamics, nodal forces and rigid drivers.
+//! direct solves (faer) and step cutting. The explicit solver has optional mass scaling
+//! and bulk viscosity ([`bulk_viscosity`]). Still to come: implicit dynamics.
+//!
+//! Loads ([`Loads`]): prescribed displacement components, nodal forces and nodes tied to
+//! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
+//! force and moment resultants).
 
+pub mod bulk_viscosity;
 mod chunk;
 pub mod explicit;
 pub mod implicit;
 mod implicit_chunk;
 mod implicit_model;
+mod loads;
 mod ordering;
 mod part;
 mod sparse;
 
-pub use part::{Part, PrescribedDisplacement};
+pub use loads::{
+    Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidRotation, RigidTie,
+};
+pub use part::Part;
 
 use thiserror::Error;
 

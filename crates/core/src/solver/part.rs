@@ -1,9 +1,9 @@
-//! What a solver needs besides the mesh: each block's element technology, material and
-//! density, and the prescribed motions.
+//! What a solver needs of each element block besides the mesh: its element technology,
+//! material and density.
 
 use std::sync::Arc;
 
-use musclefem_materials::{Amplitude, Material};
+use musclefem_materials::Material;
 
 use crate::element::Technology;
 
@@ -16,13 +16,4 @@ pub struct Part {
     pub material: Arc<dyn Material>,
     /// Mass density in the reference configuration ρ₀ [kg/m³] (muscle ≈ 1060).
     pub density: f64,
-}
-
-/// Displacement component `dof` (0 = x, 1 = y, 2 = z) of `nodes` follows `amplitude`
-/// (displacement [m] against time [s]).
-#[derive(Debug, Clone)]
-pub struct PrescribedDisplacement {
-    pub nodes: Vec<u32>,
-    pub dof: usize,
-    pub amplitude: Amplitude,
 }
