@@ -13,6 +13,7 @@ use musclefem_materials::Material;
 
 use super::chunk::chunk_ranges;
 use super::implicit_chunk::ImplicitChunk;
+use super::implicit_dynamics::Inertia;
 use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
@@ -54,6 +55,12 @@ pub(super) struct Model<'a> {
     /// Largest |x| of the last evaluation's positions [m].
     pub position_scale: f64,
     pub times: EvaluationTimes,
+    /// Lumped mass and Newmark state of a dynamic run (`None`: quasi-static).
+    pub inertia: Option<Inertia>,
+    /// Inertial forces M a⁺ at the last evaluation [N] (zero when quasi-static).
+    pub inertial: Vec<Vector3<f64>>,
+    /// Reference positions of the nodes [m].
+    pub reference: Vec<Vector3<f64>>,
 }
 
 /// Counts and wall-clock times [s] of a run's evaluations.
@@ -222,6 +229,9 @@ impl<'a> Model<'a> {
             stiffness_scale: 0.0,
             position_scale: 0.0,
             times: EvaluationTimes::default(),
+            inertia: None,
+            inertial: vec![Vector3::zeros(); node_count],
+            reference,
         })
     }
 
@@ -304,9 +314,29 @@ impl<'a> Model<'a> {
                 self.symmetric &= !with_stiffness || chunk.symmetric;
             }
         }
+        if let Some(inertia) = &self.inertia {
+            for (node, (f, (x, x0))) in self
+                .inertial
+                .iter_mut()
+                .zip(positions.iter().zip(&self.reference))
+                .enumerate()
+            {
+                *f = inertia.force(node, &(x - x0));
+            }
+            if with_stiffness {
+                let values = self.system.values_mut();
+                for (d, &eq) in self.equation.iter().enumerate() {
+                    if eq != PRESCRIBED {
+                        values[self.diagonal[eq as usize]] +=
+                            inertia.mass[d / 3] * inertia.coefficient;
+                    }
+                }
+            }
+        }
         for (d, &eq) in self.equation.iter().enumerate() {
             if eq != PRESCRIBED {
-                self.residual[eq as usize] = self.force[d / 3][d % 3] - self.external[d / 3][d % 3];
+                self.residual[eq as usize] = self.force[d / 3][d % 3] + self.inertial[d / 3][d % 3]
+                    - self.external[d / 3][d % 3];
             }
         }
         if with_stiffness {
@@ -332,6 +362,7 @@ impl<'a> Model<'a> {
                 .map(|f| f.norm_squared())
                 .sum::<f64>()
                 .max(self.external.iter().map(|f| f.norm_squared()).sum::<f64>())
+                .max(self.inertial.iter().map(|f| f.norm_squared()).sum::<f64>())
                 .sqrt(),
             floor: ROUND_OFF_FACTOR
                 * f64::EPSILON
@@ -367,7 +398,23 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// Nodal reactions f_int − f_ext on the prescribed components (zero on free ones)
+    /// Forces the supports take on the prescribed components, f_int + M a − f_ext (zero on
+    /// free components) [N].
+    pub fn support_forces(&self) -> Vec<Vector3<f64>> {
+        (0..self.force.len())
+            .map(|n| {
+                Vector3::from_fn(|k, _| {
+                    if self.equation[3 * n + k] == PRESCRIBED {
+                        self.force[n][k] + self.inertial[n][k] - self.external[n][k]
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Nodal reactions f_int + M a − f_ext on the prescribed components (zero on free ones)
     /// [N], summed over each prescribed displacement's nodes in its direction, and the
     /// resultant of each rigid tie at time `time` and nodal `positions`.
     pub fn reactions(
@@ -376,21 +423,7 @@ impl<'a> Model<'a> {
         time: f64,
         positions: &[Vector3<f64>],
     ) -> (Vec<f64>, Vec<RigidReaction>) {
-        let reaction: Vec<Vector3<f64>> = self
-            .force
-            .iter()
-            .zip(&self.external)
-            .enumerate()
-            .map(|(n, (f, f_ext))| {
-                Vector3::from_fn(|k, _| {
-                    if self.equation[3 * n + k] == PRESCRIBED {
-                        f[k] - f_ext[k]
-                    } else {
-                        0.0
-                    }
-                })
-            })
-            .collect();
+        let reaction = self.support_forces();
         (
             loads.displacement_reactions(&reaction),
             loads.rigid_reactions(time, positions, &reaction),

@@ -14,6 +14,7 @@ mod chunk;
 pub mod explicit;
 pub mod implicit;
 mod implicit_chunk;
+mod implicit_dynamics;
 mod implicit_model;
 mod loads;
 mod ordering;
