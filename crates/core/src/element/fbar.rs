@@ -13,7 +13,7 @@
 //! ∇_x N_a = F⁻ᵀ ∇_X N_a and σ̄ the Cauchy stress at F̄. For a homogeneous deformation
 //! F̄ = F, b̄_a is the mean of ∇_x N_a and this is ∫ P ∇_X N_a dV₀.
 
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{Matrix3, SVector, Vector3};
 
 use musclefem_materials::tensor::{first_piola_from_cauchy, symmetric_from_voigt};
 use musclefem_materials::{Tangent, VoigtStress};
@@ -171,6 +171,13 @@ pub(super) fn add_element_stiffness(
             }
         }
     }
+    // With A_ai = α [e_i ⊗ G_a + ⅓ c_ai F], the material term splits into the plain
+    // stiffness α² (e_i ⊗ G_a) : 𝔸 : (e_k ⊗ G_b) and rank-one terms in c:
+    // α² [⅓ c_bk h_ai + ⅓ c_ai h'_bk + (1/9) c_ai c_bk F : 𝔸 : F],
+    // h_ai = (e_i ⊗ G_a) : 𝔸 : F, h'_bk = F : 𝔸 : (e_k ⊗ G_b). With the geometric term,
+    // per point K_ai,bk += c_bk X_ai + c_ai Y_bk + Z c_ai c_bk + T g_bi g_ak, and the
+    // ∂b̄/∂x term once per element with Σ_q T_q.
+    let mut mean_coefficient = 0.0;
     for q in 0..P {
         let point = element * P + q;
         let w = kernel.weight(point);
@@ -179,42 +186,55 @@ pub(super) fn add_element_stiffness(
         let f_bar = f[q] * alpha;
         let piola = first_piola_from_cauchy(&f_bar, &stress[q]);
         let piola_dot_f = piola.dot(&f[q]);
+        let vec_f = SVector::<f64, 9>::from_column_slice(f[q].as_slice());
+        let tangent_f = tangents[q] * vec_f;
+        let f_tangent = tangents[q].transpose() * vec_f;
+        let f_tangent_f = vec_f.dot(&tangent_f);
         let g = &spatial[q];
-        // c_ai and A_ai as the columns of a 9 × 24 matrix (vec column-major).
         let mut c = [0.0; D];
-        let mut a_matrix = SMatrix::<f64, 9, D>::zeros();
+        let mut x = [0.0; D];
+        let mut y = [0.0; D];
         for a in 0..N {
+            let piola_g = piola * gradients[a];
             for i in 0..3 {
                 let col = 3 * a + i;
                 c[col] = mean_gradient[a][i] - g[a][i];
-                let mut derivative = f[q] * (c[col] / 3.0);
+                let mut h = 0.0;
+                let mut h_transposed = 0.0;
                 for j in 0..3 {
-                    derivative[(i, j)] += gradients[a][j];
+                    h += gradients[a][j] * tangent_f[i + 3 * j];
+                    h_transposed += gradients[a][j] * f_tangent[i + 3 * j];
                 }
-                derivative *= alpha;
-                a_matrix.set_column(
-                    col,
-                    &SVector::<f64, 9>::from_column_slice(derivative.as_slice()),
-                );
+                let piola_dot_a = alpha * (piola_g[i] + c[col] / 3.0 * piola_dot_f);
+                x[col] = w * (alpha * alpha / 3.0 * h + piola_dot_a / 3.0);
+                y[col] = w * (alpha * alpha / 3.0 * h_transposed + alpha / 3.0 * piola_g[i]);
             }
         }
-        // P̄ : A_ai and (P̄ G_b)_k.
-        let piola_dot_a: [f64; D] = std::array::from_fn(|col| {
-            SVector::<f64, 9>::from_column_slice(piola.as_slice()).dot(&a_matrix.column(col))
-        });
-        let piola_g: [Vector3<f64>; N] = std::array::from_fn(|b| piola * gradients[b]);
-        let material = a_matrix.transpose() * (tangents[q] * a_matrix);
-        for row in 0..D {
+        let z = w * alpha * alpha / 9.0 * f_tangent_f;
+        let t = w * alpha / 3.0 * piola_dot_f;
+        mean_coefficient += t;
+        super::stiffness::add_point_stiffness(
+            gradients,
+            w * alpha * alpha,
+            &tangents[q],
+            stiffness,
+        );
+        for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
             let (a, i) = (row / 3, row % 3);
-            let out = &mut stiffness[row * D..(row + 1) * D];
-            for col in 0..D {
-                let (b, k) = (col / 3, col % 3);
-                let geometric = c[col] / 3.0 * piola_dot_a[row]
-                    + alpha / 3.0
-                        * (c[row] * piola_g[b][k]
-                            + piola_dot_f * (mean_derivative[row][col] + g[b][i] * g[a][k]));
-                out[col] += w * (material[(row, col)] + geometric);
+            let (c_row, x_row) = (c[row], x[row]);
+            let zc = z * c_row;
+            for (b, block) in out.chunks_exact_mut(3).enumerate() {
+                let tg = t * g[b][i];
+                for k in 0..3 {
+                    let col = 3 * b + k;
+                    block[k] += c[col] * (x_row + zc) + c_row * y[col] + tg * g[a][k];
+                }
             }
+        }
+    }
+    for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
+        for (o, m) in out.iter_mut().zip(&mean_derivative[row]) {
+            *o += mean_coefficient * m;
         }
     }
 }

@@ -70,32 +70,14 @@ impl BlockKernel {
         let dofs = 3 * npe;
         debug_assert_eq!(tangents.len(), ppe);
         debug_assert_eq!(stiffness.len(), dofs * dofs);
-        // H_a[i][k + 3L] = Σ_J G_a,J 𝔸[(i + 3J), (k + 3L)] w, then K_ab,ik = Σ_L H_a G_b,L
-        // (the tangent's 81 values column-major: entry (r, c) at 9c + r).
-        let mut h = [[[0.0; 9]; 3]; MAX_NODES_PER_ELEMENT];
-        let h = &mut h[..npe];
         for (q, tangent) in tangents.iter().enumerate() {
             let point = element * ppe + q;
-            let w = self.weight(point);
-            let gradients = self.gradients(point);
-            let values: &[f64] = tangent.as_slice();
-            for (ha, g) in h.iter_mut().zip(gradients) {
-                let g = g * w;
-                for (column, c) in values.chunks_exact(9).enumerate() {
-                    ha[0][column] = g.x * c[0] + g.y * c[3] + g.z * c[6];
-                    ha[1][column] = g.x * c[1] + g.y * c[4] + g.z * c[7];
-                    ha[2][column] = g.x * c[2] + g.y * c[5] + g.z * c[8];
-                }
-            }
-            for (rows, ha) in stiffness.chunks_exact_mut(3 * dofs).zip(h.iter()) {
-                for (out, hi) in rows.chunks_exact_mut(dofs).zip(ha) {
-                    for (o, g) in out.chunks_exact_mut(3).zip(gradients) {
-                        o[0] += hi[0] * g.x + hi[3] * g.y + hi[6] * g.z;
-                        o[1] += hi[1] * g.x + hi[4] * g.y + hi[7] * g.z;
-                        o[2] += hi[2] * g.x + hi[5] * g.y + hi[8] * g.z;
-                    }
-                }
-            }
+            add_point_stiffness(
+                self.gradients(point),
+                self.weight(point),
+                tangent,
+                stiffness,
+            );
         }
         if let Some((gamma, k)) = self.hourglass_vectors(element) {
             for a in 0..npe {
@@ -108,6 +90,40 @@ impl BlockKernel {
             }
         }
         true
+    }
+}
+
+/// Add one point's K_ab,ik = Σ_JL G_a,J 𝔸[(i + 3J), (k + 3L)] G_b,L w to `stiffness`
+/// (row-major, 3 × `gradients.len()` square), from the point's reference gradients
+/// G_a = ∇_X N_a [1/m], weight w [m³] and tangent 𝔸 [Pa].
+pub(super) fn add_point_stiffness(
+    gradients: &[Vector3<f64>],
+    weight: f64,
+    tangent: &Tangent,
+    stiffness: &mut [f64],
+) {
+    let dofs = 3 * gradients.len();
+    // H_a[i][k + 3L] = Σ_J G_a,J 𝔸[(i + 3J), (k + 3L)] w, then K_ab,ik = Σ_L H_a G_b,L
+    // (the tangent's 81 values column-major: entry (r, c) at 9c + r).
+    let mut h = [[[0.0; 9]; 3]; MAX_NODES_PER_ELEMENT];
+    let h = &mut h[..gradients.len()];
+    let values: &[f64] = tangent.as_slice();
+    for (ha, g) in h.iter_mut().zip(gradients) {
+        let g = g * weight;
+        for (column, c) in values.chunks_exact(9).enumerate() {
+            ha[0][column] = g.x * c[0] + g.y * c[3] + g.z * c[6];
+            ha[1][column] = g.x * c[1] + g.y * c[4] + g.z * c[7];
+            ha[2][column] = g.x * c[2] + g.y * c[5] + g.z * c[8];
+        }
+    }
+    for (rows, ha) in stiffness.chunks_exact_mut(3 * dofs).zip(h.iter()) {
+        for (out, hi) in rows.chunks_exact_mut(dofs).zip(ha) {
+            for (o, g) in out.chunks_exact_mut(3).zip(gradients) {
+                o[0] += hi[0] * g.x + hi[3] * g.y + hi[6] * g.z;
+                o[1] += hi[1] * g.x + hi[4] * g.y + hi[7] * g.z;
+                o[2] += hi[2] * g.x + hi[5] * g.y + hi[8] * g.z;
+            }
+        }
     }
 }
 
