@@ -13,10 +13,10 @@
 //! ∇_x N_a = F⁻ᵀ ∇_X N_a and σ̄ the Cauchy stress at F̄. For a homogeneous deformation
 //! F̄ = F, b̄_a is the mean of ∇_x N_a and this is ∫ P ∇_X N_a dV₀.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, SVector, Vector3};
 
-use musclefem_materials::VoigtStress;
-use musclefem_materials::tensor::symmetric_from_voigt;
+use musclefem_materials::tensor::{first_piola_from_cauchy, symmetric_from_voigt};
+use musclefem_materials::{Tangent, VoigtStress};
 
 use super::BlockKernel;
 
@@ -83,6 +83,158 @@ pub(super) fn add_element_forces(
         for a in 0..npe {
             let g = spatial[q][a];
             forces[a] += (sigma * g + (mean_gradient[a] - g) * third_trace) * scale;
+        }
+    }
+}
+
+/// Add the consistent stiffness K_ai,bk = ∂f_a,i/∂x_b,k [N/m] of the F-bar element (dense,
+/// row-major 24 × 24, row 3a + i, column 3b + k) at its current `positions`, from the
+/// Cauchy stresses `stress` and material tangents 𝔸 = ∂P/∂F `tangents` at F̄.
+///
+/// The forces are f_a,i = Σ_q w_q P̄_q : A^q_ai with P̄ = P(F̄) and
+/// A_ai = ∂F̄/∂x_a,i = α [e_i ⊗ G_a + ⅓ c_ai F], α = (J̄/J)^{1/3},
+/// c_ai = b̄_ai − g_ai, g_a = F⁻ᵀ G_a (G_a = ∇_X N_a at the point), so
+///
+/// K_ai,bk = Σ_q w_q [A_ai : 𝔸 : A_bk + P̄ : ∂A_ai/∂x_b,k],
+/// ∂A_ai/∂x_b,k = ⅓ c_bk A_ai + ⅓ α [c_ai e_k ⊗ G_b + F ∂c_ai/∂x_b,k],
+///
+/// with ∂α/∂x_b,k = ⅓ α c_bk, ∂F/∂x_b,k = e_k ⊗ G_b, ∂g_ai/∂x_b,k = −g_bi g_ak and
+/// ∂b̄_ai/∂x_b,k = (1/v) Σ_p w_p J_p (g^p_bk g^p_ai − g^p_bi g^p_ak) − b̄_ai b̄_bk, the last
+/// term being the rank-one coupling of every point through J̄ = v/V. So
+///
+/// P̄ : ∂A_ai/∂x_b,k = ⅓ c_bk (P̄ : A_ai) + ⅓ α [c_ai (P̄ G_b)_k
+///                     + (P̄ : F)(∂b̄_ai/∂x_b,k + g_bi g_ak)].
+///
+/// The forces derive from the potential Σ_q w_q Ψ(F̄_q) for a hyperelastic material, and
+/// K is then symmetric; it is unsymmetric exactly when 𝔸 is (the solver then uses LU).
+pub(super) fn add_element_stiffness(
+    kernel: &BlockKernel,
+    element: usize,
+    positions: &[Vector3<f64>],
+    stress: &[VoigtStress],
+    tangents: &[Tangent],
+    stiffness: &mut [f64],
+) {
+    const P: usize = 8;
+    const N: usize = 8;
+    const D: usize = 3 * N;
+    debug_assert_eq!(kernel.points_per_element(), P);
+    debug_assert_eq!(kernel.nodes_per_element(), N);
+    debug_assert_eq!(stiffness.len(), D * D);
+    let mut f = [Matrix3::zeros(); P];
+    let mut jacobian = [0.0; P];
+    let mut spatial = [[Vector3::zeros(); N]; P];
+    let mut mean_gradient = [Vector3::zeros(); N];
+    let (mut current_volume, mut reference_volume) = (0.0, 0.0);
+    for q in 0..P {
+        let point = element * P + q;
+        f[q] = kernel.deformation_gradient(point, positions);
+        jacobian[q] = f[q].determinant();
+        let inverse_transpose = f[q]
+            .try_inverse()
+            .map_or_else(Matrix3::zeros, |inv| inv.transpose());
+        let w = kernel.weight(point);
+        for (a, g) in kernel.gradients(point).iter().enumerate() {
+            spatial[q][a] = inverse_transpose * g;
+            mean_gradient[a] += spatial[q][a] * (jacobian[q] * w);
+        }
+        current_volume += jacobian[q] * w;
+        reference_volume += w;
+    }
+    for g in &mut mean_gradient {
+        *g /= current_volume;
+    }
+    let mean = current_volume / reference_volume;
+    // ∂b̄_ai/∂x_b,k, row 3a + i, column 3b + k.
+    let mut mean_derivative = [[0.0; D]; D];
+    for q in 0..P {
+        let scale = kernel.weight(element * P + q) * jacobian[q] / current_volume;
+        let g = &spatial[q];
+        for a in 0..N {
+            for i in 0..3 {
+                let row = &mut mean_derivative[3 * a + i];
+                for b in 0..N {
+                    for k in 0..3 {
+                        row[3 * b + k] += scale * (g[b][k] * g[a][i] - g[b][i] * g[a][k]);
+                    }
+                }
+            }
+        }
+    }
+    for a in 0..N {
+        for i in 0..3 {
+            for b in 0..N {
+                for k in 0..3 {
+                    mean_derivative[3 * a + i][3 * b + k] -=
+                        mean_gradient[a][i] * mean_gradient[b][k];
+                }
+            }
+        }
+    }
+    // With A_ai = α [e_i ⊗ G_a + ⅓ c_ai F], the material term splits into the plain
+    // stiffness α² (e_i ⊗ G_a) : 𝔸 : (e_k ⊗ G_b) and rank-one terms in c:
+    // α² [⅓ c_bk h_ai + ⅓ c_ai h'_bk + (1/9) c_ai c_bk F : 𝔸 : F],
+    // h_ai = (e_i ⊗ G_a) : 𝔸 : F, h'_bk = F : 𝔸 : (e_k ⊗ G_b). With the geometric term,
+    // per point K_ai,bk += c_bk X_ai + c_ai Y_bk + Z c_ai c_bk + T g_bi g_ak, and the
+    // ∂b̄/∂x term once per element with Σ_q T_q.
+    let mut mean_coefficient = 0.0;
+    for q in 0..P {
+        let point = element * P + q;
+        let w = kernel.weight(point);
+        let gradients = kernel.gradients(point);
+        let alpha = (mean / jacobian[q]).cbrt();
+        let f_bar = f[q] * alpha;
+        let piola = first_piola_from_cauchy(&f_bar, &stress[q]);
+        let piola_dot_f = piola.dot(&f[q]);
+        let vec_f = SVector::<f64, 9>::from_column_slice(f[q].as_slice());
+        let tangent_f = tangents[q] * vec_f;
+        let f_tangent = tangents[q].transpose() * vec_f;
+        let f_tangent_f = vec_f.dot(&tangent_f);
+        let g = &spatial[q];
+        let mut c = [0.0; D];
+        let mut x = [0.0; D];
+        let mut y = [0.0; D];
+        for a in 0..N {
+            let piola_g = piola * gradients[a];
+            for i in 0..3 {
+                let col = 3 * a + i;
+                c[col] = mean_gradient[a][i] - g[a][i];
+                let mut h = 0.0;
+                let mut h_transposed = 0.0;
+                for j in 0..3 {
+                    h += gradients[a][j] * tangent_f[i + 3 * j];
+                    h_transposed += gradients[a][j] * f_tangent[i + 3 * j];
+                }
+                let piola_dot_a = alpha * (piola_g[i] + c[col] / 3.0 * piola_dot_f);
+                x[col] = w * (alpha * alpha / 3.0 * h + piola_dot_a / 3.0);
+                y[col] = w * (alpha * alpha / 3.0 * h_transposed + alpha / 3.0 * piola_g[i]);
+            }
+        }
+        let z = w * alpha * alpha / 9.0 * f_tangent_f;
+        let t = w * alpha / 3.0 * piola_dot_f;
+        mean_coefficient += t;
+        super::stiffness::add_point_stiffness(
+            gradients,
+            w * alpha * alpha,
+            &tangents[q],
+            stiffness,
+        );
+        for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
+            let (a, i) = (row / 3, row % 3);
+            let (c_row, x_row) = (c[row], x[row]);
+            let zc = z * c_row;
+            for (b, block) in out.chunks_exact_mut(3).enumerate() {
+                let tg = t * g[b][i];
+                for k in 0..3 {
+                    let col = 3 * b + k;
+                    block[k] += c[col] * (x_row + zc) + c_row * y[col] + tg * g[a][k];
+                }
+            }
+        }
+    }
+    for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
+        for (o, m) in out.iter_mut().zip(&mean_derivative[row]) {
+            *o += mean_coefficient * m;
         }
     }
 }

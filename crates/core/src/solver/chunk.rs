@@ -212,6 +212,10 @@ impl ElementChunk {
 
     /// Tangents ∂P/∂F of the last update with `with_tangent`, `points_per_element` per
     /// element.
+    pub fn stresses(&self) -> &[VoigtStress] {
+        &self.stress
+    }
+
     pub fn tangents(&self) -> &[Tangent] {
         &self.tangent
     }

@@ -1,5 +1,7 @@
-//! Quasi-static implicit solver: equilibrium f_int(u) = 0 on the free degrees of freedom
-//! at every load step, by Newton's method with the consistent tangent.
+//! Implicit solver: equilibrium f_int(u) = f_ext on the free degrees of freedom at every
+//! load step (quasi-static, the default), or M a + f_int(u) = f_ext with Newmark's method
+//! and the lumped mass ([`ImplicitSettings::dynamics`], `implicit_dynamics.rs`), by
+//! Newton's method with the consistent tangent (K, or K + M/(β Δt²)).
 //!
 //! - Time is the load parameter [s]: prescribed displacements follow their amplitudes, and
 //!   materials update over each step with Δt = the step length (rate-dependent materials
@@ -17,9 +19,12 @@
 //! - Prescribed degrees of freedom are eliminated: the sparse matrix holds the free ones
 //!   only (pattern built once from the connectivity, values refilled every iteration,
 //!   serially in element order, so results do not depend on the thread count). Solved with
-//!   faer's sparse Cholesky (symbolic analysis reused), LU if Cholesky fails or a material
-//!   tangent is not symmetric; serially unless
+//!   faer's supernodal Cholesky in a nested-dissection order (symbolic analysis once per
+//!   run), by conjugate gradients preconditioned with the last factor while that converges
+//!   fast ([`FactorReuse`]; the corrections are still those of the current tangent, to
+//!   1e-12), LU if Cholesky fails or a material tangent is not symmetric; serially unless
 //!   [`ImplicitSettings::parallel_factorization_unknowns`] says otherwise.
+//! - [`ImplicitResult`] reports counts and wall-clock times of the evaluations and solves.
 //! - Steps: a fixed number, or with [`StepCutting`] a failed step (no convergence within
 //!   the iteration limit, a line search that cannot reduce the residual, an inverted
 //!   element, a failed solve) is retried from the last converged state with half the
@@ -29,12 +34,12 @@
 //! its direction, at the converged state. Material states are committed after convergence.
 //!
 //! Element technologies: those with a consistent element stiffness
-//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8OnePoint, Tet4
-//! and Tet10. F-bar and the nodally averaged tet4 are refused
-//! ([`SolverError::NoConsistentTangent`]) until their tangents are built (the latter's
-//! couples the 2-ring of elements around a node, a wider sparsity pattern). Nodal forces
-//! enter the residual r = f_int − f_ext at the end of the step; nodes tied to a rigid body
-//! are prescribed in every component. Not built yet: contact, implicit dynamics.
+//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8FBar (with the
+//! linearization through J̄ of `element/fbar.rs`), Hex8OnePoint, Tet4 and Tet10. The
+//! nodally averaged tet4 is refused ([`SolverError::NoConsistentTangent`]): its tangent
+//! couples the 2-ring of elements around a node, a wider sparsity pattern not built yet.
+//! Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes tied to
+//! a rigid body are prescribed in every component. Not built yet: contact.
 //!
 //! Memory besides the factor: every element keeps its dense stiffness between the parallel
 //! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192
@@ -48,7 +53,10 @@ use super::sparse::PRESCRIBED;
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
-pub use super::sparse::Factorization;
+pub use super::implicit_dynamics::{EnergyBalance, Newmark};
+use super::implicit_dynamics::{Inertia, lumped_mass};
+pub use super::implicit_model::EvaluationTimes;
+pub use super::sparse::{FactorReuse, Factorization, LinearSolveStatistics};
 
 /// Automatic step cutting: halve a failed increment, grow it back after easy steps.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,6 +115,20 @@ pub struct ImplicitSettings {
     /// threads), and on 2 busy cores it was not consistently faster (one step, 4 Newton
     /// iterations: 7.6–8.4 s serial, 6.7–11.9 s on 2 threads).
     pub parallel_factorization_unknowns: usize,
+    /// Reuse of the last Cholesky factor as a preconditioner of conjugate gradients
+    /// (default on, see [`FactorReuse`]); `None` factorizes every tangent.
+    pub factor_reuse: Option<FactorReuse>,
+    /// Implicit dynamics with Newmark's method and the lumped mass (see
+    /// `implicit_dynamics.rs`); `None` (default) is quasi-static. A dynamic run starts
+    /// from rest in the undeformed, stress-free state, with a⁰ = M⁻¹ f_ext(0) on the free
+    /// components.
+    pub dynamics: Option<Newmark>,
+    /// Energy criterion (default `None`): a step also converges when the work of the
+    /// last correction |δuᵀ r| is at most this fraction of that of the step's first one.
+    pub energy_tolerance: Option<f64>,
+    /// Keep the nodal displacements of every converged step in
+    /// [`ImplicitResult::displacement_history`] (default false).
+    pub record_displacements: bool,
 }
 
 impl ImplicitSettings {
@@ -122,6 +144,10 @@ impl ImplicitSettings {
             round_off_correction: 1e-10,
             line_search_cuts: 8,
             parallel_factorization_unknowns: usize::MAX,
+            factor_reuse: Some(FactorReuse::default()),
+            dynamics: None,
+            energy_tolerance: None,
+            record_displacements: false,
         }
     }
 
@@ -146,6 +172,8 @@ pub struct ImplicitHistoryRow {
     pub reactions: Vec<f64>,
     /// Resultant reaction force and moment of each rigid tie.
     pub rigid_reactions: Vec<RigidReaction>,
+    /// Kinetic energy and works at the end of the step (dynamics; zero when quasi-static).
+    pub energy: EnergyBalance,
 }
 
 /// How one converged step went.
@@ -174,6 +202,13 @@ pub struct ImplicitResult {
     /// Unknowns (free degrees of freedom) and stored matrix entries.
     pub equations: usize,
     pub matrix_entries: usize,
+    /// Counts and times of the evaluations (element updates, assembly).
+    pub evaluation_times: EvaluationTimes,
+    /// Counts and times of the linear solves.
+    pub linear_solves: LinearSolveStatistics,
+    /// Nodal displacements after every converged step [m] (with
+    /// [`ImplicitSettings::record_displacements`]).
+    pub displacement_history: Vec<Vec<Vector3<f64>>>,
 }
 
 /// Why a step attempt failed.
@@ -211,10 +246,32 @@ pub fn run_quasi_static(
     let mut increment = initial;
     let mut easy = 0;
     let mut time = 0.0;
+    let mut displacement_history = Vec::new();
+    let mut energy = EnergyBalance::default();
+    // Internal and external (loads and supports) nodal forces at the last converged state.
+    let mut internal_before = vec![Vector3::zeros(); node_count];
+    let mut external_before = vec![Vector3::zeros(); node_count];
+    if let Some(newmark) = &settings.dynamics {
+        check_newmark(newmark)?;
+        let mut inertia = Inertia::new(lumped_mass(mesh, parts)?);
+        loads.external_forces(0.0, &mut external_before);
+        for (d, &eq) in model.equation.iter().enumerate() {
+            if eq != PRESCRIBED {
+                inertia.acceleration[d / 3][d % 3] =
+                    external_before[d / 3][d % 3] / inertia.mass[d / 3];
+            } else {
+                external_before[d / 3][d % 3] = 0.0;
+            }
+        }
+        model.inertia = Some(inertia);
+    }
     while time < end {
         let mut step = increment.min(end - time);
         if end - (time + step) < 1e-9 * step {
             step = end - time;
+        }
+        if let (Some(newmark), Some(inertia)) = (&settings.dynamics, model.inertia.as_mut()) {
+            inertia.start_step(newmark, &converged, step);
         }
         let attempt = newton_step(
             &mut model,
@@ -235,7 +292,25 @@ pub fn run_quasi_static(
                 } else {
                     time + step
                 };
+                if let (Some(newmark), Some(inertia)) = (&settings.dynamics, model.inertia.as_mut())
+                {
+                    inertia.commit(newmark, &displacement, step);
+                    let supports = model.support_forces();
+                    for n in 0..node_count {
+                        let du = displacement[n] - converged[n];
+                        let internal = model.force[n];
+                        let external = model.external[n] + supports[n];
+                        energy.internal_work += 0.5 * (internal_before[n] + internal).dot(&du);
+                        energy.external_work += 0.5 * (external_before[n] + external).dot(&du);
+                        internal_before[n] = internal;
+                        external_before[n] = external;
+                    }
+                    energy.kinetic = model.inertia.as_ref().map_or(0.0, Inertia::kinetic_energy);
+                }
                 converged.copy_from_slice(&displacement);
+                if settings.record_displacements {
+                    displacement_history.push(displacement.clone());
+                }
                 let positions: Vec<Vector3<f64>> = reference
                     .iter()
                     .zip(&displacement)
@@ -248,6 +323,7 @@ pub fn run_quasi_static(
                     iterations: report.iterations,
                     reactions,
                     rigid_reactions,
+                    energy,
                 });
                 if let Some(cutting) = &settings.cutting {
                     if report.iterations <= cutting.easy_iterations {
@@ -295,7 +371,21 @@ pub fn run_quasi_static(
         displacement,
         equations: model.system.size(),
         matrix_entries: model.system.entries(),
+        evaluation_times: model.times.clone(),
+        linear_solves: model.system.statistics().clone(),
+        displacement_history,
     })
+}
+
+fn check_newmark(newmark: &Newmark) -> Result<(), SolverError> {
+    if !(newmark.beta > 0.0 && newmark.beta <= 0.5 && newmark.gamma >= 0.0 && newmark.gamma <= 1.0)
+    {
+        return Err(SolverError::InvalidImplicitSettings(format!(
+            "Newmark parameters beta = {}, gamma = {} must satisfy 0 < beta <= 1/2, 0 <= gamma <= 1",
+            newmark.beta, newmark.gamma
+        )));
+    }
+    Ok(())
 }
 
 fn check_settings(settings: &ImplicitSettings) -> Result<(), SolverError> {
@@ -371,7 +461,17 @@ fn newton_step(
         .zip(&model.lift)
         .map(|(r, l)| -(r + l))
         .collect();
-    let mut factorization = model.solve(&mut correction, end).map_err(error)?;
+    let mut factorization = model
+        .solve(&mut correction, end, settings.factor_reuse.as_ref())
+        .map_err(error)?;
+    // Work of the first correction |δuᵀ r| (energy criterion).
+    let first_work = correction
+        .iter()
+        .zip(model.residual.iter().zip(&model.lift))
+        .map(|(c, (r, l))| c * (r + l))
+        .sum::<f64>()
+        .abs();
+    let mut work_ratio = f64::INFINITY;
     let mut largest_correction: f64 = 0.0;
     for (d, &eq) in model.equation.iter().enumerate() {
         let u = &mut displacement[d / 3][d % 3];
@@ -416,8 +516,11 @@ fn newton_step(
             });
         }
         let largest_displacement = displacement.iter().map(|u| u.amax()).fold(0.0, f64::max);
-        let converged = relative <= settings.residual_tolerance
-            && largest_correction <= settings.correction_tolerance * largest_displacement;
+        let converged = (relative <= settings.residual_tolerance
+            && largest_correction <= settings.correction_tolerance * largest_displacement)
+            || settings
+                .energy_tolerance
+                .is_some_and(|tol| work_ratio <= tol);
         let at_round_off = norms.residual <= norms.floor
             || largest_correction <= settings.round_off_correction * largest_displacement;
         if converged || at_round_off {
@@ -438,8 +541,20 @@ fn newton_step(
             });
         }
         let mut direction: Vec<f64> = model.residual.iter().map(|r| -r).collect();
-        factorization = model.solve(&mut direction, end).map_err(error)?;
+        factorization = model
+            .solve(&mut direction, end, settings.factor_reuse.as_ref())
+            .map_err(error)?;
         iterations += 1;
+        let work: f64 = direction
+            .iter()
+            .zip(&model.residual)
+            .map(|(d, r)| d * r)
+            .sum();
+        work_ratio = if first_work > 0.0 {
+            work.abs() / first_work
+        } else {
+            0.0
+        };
         base.copy_from_slice(displacement);
         // A correction at round-off is taken whole (the residual cannot decrease further).
         let full_correction = direction.iter().map(|x| x.abs()).fold(0.0, f64::max);

@@ -10,7 +10,7 @@ use musclefem_materials::{Material, MaterialError};
 
 use super::chunk::ElementChunk;
 use crate::element::BlockKernel;
-use crate::mesh::ElementBlock;
+use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
 /// Largest |𝔸 − 𝔸ᵀ| relative to the largest |𝔸| for a tangent to count as symmetric.
 const SYMMETRY_TOLERANCE: f64 = 1e-9;
@@ -69,18 +69,30 @@ impl ImplicitChunk {
             let ppe = kernel.points_per_element();
             let size = kernel.element_dofs().pow(2);
             let tangents = self.chunk.tangents();
+            let stresses = self.chunk.stresses();
             self.stiffness.fill(0.0);
+            let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+            let npe = kernel.nodes_per_element();
             for (local, element) in self.chunk.elements.clone().enumerate() {
+                for (x, &id) in element_positions
+                    .iter_mut()
+                    .zip(block.element_nodes(element))
+                {
+                    *x = positions[id as usize];
+                }
+                let points = local * ppe..(local + 1) * ppe;
                 let added = kernel.add_element_stiffness(
                     element,
-                    &tangents[local * ppe..(local + 1) * ppe],
+                    &element_positions[..npe],
+                    &stresses[points.clone()],
+                    &tangents[points],
                     &mut self.stiffness[local * size..(local + 1) * size],
                 );
                 debug_assert!(added, "checked when the part was prepared");
             }
             self.symmetric = tangents.iter().all(|t| {
-                let scale = t.amax();
-                (t - t.transpose()).amax() <= SYMMETRY_TOLERANCE * scale
+                let limit = SYMMETRY_TOLERANCE * t.amax();
+                (0..9).all(|r| (r + 1..9).all(|c| (t[(r, c)] - t[(c, r)]).abs() <= limit))
             });
         }
         Ok(())

@@ -4,6 +4,8 @@
 //! (elements in parallel chunks, everything gathered serially in element order, so the
 //! result does not depend on the number of threads).
 
+use std::time::Instant;
+
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -11,7 +13,8 @@ use musclefem_materials::Material;
 
 use super::chunk::chunk_ranges;
 use super::implicit_chunk::ImplicitChunk;
-use super::sparse::{PRESCRIBED, SparseSystem};
+use super::implicit_dynamics::Inertia;
+use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, Mesh};
@@ -51,6 +54,25 @@ pub(super) struct Model<'a> {
     pub stiffness_scale: f64,
     /// Largest |x| of the last evaluation's positions [m].
     pub position_scale: f64,
+    pub times: EvaluationTimes,
+    /// Lumped mass and Newmark state of a dynamic run (`None`: quasi-static).
+    pub inertia: Option<Inertia>,
+    /// Inertial forces M a⁺ at the last evaluation [N] (zero when quasi-static).
+    pub inertial: Vec<Vector3<f64>>,
+    /// Reference positions of the nodes [m].
+    pub reference: Vec<Vector3<f64>>,
+}
+
+/// Counts and wall-clock times [s] of a run's evaluations.
+#[derive(Debug, Clone, Default)]
+pub struct EvaluationTimes {
+    /// Evaluations of the internal forces (with or without stiffness).
+    pub evaluations: usize,
+    /// Element updates in parallel: deformation, material (with tangents), nodal forces,
+    /// element stiffness.
+    pub element_seconds: f64,
+    /// Serial gathering of the forces and scattering of the stiffness into the matrix.
+    pub assembly_seconds: f64,
 }
 
 /// Factor on the round-off estimate of the residual (see [`Norms::floor`]).
@@ -171,8 +193,10 @@ impl<'a> Model<'a> {
             free += 1;
         }
         let free = free as usize;
+        let reference: Vec<Vector3<f64>> =
+            (0..node_count).map(|n| mesh.nodes.position(n)).collect();
         let system = SparseSystem::new(
-            node_count,
+            &reference,
             &equation,
             free,
             runs.iter().map(|r| &mesh.blocks[r.block]),
@@ -204,6 +228,10 @@ impl<'a> Model<'a> {
             diagonal,
             stiffness_scale: 0.0,
             position_scale: 0.0,
+            times: EvaluationTimes::default(),
+            inertia: None,
+            inertial: vec![Vector3::zeros(); node_count],
+            reference,
         })
     }
 
@@ -226,7 +254,10 @@ impl<'a> Model<'a> {
             self.symmetric = true;
         }
         let mesh = self.mesh;
+        let mut element_seconds = 0.0;
+        let start = Instant::now();
         for run in &mut self.runs {
+            let update_start = Instant::now();
             let block = &mesh.blocks[run.block];
             let (kernel, material) = (&run.kernel, run.material);
             run.chunks
@@ -240,6 +271,7 @@ impl<'a> Model<'a> {
                     element,
                     source,
                 })?;
+            element_seconds += update_start.elapsed().as_secs_f64();
             let npe = kernel.nodes_per_element();
             let dofs = kernel.element_dofs();
             for chunk in &run.chunks {
@@ -282,9 +314,29 @@ impl<'a> Model<'a> {
                 self.symmetric &= !with_stiffness || chunk.symmetric;
             }
         }
+        if let Some(inertia) = &self.inertia {
+            for (node, (f, (x, x0))) in self
+                .inertial
+                .iter_mut()
+                .zip(positions.iter().zip(&self.reference))
+                .enumerate()
+            {
+                *f = inertia.force(node, &(x - x0));
+            }
+            if with_stiffness {
+                let values = self.system.values_mut();
+                for (d, &eq) in self.equation.iter().enumerate() {
+                    if eq != PRESCRIBED {
+                        values[self.diagonal[eq as usize]] +=
+                            inertia.mass[d / 3] * inertia.coefficient;
+                    }
+                }
+            }
+        }
         for (d, &eq) in self.equation.iter().enumerate() {
             if eq != PRESCRIBED {
-                self.residual[eq as usize] = self.force[d / 3][d % 3] - self.external[d / 3][d % 3];
+                self.residual[eq as usize] = self.force[d / 3][d % 3] + self.inertial[d / 3][d % 3]
+                    - self.external[d / 3][d % 3];
             }
         }
         if with_stiffness {
@@ -295,6 +347,9 @@ impl<'a> Model<'a> {
                 .fold(0.0, |m, &p| m.max(values[p].abs()));
         }
         self.position_scale = positions.iter().fold(0.0, |m, x| m.max(x.amax()));
+        self.times.evaluations += 1;
+        self.times.element_seconds += element_seconds;
+        self.times.assembly_seconds += start.elapsed().as_secs_f64() - element_seconds;
         Ok(self.norms())
     }
 
@@ -307,6 +362,7 @@ impl<'a> Model<'a> {
                 .map(|f| f.norm_squared())
                 .sum::<f64>()
                 .max(self.external.iter().map(|f| f.norm_squared()).sum::<f64>())
+                .max(self.inertial.iter().map(|f| f.norm_squared()).sum::<f64>())
                 .sqrt(),
             floor: ROUND_OFF_FACTOR
                 * f64::EPSILON
@@ -320,9 +376,10 @@ impl<'a> Model<'a> {
         &mut self,
         rhs: &mut [f64],
         time: f64,
+        reuse: Option<&FactorReuse>,
     ) -> Result<super::sparse::Factorization, SolverError> {
         self.system
-            .solve(rhs, self.symmetric)
+            .solve(rhs, self.symmetric, reuse)
             .map_err(|reason| SolverError::LinearSolve { time, reason })
     }
 
@@ -341,7 +398,23 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// Nodal reactions f_int − f_ext on the prescribed components (zero on free ones)
+    /// Forces the supports take on the prescribed components, f_int + M a − f_ext (zero on
+    /// free components) [N].
+    pub fn support_forces(&self) -> Vec<Vector3<f64>> {
+        (0..self.force.len())
+            .map(|n| {
+                Vector3::from_fn(|k, _| {
+                    if self.equation[3 * n + k] == PRESCRIBED {
+                        self.force[n][k] + self.inertial[n][k] - self.external[n][k]
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Nodal reactions f_int + M a − f_ext on the prescribed components (zero on free ones)
     /// [N], summed over each prescribed displacement's nodes in its direction, and the
     /// resultant of each rigid tie at time `time` and nodal `positions`.
     pub fn reactions(
@@ -350,21 +423,7 @@ impl<'a> Model<'a> {
         time: f64,
         positions: &[Vector3<f64>],
     ) -> (Vec<f64>, Vec<RigidReaction>) {
-        let reaction: Vec<Vector3<f64>> = self
-            .force
-            .iter()
-            .zip(&self.external)
-            .enumerate()
-            .map(|(n, (f, f_ext))| {
-                Vector3::from_fn(|k, _| {
-                    if self.equation[3 * n + k] == PRESCRIBED {
-                        f[k] - f_ext[k]
-                    } else {
-                        0.0
-                    }
-                })
-            })
-            .collect();
+        let reaction = self.support_forces();
         (
             loads.displacement_reactions(&reaction),
             loads.rigid_reactions(time, positions, &reaction),

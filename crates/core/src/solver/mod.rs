@@ -17,10 +17,12 @@ mod explicit_parts;
 mod hex8_one_point_chunk;
 pub mod implicit;
 mod implicit_chunk;
+mod implicit_dynamics;
 mod implicit_model;
 mod loads;
 mod nodal;
 mod nodal_average;
+mod ordering;
 mod part;
 mod sparse;
 
