@@ -9,18 +9,21 @@
 //!   patch tests.
 //!
 //! - [`element`]: total-Lagrangian element kernels, each passing the patch tests on
-//!   distorted meshes: the fully integrated hex8, the F-bar (mean dilatation) hex8 that
-//!   does not lock, the one-point hex8 with the mean gradient and stiffness-type hourglass
-//!   control (Flanagan–Belytschko), the one-point tet4 and the 4-point tet10.
-//! - [`solver`]: the explicit central-difference solver with lumped mass, a stable step
-//!   from the current acoustic modulus, prescribed displacements, reactions, an energy
-//!   balance check, parallel element updates and a deterministic force assembly; and the
-//!   quasi-static implicit solver (Newton with the consistent tangent, line search, step
-//!   cutting, faer sparse Cholesky/LU with the symbolic factorization reused).
+//!   distorted meshes: the fully integrated hex8 (locks; kept as a reference), the F-bar
+//!   (mean dilatation) hex8 with its consistent tangent, the one-point hex8 with the mean
+//!   gradient and stiffness-type hourglass control (Flanagan–Belytschko; a batched SIMD
+//!   kernel in explicit runs), the one-point tet4, the nodally averaged F-bar tet4 (no
+//!   volumetric locking; explicit only) and the 4-point tet10.
+//! - [`solver`]: the explicit central-difference solver (lumped mass, stable step from the
+//!   current acoustic modulus, mass scaling, bulk viscosity, energy balance with hourglass
+//!   and viscous energies, parallel deterministic assembly) and the implicit solver
+//!   (quasi-static or Newmark dynamics, Newton with the consistent tangent, line search,
+//!   step cutting, faer supernodal Cholesky with a nested-dissection order and factor
+//!   reuse as a CG preconditioner, LU for unsymmetric tangents), both under the same
+//!   [`solver::Loads`]: prescribed displacements, nodal forces, rigid ties.
 //!
-//! Not built yet (the rest of the elements-and-solvers issue): a locking-free tet, the
-//! F-bar tangent, implicit dynamics and the trait through which contact
-//! forces enter a solve.
+//! Not built yet: the implicit tangent of the nodally averaged tet4, and the trait
+//! through which contact forces enter a solve (interactions issue).
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
 //! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.

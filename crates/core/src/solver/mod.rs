@@ -1,9 +1,8 @@
-//! Solvers that advance a body in time. Built so far: the explicit central-difference
-//! solver ([`explicit`]) with lumped mass, a stable step from the dilatational wave speed,
-//! prescribed displacements, reaction forces and an energy balance; the quasi-static
-//! implicit solver ([`implicit`]): Newton with the consistent tangent, line search, sparse
-//! direct solves (faer) and step cutting. The explicit solver has optional mass scaling
-//! and bulk viscosity ([`bulk_viscosity`]). Still to come: implicit dynamics.
+//! Solvers that advance a body in time: the explicit central-difference solver
+//! ([`explicit`]) with lumped mass, a stable step from the dilatational wave speed, optional
+//! mass scaling and bulk viscosity ([`bulk_viscosity`]), reactions and an energy balance;
+//! the implicit solver ([`implicit`]), quasi-static or Newmark dynamics, with Newton on the
+//! consistent tangent, line search, sparse direct solves (faer) and step cutting.
 //!
 //! Loads ([`Loads`]): prescribed displacement components, nodal forces and nodes tied to
 //! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
