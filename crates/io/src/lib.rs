@@ -9,12 +9,14 @@
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
 //!   labels with units, legend) drawn with a bundled font, so no system font is needed.
 //!
-//! Scene files and mesh import come with later issues.
+//! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built
+//!   into what the solvers take, with errors that name the line and key.
 
 pub mod atomic;
 pub mod csv;
 pub mod error;
 pub mod plot;
+pub mod scene;
 
 pub use atomic::{PendingFile, write_atomically};
 pub use error::OutputError;

@@ -1,0 +1,517 @@
+//! From a parsed scene to what the solvers take: one mesh holding every part's blocks
+//! (node sets renamed `PART.SET`), the parts with their materials, the loads and the
+//! solver settings. Every reference (material, part, node set, amplitude, component) is
+//! checked here, and an error names the line of the reference.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use nalgebra::{Unit, Vector3};
+use toml::Spanned;
+
+use musclefem_core::element::Technology;
+use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
+use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::solver::bulk_viscosity::BulkViscosity;
+use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
+use musclefem_core::solver::{
+    Loads, NodalForce, Part, PrescribedDisplacement, RigidRotation, RigidTie,
+};
+use musclefem_materials::{Amplitude, Material, MaterialLibrary};
+
+use super::error::{Locator, SceneError, suggestion};
+use super::format::{AmplitudeEntry, PartEntry, SceneFile};
+
+/// Element technologies by scene name.
+pub const ELEMENT_NAMES: [&str; 6] = [
+    "hex8-full",
+    "hex8-fbar",
+    "hex8-one-point",
+    "tet4",
+    "tet4-nodal-average",
+    "tet10",
+];
+
+/// The analysis of the step.
+#[derive(Debug, Clone)]
+pub enum Analysis {
+    Explicit(ExplicitSettings),
+    Implicit(ImplicitSettings),
+}
+
+/// Everything a run needs.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub description: String,
+    pub mesh: Mesh,
+    pub parts: Vec<Part>,
+    /// Part names, in the order of `parts` (part i is block i of the mesh).
+    pub part_names: Vec<String>,
+    pub loads: Loads,
+    /// A name for each prescribed displacement of `loads`, e.g. "cube.x1.x".
+    pub displacement_names: Vec<String>,
+    pub analysis: Analysis,
+    /// Time between output rows and frames [s].
+    pub output_interval: f64,
+    pub write_frames: bool,
+}
+
+/// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
+/// into `library` relative to the scene's directory.
+pub fn build_model(
+    scene: &SceneFile,
+    locator: &Locator,
+    library: &mut MaterialLibrary,
+) -> Result<Model, SceneError> {
+    let at = |span: std::ops::Range<usize>, message: String| locator.error(span, message);
+    let directory = locator.path().parent().unwrap_or(Path::new("."));
+
+    // Materials.
+    let mut materials: BTreeMap<String, Arc<dyn Material>> = BTreeMap::new();
+    for entry in &scene.materials {
+        if let Some(plugin) = &entry.plugin {
+            let path = directory.join(plugin.get_ref());
+            library
+                .load_plugin(&path)
+                .map_err(|e| at(plugin.span(), format!("plugin '{}': {e}", path.display())))?;
+        }
+        let model = entry.model.get_ref();
+        let names = library.names();
+        if !names.iter().any(|n| n == model) {
+            return Err(at(
+                entry.model.span(),
+                format!(
+                    "unknown material model '{model}'{}; known: {}",
+                    suggestion(model, names.iter().map(String::as_str)),
+                    names.join(", ")
+                ),
+            ));
+        }
+        let (parameters, span) = match &entry.parameters {
+            Some(p) => (p.get_ref().clone(), p.span()),
+            None => (BTreeMap::new(), entry.model.span()),
+        };
+        let material = library
+            .create(model, &parameters)
+            .map_err(|e| at(span, format!("material '{model}': {e}")))?;
+        if materials
+            .insert(entry.name.get_ref().clone(), material)
+            .is_some()
+        {
+            return Err(at(
+                entry.name.span(),
+                format!("material '{}' is defined twice", entry.name.get_ref()),
+            ));
+        }
+    }
+
+    // Parts: one block each, meshes appended into one.
+    let mut mesh = Mesh::new(Default::default(), Vec::new());
+    let mut parts = Vec::new();
+    let mut part_names: Vec<String> = Vec::new();
+    for entry in &scene.parts {
+        let name = entry.name.get_ref();
+        if part_names.contains(name) {
+            return Err(at(
+                entry.name.span(),
+                format!("part '{name}' is defined twice"),
+            ));
+        }
+        let material = materials.get(entry.material.get_ref()).ok_or_else(|| {
+            at(
+                entry.material.span(),
+                format!(
+                    "part '{name}': unknown material '{}'{}",
+                    entry.material.get_ref(),
+                    suggestion(
+                        entry.material.get_ref(),
+                        materials.keys().map(String::as_str)
+                    )
+                ),
+            )
+        })?;
+        let technology = technology(entry, material.as_ref(), locator)?;
+        let density = *entry.density.get_ref();
+        if !(density.is_finite() && density > 0.0) {
+            return Err(at(
+                entry.density.span(),
+                format!("density {density} kg/m3 must be positive"),
+            ));
+        }
+        let part_mesh = generate(entry, technology.shape(), locator)?;
+        append_part(&mut mesh, part_mesh, name);
+        parts.push(Part {
+            block: parts.len(),
+            technology,
+            material: material.clone(),
+            density,
+        });
+        part_names.push(name.clone());
+    }
+    if parts.is_empty() {
+        return Err(locator.whole("the scene has no parts"));
+    }
+
+    // Amplitudes.
+    let mut amplitudes: BTreeMap<String, &AmplitudeEntry> = BTreeMap::new();
+    for entry in &scene.amplitudes {
+        Amplitude::new(
+            entry
+                .points
+                .get_ref()
+                .iter()
+                .map(|p| (p[0], p[1]))
+                .collect(),
+        )
+        .map_err(|e| at(entry.points.span(), format!("amplitude: {e}")))?;
+        amplitudes.insert(entry.name.get_ref().clone(), entry);
+    }
+    let scaled = |name: &Option<Spanned<String>>, value: f64| -> Result<Amplitude, SceneError> {
+        let knots = match name {
+            None => vec![(0.0, value)],
+            Some(name) => {
+                let entry = amplitudes.get(name.get_ref()).ok_or_else(|| {
+                    at(
+                        name.span(),
+                        format!(
+                            "unknown amplitude '{}'{}",
+                            name.get_ref(),
+                            suggestion(name.get_ref(), amplitudes.keys().map(String::as_str))
+                        ),
+                    )
+                })?;
+                entry
+                    .points
+                    .get_ref()
+                    .iter()
+                    .map(|p| (p[0], value * p[1]))
+                    .collect()
+            }
+        };
+        Amplitude::new(knots).map_err(|e| locator.whole(format!("amplitude: {e}")))
+    };
+    let node_set =
+        |part: &Spanned<String>, set: &Spanned<String>| -> Result<Vec<u32>, SceneError> {
+            if !part_names.contains(part.get_ref()) {
+                return Err(at(
+                    part.span(),
+                    format!(
+                        "unknown part '{}'{}",
+                        part.get_ref(),
+                        suggestion(part.get_ref(), part_names.iter().map(String::as_str))
+                    ),
+                ));
+            }
+            let full = format!("{}.{}", part.get_ref(), set.get_ref());
+            mesh.node_sets.get(&full).cloned().ok_or_else(|| {
+                let prefix = format!("{}.", part.get_ref());
+                let known: Vec<&str> = mesh
+                    .node_sets
+                    .keys()
+                    .filter_map(|k| k.strip_prefix(&prefix))
+                    .collect();
+                at(
+                    set.span(),
+                    format!(
+                        "part '{}' has no node set '{}'{}; it has: {}",
+                        part.get_ref(),
+                        set.get_ref(),
+                        suggestion(set.get_ref(), known.iter().copied()),
+                        known.join(", ")
+                    ),
+                )
+            })
+        };
+
+    // Loads.
+    let mut loads = Loads::default();
+    let mut displacement_names = Vec::new();
+    for entry in &scene.displacements {
+        let nodes = node_set(&entry.part, &entry.nodes)?;
+        if entry.components.get_ref().is_empty() {
+            return Err(at(
+                entry.components.span(),
+                "no components given".to_string(),
+            ));
+        }
+        for component in entry.components.get_ref() {
+            let dof = component_index(component)
+                .ok_or_else(|| at(entry.components.span(), bad_component(component)))?;
+            loads.displacements.push(PrescribedDisplacement {
+                nodes: nodes.clone(),
+                dof,
+                amplitude: scaled(&entry.amplitude, entry.value)?,
+            });
+            displacement_names.push(format!(
+                "{}.{}.{component}",
+                entry.part.get_ref(),
+                entry.nodes.get_ref()
+            ));
+        }
+    }
+    for entry in &scene.forces {
+        let nodes = node_set(&entry.part, &entry.nodes)?;
+        let dof = component_index(entry.component.get_ref()).ok_or_else(|| {
+            at(
+                entry.component.span(),
+                bad_component(entry.component.get_ref()),
+            )
+        })?;
+        loads.forces.push(NodalForce {
+            nodes,
+            dof,
+            amplitude: scaled(&entry.amplitude, entry.value)?,
+        });
+    }
+    for entry in &scene.rigid_ties {
+        let nodes = node_set(&entry.part, &entry.nodes)?;
+        let mut translation = [None, None, None];
+        for (k, value) in entry.translation.iter().enumerate() {
+            if *value != 0.0 || entry.translation_amplitude.is_some() {
+                translation[k] = Some(scaled(&entry.translation_amplitude, *value)?);
+            }
+        }
+        let rotation = match &entry.rotation {
+            None => None,
+            Some(r) => {
+                let axis = Vector3::from(*r.axis.get_ref());
+                if !(axis.norm() > 0.0 && axis.iter().all(|x| x.is_finite())) {
+                    return Err(at(
+                        r.axis.span(),
+                        "the rotation axis must be non-zero".into(),
+                    ));
+                }
+                Some(RigidRotation {
+                    center: Vector3::from(r.center),
+                    axis: Unit::new_normalize(axis),
+                    angle: scaled(&r.amplitude, r.angle_degrees.to_radians())?,
+                })
+            }
+        };
+        loads.rigid_ties.push(RigidTie {
+            name: entry.name.get_ref().clone(),
+            nodes,
+            translation,
+            rotation,
+        });
+    }
+
+    // Step.
+    let step = &scene.step;
+    let duration = *step.duration.get_ref();
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(at(
+            step.duration.span(),
+            format!("duration {duration} s must be positive"),
+        ));
+    }
+    let output_interval = match &step.output_interval {
+        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() > 0.0) => {
+            return Err(at(
+                v.span(),
+                format!("output_interval {} s must be positive", v.get_ref()),
+            ));
+        }
+        Some(v) => *v.get_ref(),
+        None => duration / 100.0,
+    };
+    let analysis = match step.solver.get_ref().as_str() {
+        "explicit" => {
+            let mut settings = ExplicitSettings::new(duration);
+            settings.history_interval = output_interval;
+            let e = &step.explicit;
+            if let Some(v) = &e.safety_factor {
+                settings.safety_factor = *v.get_ref();
+            }
+            settings.mass_scaling_time_step =
+                e.mass_scaling_time_step.as_ref().map(|v| *v.get_ref());
+            if let Some(v) = &e.energy_tolerance {
+                settings.energy_tolerance = *v.get_ref();
+            }
+            settings.bulk_viscosity = e.bulk_viscosity.then(BulkViscosity::default);
+            Analysis::Explicit(settings)
+        }
+        "implicit" => {
+            let i = &step.implicit;
+            let increments = i.increments.as_ref().map_or(10, |v| *v.get_ref());
+            if increments == 0 {
+                let span = i
+                    .increments
+                    .as_ref()
+                    .map_or(step.solver.span(), |v| v.span());
+                return Err(at(span, "increments must be at least 1".to_string()));
+            }
+            let mut settings = ImplicitSettings::new(duration, increments);
+            if i.step_cutting.unwrap_or(true) {
+                settings = settings.with_cutting();
+            }
+            if let Some(v) = &i.residual_tolerance {
+                settings.residual_tolerance = *v.get_ref();
+            }
+            if i.dynamic {
+                settings.dynamics = Some(Newmark::default());
+            }
+            Analysis::Implicit(settings)
+        }
+        other => {
+            return Err(at(
+                step.solver.span(),
+                format!(
+                    "unknown solver '{other}'{}; use explicit or implicit",
+                    suggestion(other, ["explicit", "implicit"])
+                ),
+            ));
+        }
+    };
+    Ok(Model {
+        description: scene.description.clone(),
+        mesh,
+        parts,
+        part_names,
+        loads,
+        displacement_names,
+        analysis,
+        output_interval,
+        write_frames: scene.output.frames.unwrap_or(true),
+    })
+}
+
+/// The element technology a part names. The one-point hex8's hourglass modulus follows
+/// the material's small-strain shear modulus ([`small_strain_shear_modulus`]).
+fn technology(
+    entry: &PartEntry,
+    material: &dyn Material,
+    locator: &Locator,
+) -> Result<Technology, SceneError> {
+    let name = entry.element.get_ref().as_str();
+    Ok(match name {
+        "hex8-full" => Technology::Hex8Full,
+        "hex8-fbar" => Technology::Hex8FBar,
+        "hex8-one-point" => {
+            let mu = small_strain_shear_modulus(material).ok_or_else(|| {
+                locator.error(
+                    entry.material.span(),
+                    "the material gives no positive shear modulus at F = I, which the \
+                     one-point hex8's hourglass control scales with",
+                )
+            })?;
+            Technology::hex8_one_point(mu)
+        }
+        "tet4" => Technology::Tet4,
+        "tet4-nodal-average" => Technology::Tet4NodalAverage,
+        "tet10" => Technology::Tet10,
+        _ => {
+            return Err(locator.error(
+                entry.element.span(),
+                format!(
+                    "unknown element '{name}'{}; known: {}",
+                    suggestion(name, ELEMENT_NAMES),
+                    ELEMENT_NAMES.join(", ")
+                ),
+            ));
+        }
+    })
+}
+
+/// The generated mesh of a part, with its fibers.
+fn generate(entry: &PartEntry, shape: ElementShape, locator: &Locator) -> Result<Mesh, SceneError> {
+    let spec = &entry.mesh;
+    if spec.generator.get_ref() != "box" {
+        return Err(locator.error(
+            spec.generator.span(),
+            format!(
+                "unknown generator '{}'{}; the only generator is box (mesh files come with \
+                 the importer)",
+                spec.generator.get_ref(),
+                suggestion(spec.generator.get_ref(), ["box"])
+            ),
+        ));
+    }
+    let size = *spec.size.get_ref();
+    let divisions = *spec.divisions.get_ref();
+    let generated = match shape {
+        ElementShape::Hex8 => box_of_hexes(size, divisions),
+        ElementShape::Tet4 => box_of_tets(size, divisions, TetOrder::Linear),
+        ElementShape::Tet10 => box_of_tets(size, divisions, TetOrder::Quadratic),
+    };
+    let mut mesh = generated.map_err(|e| locator.error(spec.size.span(), e.to_string()))?;
+    if let Some(fibers) = &entry.fibers {
+        let direction = Vector3::from(*fibers.direction.get_ref());
+        if !(direction.norm() > 0.0 && direction.iter().all(|x| x.is_finite())) {
+            return Err(locator.error(
+                fibers.direction.span(),
+                "the fiber direction must be a finite non-zero vector".to_string(),
+            ));
+        }
+        for block in &mut mesh.blocks {
+            block.fiber_direction.fill(direction.normalize());
+        }
+    }
+    Ok(mesh)
+}
+
+/// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
+/// block named after the part, node sets renamed `PART.SET`.
+fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
+    let offset = mesh.nodes.len() as u32;
+    for i in 0..part.nodes.len() {
+        mesh.nodes.push(part.nodes.position(i));
+    }
+    for mut block in part.blocks {
+        block.connectivity.iter_mut().for_each(|id| *id += offset);
+        block.name = name.to_string();
+        mesh.blocks.push(block);
+    }
+    for (set, nodes) in part.node_sets {
+        mesh.node_sets.insert(
+            format!("{name}.{set}"),
+            nodes.into_iter().map(|n| n + offset).collect(),
+        );
+    }
+}
+
+/// The smallest of ∂P_ij/∂F_ij (i ≠ j) at F = I, t = 0, from the material's tangent: the
+/// shear modulus μ of an isotropic material at small strain [Pa].
+pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
+    use musclefem_materials::{PointBlock, PointResponse, Tangent, VoigtStress};
+    let identity = [nalgebra::Matrix3::identity()];
+    let state = material.initial_state(1);
+    let points = PointBlock {
+        time: 0.0,
+        dt: 1e-3,
+        deformation_gradient_old: &identity,
+        deformation_gradient_new: &identity,
+        fiber_direction: &[Vector3::x()],
+        state_old: &state,
+    };
+    let mut stress = [VoigtStress::zeros()];
+    let mut state_new = state.clone();
+    let mut tangent = [Tangent::zeros()];
+    let mut response = PointResponse {
+        cauchy_stress: &mut stress,
+        state_new: &mut state_new,
+        tangent: Some(&mut tangent),
+    };
+    material.update(&points, &mut response).ok()?;
+    // vec(F) is column-major: F_ij sits at i + 3 j.
+    let shear = [(0, 1), (1, 0), (1, 2), (2, 1), (0, 2), (2, 0)]
+        .iter()
+        .map(|&(i, j)| tangent[0][(i + 3 * j, i + 3 * j)])
+        .fold(f64::INFINITY, f64::min);
+    (shear.is_finite() && shear > 0.0).then_some(shear)
+}
+
+fn component_index(component: &str) -> Option<usize> {
+    match component {
+        "x" => Some(0),
+        "y" => Some(1),
+        "z" => Some(2),
+        _ => None,
+    }
+}
+
+fn bad_component(component: &str) -> String {
+    format!("unknown component '{component}': use \"x\", \"y\" or \"z\"")
+}

@@ -1,0 +1,213 @@
+//! The scene file as written (TOML, read with serde). Every table refuses unknown keys;
+//! names that refer to other entries (materials, parts, node sets, amplitudes) are kept
+//! with their position in the file, so that an error about them can name the line.
+//! `docs/scene-format.md` documents the format with examples.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// The version of the scene format this program reads.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// A whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Must equal [`SCHEMA_VERSION`].
+    pub schema_version: Spanned<u32>,
+    /// What the scene shows (free text, copied to the run log).
+    #[serde(default)]
+    pub description: String,
+    /// Materials by local name.
+    #[serde(default)]
+    pub materials: Vec<MaterialEntry>,
+    pub parts: Vec<PartEntry>,
+    /// Piecewise-linear amplitudes by name.
+    #[serde(default)]
+    pub amplitudes: Vec<AmplitudeEntry>,
+    /// Prescribed displacement components.
+    #[serde(default)]
+    pub displacements: Vec<DisplacementEntry>,
+    /// Nodal forces.
+    #[serde(default)]
+    pub forces: Vec<ForceEntry>,
+    /// Nodes moving with a rigid body.
+    #[serde(default)]
+    pub rigid_ties: Vec<RigidTieEntry>,
+    pub step: StepEntry,
+    #[serde(default)]
+    pub output: OutputEntry,
+}
+
+/// `[[materials]]`: a registry material (or one of a plugin) with its parameters.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialEntry {
+    /// Local name the parts use.
+    pub name: Spanned<String>,
+    /// Registry name (`musclefem materials` lists them), e.g. "neo-hookean", "hill".
+    pub model: Spanned<String>,
+    /// Shared library to load first, relative to the scene file.
+    pub plugin: Option<Spanned<String>>,
+    /// Parameters overriding the model's defaults, in the model's units (SI).
+    pub parameters: Option<Spanned<BTreeMap<String, f64>>>,
+}
+
+/// `[[parts]]`: one deformable body.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartEntry {
+    pub name: Spanned<String>,
+    /// Local material name.
+    pub material: Spanned<String>,
+    /// Element technology: "hex8-full", "hex8-fbar", "hex8-one-point", "tet4",
+    /// "tet4-nodal-average" or "tet10".
+    pub element: Spanned<String>,
+    /// Reference mass density [kg/m³].
+    pub density: Spanned<f64>,
+    pub mesh: MeshEntry,
+    /// Fiber direction of every element; default along x.
+    #[serde(default)]
+    pub fibers: Option<FiberEntry>,
+}
+
+/// `[parts.mesh]`: a generated box.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshEntry {
+    /// "box" (the only generator so far; mesh files come with the importer).
+    pub generator: Spanned<String>,
+    /// Edge lengths along x, y, z [m].
+    pub size: Spanned<[f64; 3]>,
+    /// Elements along x, y, z (boxes of tets have 6 tets per cell).
+    pub divisions: Spanned<[usize; 3]>,
+}
+
+/// `[parts.fibers]`: a constant fiber direction (normalised when read).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FiberEntry {
+    pub direction: Spanned<[f64; 3]>,
+}
+
+/// `[[amplitudes]]`: a piecewise-linear function of time, constant outside its knots.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AmplitudeEntry {
+    pub name: Spanned<String>,
+    /// (time [s], value) knots with increasing times.
+    pub points: Spanned<Vec<[f64; 2]>>,
+}
+
+/// `[[displacements]]`: components of a node set follow value × amplitude(t) [m].
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DisplacementEntry {
+    pub part: Spanned<String>,
+    /// Node set of the part (boxes have x0, x1, y0, y1, z0, z1 and all).
+    pub nodes: Spanned<String>,
+    /// Components: any of "x", "y", "z".
+    pub components: Spanned<Vec<String>>,
+    /// Displacement [m] (times the amplitude); default 0 (held).
+    #[serde(default)]
+    pub value: f64,
+    /// Amplitude name; without one the value applies from t = 0.
+    pub amplitude: Option<Spanned<String>>,
+}
+
+/// `[[forces]]`: a force on each node of a node set, value × amplitude(t) [N].
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceEntry {
+    pub part: Spanned<String>,
+    pub nodes: Spanned<String>,
+    /// One of "x", "y", "z".
+    pub component: Spanned<String>,
+    /// Force per node [N] (times the amplitude).
+    pub value: f64,
+    pub amplitude: Option<Spanned<String>>,
+}
+
+/// `[[rigid_ties]]`: a node set moving with a rigid body.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidTieEntry {
+    pub name: Spanned<String>,
+    pub part: Spanned<String>,
+    pub nodes: Spanned<String>,
+    /// Translation [m] (times `translation_amplitude`); default none.
+    #[serde(default)]
+    pub translation: [f64; 3],
+    pub translation_amplitude: Option<Spanned<String>>,
+    /// Rotation about an axis; default none.
+    pub rotation: Option<RotationEntry>,
+}
+
+/// `[rigid_ties.rotation]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationEntry {
+    /// A point of the axis [m].
+    pub center: [f64; 3],
+    /// Axis direction (normalised when read).
+    pub axis: Spanned<[f64; 3]>,
+    /// Angle [degrees] (times the amplitude), right-hand rule about the axis.
+    pub angle_degrees: f64,
+    pub amplitude: Option<Spanned<String>>,
+}
+
+/// `[step]`: the analysis.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepEntry {
+    /// "explicit" or "implicit".
+    pub solver: Spanned<String>,
+    /// Duration [s] (the step starts at t = 0).
+    pub duration: Spanned<f64>,
+    /// Time between output rows/frames [s]; default duration / 100.
+    pub output_interval: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub explicit: ExplicitEntry,
+    #[serde(default)]
+    pub implicit: ImplicitEntry,
+}
+
+/// `[step.explicit]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExplicitEntry {
+    /// Fraction of the stable step (0, 1]; default 0.9.
+    pub safety_factor: Option<Spanned<f64>>,
+    /// Mass scaling to this stable step [s]; default none.
+    pub mass_scaling_time_step: Option<Spanned<f64>>,
+    /// Linear and quadratic bulk viscosity on (Abaqus defaults 0.06, 1.2); default off.
+    #[serde(default)]
+    pub bulk_viscosity: bool,
+    /// Largest energy-balance error as a fraction of the largest energy; default 0.01.
+    pub energy_tolerance: Option<Spanned<f64>>,
+}
+
+/// `[step.implicit]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImplicitEntry {
+    /// Increments over the duration; default 10.
+    pub increments: Option<Spanned<usize>>,
+    /// Newmark dynamics instead of quasi-static; default false.
+    #[serde(default)]
+    pub dynamic: bool,
+    /// Automatic step cutting on a failed increment; default true.
+    pub step_cutting: Option<bool>,
+    /// Relative residual tolerance; default that of the solver.
+    pub residual_tolerance: Option<Spanned<f64>>,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputEntry {
+    /// Write VTU frames (ParaView); default true.
+    pub frames: Option<bool>,
+}

@@ -1,0 +1,24 @@
+//! Scene files: a model (parts, materials, loads, step) in TOML that a user can read,
+//! write and rerun. [`load_scene`] reads, checks and builds one; every error names the
+//! file and, where it concerns an entry, its line, column and key, with the nearest valid
+//! name suggested for a misspelt one. The format is documented in `docs/scene-format.md`.
+
+mod build;
+mod error;
+mod format;
+mod parse;
+
+use std::path::Path;
+
+use musclefem_materials::MaterialLibrary;
+
+pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, small_strain_shear_modulus};
+pub use error::{Locator, SceneError};
+pub use format::{SCHEMA_VERSION, SceneFile};
+pub use parse::{parse_scene, read_scene_file};
+
+/// Read the scene at `path` and build its model (plugins loaded into `library`).
+pub fn load_scene(path: &Path, library: &mut MaterialLibrary) -> Result<Model, SceneError> {
+    let (scene, locator) = read_scene_file(path)?;
+    build_model(&scene, &locator, library)
+}

@@ -1,0 +1,272 @@
+//! Scene files: the examples build and run to the results their comments promise, and a
+//! table of malformed scenes each fails with the file, the line and the cause named.
+
+use std::path::{Path, PathBuf};
+
+use musclefem_core::solver::explicit::run_explicit;
+use musclefem_core::solver::implicit::run_quasi_static;
+use musclefem_io::scene::{Analysis, load_scene, parse_scene};
+use musclefem_materials::MaterialLibrary;
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+/// Every example in examples/ parses and builds.
+#[test]
+fn every_example_builds() {
+    let directory = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut count = 0;
+    for entry in std::fs::read_dir(&directory).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let model = load_scene(&path, &mut MaterialLibrary::with_builtins())
+                .unwrap_or_else(|e| panic!("{e}"));
+            assert!(!model.parts.is_empty());
+            count += 1;
+        }
+    }
+    assert!(count >= 2, "{count} examples");
+}
+
+/// The neo-Hookean cube: the reaction on x1 at λ = 1.5 is the material-point driver's
+/// 10.0257 kPa × 1 cm² (its comment says 1.00 N).
+#[test]
+fn the_neo_hookean_cube_example_reaches_the_promised_reaction() {
+    let model = load_scene(
+        &example("neo_hookean_cube_stretch.toml"),
+        &mut MaterialLibrary::with_builtins(),
+    )
+    .unwrap();
+    let Analysis::Implicit(settings) = &model.analysis else {
+        panic!("the example is implicit");
+    };
+    let result = run_quasi_static(&model.mesh, &model.parts, &model.loads, settings).unwrap();
+    assert_eq!(model.displacement_names[0], "cube.x1.x");
+    let reaction = result.history.last().unwrap().reactions[0];
+    let expected = 10_025.68 * 1e-4;
+    assert!(
+        (reaction - expected).abs() < 1e-6 * expected,
+        "reaction {reaction} N, expected {expected} N"
+    );
+}
+
+/// The Hill block held isometrically: the reaction at 0.15 s is the driver's isometric
+/// 692.76 kPa × 25 mm² (its comment says 17.3 N), within 1 %.
+#[test]
+fn the_isometric_hill_example_reaches_the_promised_force() {
+    let model = load_scene(
+        &example("hill_block_isometric.toml"),
+        &mut MaterialLibrary::with_builtins(),
+    )
+    .unwrap();
+    let Analysis::Explicit(settings) = &model.analysis else {
+        panic!("the example is explicit");
+    };
+    let result = run_explicit(&model.mesh, &model.parts, &model.loads, settings).unwrap();
+    let reaction = result.history.last().unwrap().reactions[1];
+    let expected = 692_757.25 * 25e-6;
+    assert!(
+        (reaction - expected).abs() < 0.01 * expected,
+        "reaction {reaction} N, expected {expected} N"
+    );
+}
+
+const VALID: &str = r#"schema_version = 1
+
+[[materials]]
+name = "rubber"
+model = "neo-hookean"
+parameters = { mu = 1e4, D = 2e-5 }
+
+[[parts]]
+name = "cube"
+material = "rubber"
+element = "hex8-full"
+density = 1000.0
+mesh = { generator = "box", size = [0.01, 0.01, 0.01], divisions = [2, 2, 2] }
+
+[[amplitudes]]
+name = "ramp"
+points = [[0.0, 0.0], [1.0, 1.0]]
+
+[[displacements]]
+part = "cube"
+nodes = "x1"
+components = ["x"]
+value = 0.001
+amplitude = "ramp"
+
+[step]
+solver = "implicit"
+duration = 1.0
+"#;
+
+/// Build `text` (named s.toml) and return the error message.
+fn error_of(text: &str) -> String {
+    let path = Path::new("s.toml");
+    let (scene, locator) = match parse_scene(text, path) {
+        Ok(parsed) => parsed,
+        Err(e) => return e.to_string(),
+    };
+    match musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+    {
+        Ok(_) => "built without error".to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_valid_scene_builds() {
+    assert_eq!(error_of(VALID), "built without error");
+}
+
+/// Each malformed scene: (what is wrong, the edit, the expected start of the message
+/// "s.toml:LINE:", a fragment naming the cause).
+#[test]
+fn malformed_scenes_name_the_line_and_the_cause() {
+    let cases: [(&str, &str, &str, &str, &str); 16] = [
+        (
+            "misspelt key",
+            "density = 1000.0",
+            "densty = 1000.0",
+            "s.toml:12:",
+            "did you mean `density`?",
+        ),
+        (
+            "wrong type",
+            "density = 1000.0",
+            "density = \"heavy\"",
+            "s.toml:12:",
+            "invalid type",
+        ),
+        (
+            "unknown model",
+            "model = \"neo-hookean\"",
+            "model = \"neo-hooke\"",
+            "s.toml:5:",
+            "did you mean `neo-hookean`?",
+        ),
+        (
+            "unknown parameter",
+            "mu = 1e4",
+            "mew = 1e4",
+            "s.toml:6:",
+            "mew",
+        ),
+        (
+            "parameter out of range",
+            "mu = 1e4",
+            "mu = -1.0",
+            "s.toml:6:",
+            "mu",
+        ),
+        (
+            "unknown material of a part",
+            "material = \"rubber\"",
+            "material = \"ruber\"",
+            "s.toml:10:",
+            "did you mean `rubber`?",
+        ),
+        (
+            "unknown element",
+            "element = \"hex8-full\"",
+            "element = \"hex8-ful\"",
+            "s.toml:11:",
+            "did you mean `hex8-full`?",
+        ),
+        (
+            "negative density",
+            "density = 1000.0",
+            "density = -5.0",
+            "s.toml:12:",
+            "must be positive",
+        ),
+        (
+            "unknown node set",
+            "nodes = \"x1\"",
+            "nodes = \"x2\"",
+            "s.toml:21:",
+            "no node set 'x2'",
+        ),
+        (
+            "unknown part",
+            "part = \"cube\"",
+            "part = \"cub\"",
+            "s.toml:20:",
+            "did you mean `cube`?",
+        ),
+        (
+            "bad component",
+            "components = [\"x\"]",
+            "components = [\"w\"]",
+            "s.toml:22:",
+            "unknown component 'w'",
+        ),
+        (
+            "unknown amplitude",
+            "amplitude = \"ramp\"",
+            "amplitude = \"rmp\"",
+            "s.toml:24:",
+            "did you mean `ramp`?",
+        ),
+        (
+            "decreasing amplitude times",
+            "[[0.0, 0.0], [1.0, 1.0]]",
+            "[[1.0, 0.0], [0.0, 1.0]]",
+            "s.toml:17:",
+            "amplitude",
+        ),
+        (
+            "unknown solver",
+            "solver = \"implicit\"",
+            "solver = \"implict\"",
+            "s.toml:27:",
+            "did you mean `implicit`?",
+        ),
+        (
+            "schema version",
+            "schema_version = 1",
+            "schema_version = 7",
+            "s.toml:1:",
+            "version 7 is not supported",
+        ),
+        (
+            "TOML syntax",
+            "duration = 1.0",
+            "duration = ",
+            "s.toml:28:",
+            "must be quoted",
+        ),
+    ];
+    for (what, from, to, location, fragment) in cases {
+        assert!(VALID.contains(from), "{what}: the edit does not apply");
+        let message = error_of(&VALID.replacen(from, to, 1));
+        assert!(
+            message.starts_with(location) && message.contains(fragment),
+            "{what}: got \"{message}\", expected {location} … {fragment}"
+        );
+    }
+}
+
+#[test]
+fn a_missing_plugin_and_a_missing_file_are_named() {
+    let with_plugin = VALID.replace(
+        "model = \"neo-hookean\"",
+        "model = \"neo-hookean\"\nplugin = \"no/such/libplugin.so\"",
+    );
+    let message = error_of(&with_plugin);
+    assert!(
+        message.starts_with("s.toml:6:") && message.contains("libplugin.so"),
+        "{message}"
+    );
+    let missing = load_scene(
+        Path::new("no/such/scene.toml"),
+        &mut MaterialLibrary::with_builtins(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(missing.contains("no/such/scene.toml"), "{missing}");
+}
