@@ -27,6 +27,13 @@ pub enum OutputError {
         line: usize,
         message: String,
     },
+    /// What was to be written to `path` is inconsistent (e.g. a field with one value
+    /// per element that has the wrong length, a repeated name, a time going backwards).
+    #[error("cannot write '{}': {message}", path.display())]
+    Data { path: PathBuf, message: String },
+    /// The VTK library failed to encode or decode `path`.
+    #[error("VTK error on '{}': {message}", path.display())]
+    Vtk { path: PathBuf, message: String },
 }
 
 impl OutputError {

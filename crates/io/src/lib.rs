@@ -6,6 +6,8 @@
 //!   directory, fsync, rename), so an interrupted run never leaves a half-written output;
 //! - [`csv`]: CSV tables at full `f64` precision, among them the material-point driver's
 //!   history ([`csv::write_uniaxial_csv`]);
+//! - [`output`]: VTU frames and a PVD time series for ParaView, CSV histories, the scene
+//!   copy and the run log, laid out in a run directory;
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
 //!   labels with units, legend) drawn with a bundled font, so no system font is needed.
 //!
@@ -15,6 +17,7 @@
 pub mod atomic;
 pub mod csv;
 pub mod error;
+pub mod output;
 pub mod plot;
 pub mod scene;
 

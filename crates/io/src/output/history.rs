@@ -1,0 +1,355 @@
+//! CSV histories of a run (reaction forces, energies, time step), written atomically.
+//!
+//! The solvers return their histories as rows of numbers without names
+//! ([`HistoryRow`], [`ImplicitHistoryRow`]); [`HistoryColumns`] names the reactions (one
+//! name per prescribed displacement, in the order of `Loads::displacements`, and one per
+//! rigid tie, in the order of `Loads::rigid_ties`) and turns the rows into CSV.
+//!
+//! Explicit header ([`HistoryColumns::explicit_header`]):
+//!
+//! ```text
+//! time_s,time_step_s,reaction_<d>_n...,reaction_<tie>_x_n,reaction_<tie>_y_n,reaction_<tie>_z_n,
+//! moment_<tie>_x_n_m,moment_<tie>_y_n_m,moment_<tie>_z_n_m...,internal_energy_j,
+//! kinetic_energy_j,external_work_j,viscous_energy_j,hourglass_energy_j
+//! ```
+//!
+//! (one line in the file). Implicit header ([`HistoryColumns::implicit_header`]): Newton
+//! iterations, and the energies of a dynamic run (zero kinetic energy when quasi-static):
+//!
+//! ```text
+//! time_s,time_step_s,newton_iterations,reaction_<d>_n...,<the rigid-tie columns>,
+//! internal_energy_j,kinetic_energy_j,external_work_j
+//! ```
+//!
+//! Units: time [s], force [N], moment [N m] (about the tie's current reference point),
+//! energy [J]; `time_step_s` is the explicit step taken / the implicit increment.
+//! Numbers are written at full precision ([`crate::csv::format_number`]); read them back
+//! with [`crate::csv::read_table`].
+//!
+//! [`HistoryWriter`] keeps the rows of a running solve and rewrites the whole file
+//! atomically every `flush_every` rows and at [`HistoryWriter::finish`]: an interrupted
+//! run leaves a complete CSV of the rows up to the last flush.
+
+use std::path::{Path, PathBuf};
+
+use musclefem_core::solver::explicit::HistoryRow;
+use musclefem_core::solver::implicit::ImplicitHistoryRow;
+
+use crate::OutputError;
+use crate::atomic::write_atomically;
+use crate::csv::format_table;
+
+/// The energy columns of an explicit history, in order.
+pub const ENERGY_COLUMNS: [&str; 5] = [
+    "internal_energy_j",
+    "kinetic_energy_j",
+    "external_work_j",
+    "viscous_energy_j",
+    "hourglass_energy_j",
+];
+
+/// Names of a history's reaction columns.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct HistoryColumns {
+    /// One name per prescribed displacement (letters, digits, `_`, `-`, `.`).
+    pub reactions: Vec<String>,
+    /// One name per rigid tie (same characters).
+    pub rigid_ties: Vec<String>,
+}
+
+impl HistoryColumns {
+    /// Columns for these reaction and rigid-tie names.
+    pub fn new(reactions: Vec<String>, rigid_ties: Vec<String>) -> Self {
+        Self {
+            reactions,
+            rigid_ties,
+        }
+    }
+
+    /// The reaction columns (displacements, then rigid-tie forces and moments).
+    fn reaction_columns(&self) -> Vec<String> {
+        let mut columns: Vec<String> = self
+            .reactions
+            .iter()
+            .map(|r| format!("reaction_{r}_n"))
+            .collect();
+        for tie in &self.rigid_ties {
+            columns.extend(["x", "y", "z"].map(|c| format!("reaction_{tie}_{c}_n")));
+            columns.extend(["x", "y", "z"].map(|c| format!("moment_{tie}_{c}_n_m")));
+        }
+        columns
+    }
+
+    /// The header of an explicit history (see the module documentation).
+    pub fn explicit_header(&self) -> String {
+        let mut columns = vec!["time_s".to_string(), "time_step_s".to_string()];
+        columns.extend(self.reaction_columns());
+        columns.extend(ENERGY_COLUMNS.map(String::from));
+        columns.join(",")
+    }
+
+    /// The header of an implicit history (see the module documentation).
+    pub fn implicit_header(&self) -> String {
+        let mut columns = vec![
+            "time_s".to_string(),
+            "time_step_s".to_string(),
+            "newton_iterations".to_string(),
+        ];
+        columns.extend(self.reaction_columns());
+        columns.extend(ENERGY_COLUMNS[..3].iter().map(|c| c.to_string()));
+        columns.join(",")
+    }
+
+    /// Check the names (valid, unique); `path` is the file they are for.
+    pub fn check(&self, path: &Path) -> Result<(), OutputError> {
+        let mut seen: Vec<&str> = Vec::new();
+        for name in self.reactions.iter().chain(&self.rigid_ties) {
+            let valid = !name.is_empty()
+                && name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+            if !valid {
+                return Err(data(
+                    path,
+                    format!("reaction name '{name}': use letters, digits, '_', '-', '.'"),
+                ));
+            }
+            if seen.contains(&name.as_str()) {
+                return Err(data(path, format!("two reactions are named '{name}'")));
+            }
+            seen.push(name);
+        }
+        Ok(())
+    }
+
+    /// The numbers of an explicit row, in header order; errors if the row has another
+    /// number of reactions than there are names.
+    pub fn explicit_row(&self, row: &HistoryRow, path: &Path) -> Result<Vec<f64>, OutputError> {
+        let mut values = vec![row.time, row.time_step];
+        self.push_reactions(
+            &mut values,
+            &row.reactions,
+            &row.rigid_reactions,
+            row.time,
+            path,
+        )?;
+        values.extend([
+            row.internal_energy,
+            row.kinetic_energy,
+            row.external_work,
+            row.viscous_energy,
+            row.hourglass_energy,
+        ]);
+        Ok(values)
+    }
+
+    /// The numbers of an implicit row, in header order (errors as
+    /// [`explicit_row`](Self::explicit_row)).
+    pub fn implicit_row(
+        &self,
+        row: &ImplicitHistoryRow,
+        path: &Path,
+    ) -> Result<Vec<f64>, OutputError> {
+        let mut values = vec![row.time, row.increment, row.iterations as f64];
+        self.push_reactions(
+            &mut values,
+            &row.reactions,
+            &row.rigid_reactions,
+            row.time,
+            path,
+        )?;
+        values.extend([
+            row.energy.internal_work,
+            row.energy.kinetic,
+            row.energy.external_work,
+        ]);
+        Ok(values)
+    }
+
+    fn push_reactions(
+        &self,
+        values: &mut Vec<f64>,
+        reactions: &[f64],
+        rigid: &[musclefem_core::solver::RigidReaction],
+        time: f64,
+        path: &Path,
+    ) -> Result<(), OutputError> {
+        if reactions.len() != self.reactions.len() || rigid.len() != self.rigid_ties.len() {
+            return Err(data(
+                path,
+                format!(
+                    "the row at t = {time} s has {} reactions and {} rigid-tie reactions, \
+                     the header names {} and {}",
+                    reactions.len(),
+                    rigid.len(),
+                    self.reactions.len(),
+                    self.rigid_ties.len()
+                ),
+            ));
+        }
+        values.extend_from_slice(reactions);
+        for r in rigid {
+            values.extend([r.force.x, r.force.y, r.force.z]);
+            values.extend([r.moment.x, r.moment.y, r.moment.z]);
+        }
+        Ok(())
+    }
+}
+
+fn data(path: &Path, message: String) -> OutputError {
+    OutputError::Data {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// Write an explicit solver's history to `path` atomically, in one call.
+pub fn write_explicit_history(
+    path: &Path,
+    columns: &HistoryColumns,
+    rows: &[HistoryRow],
+) -> Result<(), OutputError> {
+    let mut writer = HistoryWriter::explicit(path, columns)?;
+    for row in rows {
+        writer.push_explicit(row)?;
+    }
+    writer.finish()
+}
+
+/// Write an implicit solver's history to `path` atomically, in one call.
+pub fn write_implicit_history(
+    path: &Path,
+    columns: &HistoryColumns,
+    rows: &[ImplicitHistoryRow],
+) -> Result<(), OutputError> {
+    let mut writer = HistoryWriter::implicit(path, columns)?;
+    for row in rows {
+        writer.push_implicit(row)?;
+    }
+    writer.finish()
+}
+
+/// A CSV history filled row by row, rewritten whole and atomically every `flush_every`
+/// rows (default [`HistoryWriter::DEFAULT_FLUSH_EVERY`]) and at [`finish`](Self::finish).
+/// Rewriting costs O(rows) per flush; histories are short (the explicit solver records
+/// about a hundred rows per step by default), so this stays cheap.
+#[derive(Debug)]
+pub struct HistoryWriter {
+    path: PathBuf,
+    header: String,
+    columns: Option<HistoryColumns>,
+    rows: Vec<Vec<f64>>,
+    flush_every: usize,
+    unflushed: usize,
+}
+
+impl HistoryWriter {
+    /// Rows between two rewrites by default.
+    pub const DEFAULT_FLUSH_EVERY: usize = 50;
+
+    /// A history of rows of `header.split(',').count()` numbers, for `path`.
+    pub fn new(path: &Path, header: &str) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            header: header.to_string(),
+            columns: None,
+            rows: Vec::new(),
+            flush_every: Self::DEFAULT_FLUSH_EVERY,
+            unflushed: 0,
+        }
+    }
+
+    /// A history with the explicit header of `columns`.
+    pub fn explicit(path: &Path, columns: &HistoryColumns) -> Result<Self, OutputError> {
+        columns.check(path)?;
+        let mut writer = Self::new(path, &columns.explicit_header());
+        writer.columns = Some(columns.clone());
+        Ok(writer)
+    }
+
+    /// A history with the implicit header of `columns`.
+    pub fn implicit(path: &Path, columns: &HistoryColumns) -> Result<Self, OutputError> {
+        columns.check(path)?;
+        let mut writer = Self::new(path, &columns.implicit_header());
+        writer.columns = Some(columns.clone());
+        Ok(writer)
+    }
+
+    /// Rewrite the file every `rows` rows (at least 1).
+    pub fn flush_every(mut self, rows: usize) -> Self {
+        self.flush_every = rows.max(1);
+        self
+    }
+
+    /// The file written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The header line (without newline).
+    pub fn header(&self) -> &str {
+        &self.header
+    }
+
+    /// The rows so far.
+    pub fn rows(&self) -> &[Vec<f64>] {
+        &self.rows
+    }
+
+    /// Append a row (as many numbers as header columns); rewrites the file when
+    /// `flush_every` rows have come since the last rewrite.
+    pub fn push(&mut self, row: Vec<f64>) -> Result<(), OutputError> {
+        let columns = self.header.split(',').count();
+        if row.len() != columns {
+            return Err(data(
+                &self.path,
+                format!(
+                    "a row of {} numbers, the header has {columns} columns",
+                    row.len()
+                ),
+            ));
+        }
+        self.rows.push(row);
+        self.unflushed += 1;
+        if self.unflushed >= self.flush_every {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Append an explicit solver row (needs a writer made by [`explicit`](Self::explicit)).
+    pub fn push_explicit(&mut self, row: &HistoryRow) -> Result<(), OutputError> {
+        let values = self.columns()?.explicit_row(row, &self.path)?;
+        self.push(values)
+    }
+
+    /// Append an implicit solver row (needs a writer made by [`implicit`](Self::implicit)).
+    pub fn push_implicit(&mut self, row: &ImplicitHistoryRow) -> Result<(), OutputError> {
+        let values = self.columns()?.implicit_row(row, &self.path)?;
+        self.push(values)
+    }
+
+    fn columns(&self) -> Result<&HistoryColumns, OutputError> {
+        self.columns.as_ref().ok_or_else(|| {
+            data(
+                &self.path,
+                "a writer made by HistoryWriter::new takes plain rows".into(),
+            )
+        })
+    }
+
+    /// Rewrite the file with every row so far.
+    pub fn flush(&mut self) -> Result<(), OutputError> {
+        write_atomically(
+            &self.path,
+            format_table(&self.header, &self.rows).as_bytes(),
+        )?;
+        self.unflushed = 0;
+        Ok(())
+    }
+
+    /// Write the file a last time.
+    pub fn finish(mut self) -> Result<(), OutputError> {
+        self.flush()
+    }
+}
