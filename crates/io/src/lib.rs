@@ -7,13 +7,16 @@
 //! - [`csv`]: CSV tables at full `f64` precision, among them the material-point driver's
 //!   history ([`csv::write_uniaxial_csv`]);
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
-//!   labels with units, legend) drawn with a bundled font, so no system font is needed.
+//!   labels with units, legend) drawn with a bundled font, so no system font is needed;
+//! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` 4.1 files, with file and
+//!   line in every error.
 //!
-//! Scene files and mesh import come with later issues.
+//! Scene files come with a later issue.
 
 pub mod atomic;
 pub mod csv;
 pub mod error;
+pub mod mesh_import;
 pub mod plot;
 
 pub use atomic::{PendingFile, write_atomically};
