@@ -312,6 +312,7 @@ impl Reader<'_> {
 
     fn nodes(&mut self) -> Result<(), ImportError> {
         let header = self.integers(4, "$Nodes: numEntityBlocks numNodes minNodeTag maxNodeTag")?;
+        let header_loc = self.loc();
         let (blocks, total) = (
             self.count(header[0], "$Nodes")?,
             self.count(header[1], "$Nodes")?,
@@ -364,15 +365,17 @@ impl Reader<'_> {
         }
         let read = self.raw.node_labels.len() - first_node;
         if read != total {
-            return Err(self.error(format!(
-                "$Nodes: the header announces {total} nodes, the blocks hold {read}"
-            )));
+            return Err(self.raw.error(
+                header_loc,
+                format!("$Nodes: the header announces {total} nodes, the blocks hold {read}"),
+            ));
         }
         Ok(())
     }
 
     fn elements(&mut self) -> Result<(), ImportError> {
         let header = self.integers(4, "$Elements: numEntityBlocks numElements minTag maxTag")?;
+        let header_loc = self.loc();
         let (blocks, total) = (
             self.count(header[0], "$Elements")?,
             self.count(header[1], "$Elements")?,
@@ -472,9 +475,10 @@ impl Reader<'_> {
             read += n;
         }
         if read != total {
-            return Err(self.error(format!(
-                "$Elements: the header announces {total} elements, the blocks hold {read}"
-            )));
+            return Err(self.raw.error(
+                header_loc,
+                format!("$Elements: the header announces {total} elements, the blocks hold {read}"),
+            ));
         }
         Ok(())
     }
