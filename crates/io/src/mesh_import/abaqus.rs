@@ -45,8 +45,8 @@ mod data;
 /// Deepest `*INCLUDE` nesting accepted (deeper is taken for a cycle).
 const MAX_INCLUDE_DEPTH: usize = 16;
 
-/// Set entries that may be copied by naming one set in another, over the whole file
-/// (guards against sets that double in size line after line).
+/// Set and surface entries over the whole file (guards against sets that double in size
+/// line after line by naming themselves).
 const MAX_COPIED_ENTRIES: usize = 1 << 24;
 
 /// Reads an Abaqus input file and the files it includes.
@@ -506,6 +506,18 @@ impl Reader {
         Ok(())
     }
 
+    /// Counts set or surface entries against [`MAX_COPIED_ENTRIES`].
+    fn count_copies(&mut self, count: usize, loc: Loc) -> Result<(), ImportError> {
+        self.copied = self.copied.saturating_add(count);
+        if self.copied > MAX_COPIED_ENTRIES {
+            return Err(self.error(
+                loc,
+                format!("more than {MAX_COPIED_ENTRIES} set entries: sets grow without bound"),
+            ));
+        }
+        Ok(())
+    }
+
     /// Appends entries to the named set (created on first use), counting copies.
     fn add_to(
         &mut self,
@@ -514,13 +526,7 @@ impl Reader {
         entries: Vec<Entry>,
         loc: Loc,
     ) -> Result<(), ImportError> {
-        self.copied = self.copied.saturating_add(entries.len());
-        if self.copied > MAX_COPIED_ENTRIES {
-            return Err(self.error(
-                loc,
-                format!("more than {MAX_COPIED_ENTRIES} set entries: sets grow without bound"),
-            ));
-        }
+        self.count_copies(entries.len(), loc)?;
         let (names, list) = match kind {
             SetKind::Node => (&mut self.node_sets, &mut self.raw.node_sets),
             SetKind::Element => (&mut self.element_sets, &mut self.raw.element_sets),

@@ -396,7 +396,7 @@ impl Reader {
             };
             faces.extend(entries.into_iter().map(|e| (e, face - 1)));
         }
-        self.copied = self.copied.saturating_add(faces.len());
+        self.count_copies(faces.len(), keyword.loc)?;
         let lower = name.to_ascii_lowercase();
         match self.surfaces.get(&lower) {
             Some(&i) => {

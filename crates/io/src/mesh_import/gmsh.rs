@@ -74,6 +74,7 @@ pub fn parse_gmsh(text: &str, name: impl AsRef<Path>) -> Result<ImportedMesh, Im
         group_nodes: BTreeMap::new(),
         group_elements: BTreeMap::new(),
         surface_elements: Vec::new(),
+        group_entries: 0,
         format_seen: false,
     };
     reader.run()?;
@@ -125,8 +126,13 @@ struct Reader<'t> {
     group_nodes: BTreeMap<(i64, i64), Vec<Entry>>,
     group_elements: BTreeMap<(i64, i64), Vec<Entry>>,
     surface_elements: Vec<SurfaceElement>,
+    /// Entries in `group_nodes`, bounded by [`MAX_GROUP_ENTRIES`].
+    group_entries: usize,
     format_seen: bool,
 }
+
+/// Node entries over all physical groups (an entity in many groups multiplies them).
+const MAX_GROUP_ENTRIES: usize = 1 << 26;
 
 /// Gmsh types of 2-D elements and their number of nodes (corners first).
 fn surface_type(element_type: i64) -> Option<(usize, usize)> {
@@ -424,6 +430,14 @@ impl Reader<'_> {
                     );
                 }
                 let nodes = &tags[1..];
+                self.group_entries = self
+                    .group_entries
+                    .saturating_add(groups.len() * nodes.len());
+                if self.group_entries > MAX_GROUP_ENTRIES {
+                    return Err(self.error(format!(
+                        "$Elements: physical groups hold more than {MAX_GROUP_ENTRIES} node entries"
+                    )));
+                }
                 for &g in &groups {
                     let set = self.group_nodes.entry((dim, g)).or_default();
                     set.extend(nodes.iter().map(|&l| Entry {
