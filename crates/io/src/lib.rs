@@ -9,14 +9,16 @@
 //! - [`output`]: VTU frames and a PVD time series for ParaView, CSV histories, the scene
 //!   copy and the run log, laid out in a run directory;
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
-//!   labels with units, legend) drawn with a bundled font, so no system font is needed.
-//!
+//!   labels with units, legend) drawn with a bundled font, so no system font is needed;
+//! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` 4.1 files, with file and
+//!   line in every error;
 //! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built
 //!   into what the solvers take, with errors that name the line and key.
 
 pub mod atomic;
 pub mod csv;
 pub mod error;
+pub mod mesh_import;
 pub mod output;
 pub mod plot;
 pub mod scene;

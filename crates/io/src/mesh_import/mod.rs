@@ -1,0 +1,107 @@
+//! Mesh import: Abaqus `.inp` and Gmsh `.msh` (format 4.1, ASCII) into a [`Mesh`].
+//!
+//! [`read_mesh`] picks the reader by the file extension (`.inp` → [`read_abaqus`],
+//! `.msh` → [`read_gmsh`]); [`parse_abaqus`] and [`parse_gmsh`] read text already in
+//! memory. Both return an [`ImportedMesh`]: the mesh with 0-based ids, plus the file label
+//! of every node and element and the file's element type of every block, so that results
+//! can be reported in the labels the user knows and a solver can pick an element
+//! technology (e.g. one-point hex8 for `C3D8R`).
+//!
+//! Conventions of the result (both formats):
+//!
+//! - node ids follow the order in which nodes appear in the file(s); element ids the order
+//!   within their block;
+//! - local node order is Abaqus's (see [`musclefem_core::mesh::ElementShape`]); Gmsh's
+//!   10-node tetrahedron is reordered (its last two mid-edge nodes are swapped);
+//! - node sets, element sets and surfaces are sorted by id and free of duplicates;
+//! - every fiber direction is e_x (fibers come from elsewhere);
+//! - the mesh has passed [`Mesh::validate`] (no inverted or degenerate element).
+//!
+//! Errors ([`ImportError`]) never panic and read `FILE:LINE: message`, naming the keyword
+//! or section, the label and the cause. See [`abaqus`] and [`gmsh`] for what each reader
+//! supports and deliberately leaves out.
+
+pub mod abaqus;
+mod abaqus_keywords;
+mod build;
+mod error;
+pub mod gmsh;
+
+use std::path::{Path, PathBuf};
+
+use musclefem_core::mesh::Mesh;
+
+pub use abaqus::{parse_abaqus, read_abaqus};
+pub use error::ImportError;
+pub use gmsh::{parse_gmsh, read_gmsh};
+
+/// A mesh read from a file, with the file's labels.
+#[derive(Clone, Debug)]
+pub struct ImportedMesh {
+    /// The mesh (0-based ids, validated).
+    pub mesh: Mesh,
+    /// File label of each node: `node_labels[id]`.
+    pub node_labels: Vec<i64>,
+    /// File label of each element, per block: `element_labels[block][element]`.
+    pub element_labels: Vec<Vec<i64>>,
+    /// The file's element type of each block: Abaqus names (`"C3D8R"`, `"C3D10"`, ...) or
+    /// Gmsh's (`"tet4"`, `"hex8"`, `"tet10"`).
+    pub element_types: Vec<String>,
+    /// Keywords the reader skipped because they do not describe the mesh (materials,
+    /// steps, loads, ...), in file order. Always empty for Gmsh.
+    pub skipped_keywords: Vec<SkippedKeyword>,
+}
+
+/// A keyword that was read over (Abaqus), and where.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SkippedKeyword {
+    /// The file, as given or as named by `*INCLUDE`.
+    pub file: PathBuf,
+    /// 1-based line of the keyword line.
+    pub line: usize,
+    /// The keyword in upper case without the star, e.g. `"MATERIAL"`.
+    pub keyword: String,
+}
+
+/// Reads a mesh, choosing the reader by extension: `.inp` (Abaqus) or `.msh` (Gmsh),
+/// in any letter case.
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
+    let path = path.as_ref();
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("inp") => read_abaqus(path),
+        Some("msh") => read_gmsh(path),
+        _ => Err(ImportError::Mesh {
+            file: path.to_path_buf(),
+            message: "unknown mesh format: the extension must be .inp (Abaqus) or .msh (Gmsh)"
+                .into(),
+        }),
+    }
+}
+
+/// Reads a whole file as bytes, naming it in the error.
+fn read_bytes(path: &Path) -> Result<Vec<u8>, ImportError> {
+    std::fs::read(path).map_err(|source| ImportError::Io {
+        file: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The bytes as UTF-8 text, or an error at the line of the first invalid byte.
+fn utf8(bytes: Vec<u8>, path: &Path) -> Result<String, ImportError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..valid]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        ImportError::Parse {
+            file: path.to_path_buf(),
+            line,
+            message: format!("not a text file: invalid UTF-8 at byte {valid} (binary data?)"),
+        }
+    })
+}
