@@ -270,3 +270,52 @@ fn a_missing_plugin_and_a_missing_file_are_named() {
     .to_string();
     assert!(missing.contains("no/such/scene.toml"), "{missing}");
 }
+
+/// A part whose mesh is a block of an Abaqus file (relative to the scene): the file's node
+/// sets become the part's, a wrong element shape or a missing block is named.
+#[test]
+fn a_part_meshed_from_an_abaqus_file_builds_and_its_errors_are_named() {
+    let directory = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let scene_path = directory.join("from_file.toml");
+    let scene = VALID
+        .replace(
+            "mesh = { generator = \"box\", size = [0.01, 0.01, 0.01], divisions = [2, 2, 2] }",
+            "mesh = { file = \"meshes/part_instance.inp\", block = \"all\" }",
+        )
+        .replace("nodes = \"x1\"", "nodes = \"left\"");
+    let build = |text: &str| {
+        let (scene, locator) = parse_scene(text, &scene_path)?;
+        musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+    };
+    let model = build(&scene).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(model.mesh.blocks.len(), 1);
+    assert_eq!(model.mesh.blocks[0].len(), 2);
+    assert_eq!(model.mesh.nodes.len(), 12);
+    assert_eq!(model.loads.displacements[0].nodes.len(), 4);
+    // Node 0 is the first node of the first element, label 101 at (0, 0, 0), moved by the
+    // instance's translation (10, 0, 0).
+    let first = model.mesh.nodes.position(0);
+    assert!(
+        (first.x - 10.0).abs() < 1e-12 && first.y.abs() + first.z.abs() < 1e-12,
+        "{first:?}"
+    );
+
+    let tets = scene.replace("element = \"hex8-full\"", "element = \"tet4\"");
+    let message = build(&tets).unwrap_err().to_string();
+    assert!(
+        message.contains("from_file.toml:11:") && message.contains("needs tet4"),
+        "{message}"
+    );
+    let missing = scene.replace("block = \"all\"", "block = \"al\"");
+    let message = build(&missing).unwrap_err().to_string();
+    assert!(
+        message.contains("from_file.toml:13:") && message.contains("did you mean `all`?"),
+        "{message}"
+    );
+    let neither = scene.replace(
+        "mesh = { file = \"meshes/part_instance.inp\", block = \"all\" }",
+        "mesh = { block = \"all\" }",
+    );
+    let message = build(&neither).unwrap_err().to_string();
+    assert!(message.contains("either as generator"), "{message}");
+}

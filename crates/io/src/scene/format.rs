@@ -73,16 +73,20 @@ pub struct PartEntry {
     pub fibers: Option<FiberEntry>,
 }
 
-/// `[parts.mesh]`: a generated box.
+/// `[parts.mesh]`: a generated box, or a block of a mesh file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MeshEntry {
-    /// "box" (the only generator so far; mesh files come with the importer).
-    pub generator: Spanned<String>,
+    /// "box" (then `size` and `divisions`), or absent with `file`.
+    pub generator: Option<Spanned<String>>,
     /// Edge lengths along x, y, z [m].
-    pub size: Spanned<[f64; 3]>,
+    pub size: Option<Spanned<[f64; 3]>>,
     /// Elements along x, y, z (boxes of tets have 6 tets per cell).
-    pub divisions: Spanned<[usize; 3]>,
+    pub divisions: Option<Spanned<[usize; 3]>>,
+    /// Abaqus `.inp` or Gmsh `.msh` file, relative to the scene file; coordinates in m.
+    pub file: Option<Spanned<String>>,
+    /// The element block of the file to use (by name); needed when it has several.
+    pub block: Option<Spanned<String>>,
 }
 
 /// `[parts.fibers]`: a constant fiber direction (normalised when read).
