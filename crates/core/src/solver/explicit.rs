@@ -57,6 +57,7 @@ use super::explicit_parts::{
     PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
 };
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
+use super::observer::{NoObserver, Observer};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
@@ -143,6 +144,17 @@ pub fn run_explicit(
     parts: &[Part],
     loads: &Loads,
     settings: &ExplicitSettings,
+) -> Result<ExplicitResult, SolverError> {
+    run_explicit_observed(mesh, parts, loads, settings, &mut NoObserver)
+}
+
+/// [`run_explicit`], showing `observer` every history row and every step.
+pub fn run_explicit_observed(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    settings: &ExplicitSettings,
+    observer: &mut dyn Observer<HistoryRow>,
 ) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
     let node_count = mesh.nodes.len();
@@ -312,6 +324,11 @@ pub fn run_explicit(
                 external_work,
             });
             next_record += settings.history_interval;
+            if let (Some(row), false) = (history.last(), closing)
+                && observer.record(row, &displacement).is_break()
+            {
+                return Err(SolverError::Interrupted { time });
+            }
         }
         // A non-finite velocity makes K non-finite: look for it only then.
         if !kinetic_energy.is_finite()
@@ -322,6 +339,10 @@ pub fn run_explicit(
             return Err(SolverError::Diverged { time, node });
         }
         if closing {
+            if let Some(row) = history.last() {
+                // The run is over: a request to stop changes nothing.
+                let _ = observer.record(row, &displacement);
+            }
             break;
         }
 
@@ -342,6 +363,9 @@ pub fn run_explicit(
         time += dt;
         half_step = dt;
         steps += 1;
+        if observer.progress(time, steps).is_break() {
+            return Err(SolverError::Interrupted { time });
+        }
         if loads.has_forces() {
             loads.external_forces(time, &mut external);
         }

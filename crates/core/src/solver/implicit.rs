@@ -49,6 +49,7 @@ use nalgebra::Vector3;
 
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
+use super::observer::{NoObserver, Observer};
 use super::sparse::PRESCRIBED;
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
@@ -221,12 +222,24 @@ enum StepFailure {
     Error(SolverError),
 }
 
-/// Run the quasi-static implicit solver on `mesh` with `parts` under `loads`.
+/// Run the implicit solver (quasi-static, or dynamic with [`ImplicitSettings::dynamics`])
+/// on `mesh` with `parts` under `loads`.
 pub fn run_quasi_static(
     mesh: &Mesh,
     parts: &[Part],
     loads: &Loads,
     settings: &ImplicitSettings,
+) -> Result<ImplicitResult, SolverError> {
+    run_implicit_observed(mesh, parts, loads, settings, &mut NoObserver)
+}
+
+/// [`run_quasi_static`], showing `observer` every converged step.
+pub fn run_implicit_observed(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    settings: &ImplicitSettings,
+    observer: &mut dyn Observer<ImplicitHistoryRow>,
 ) -> Result<ImplicitResult, SolverError> {
     check_settings(settings)?;
     let mut model = Model::new(mesh, parts, loads, settings.parallel_factorization_unknowns)?;
@@ -325,6 +338,13 @@ pub fn run_quasi_static(
                     rigid_reactions,
                     energy,
                 });
+                if let Some(row) = history.last()
+                    && (observer.record(row, &displacement).is_break()
+                        || observer.progress(time, history.len()).is_break())
+                    && time < end
+                {
+                    return Err(SolverError::Interrupted { time });
+                }
                 if let Some(cutting) = &settings.cutting {
                     if report.iterations <= cutting.easy_iterations {
                         easy += 1;

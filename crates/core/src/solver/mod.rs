@@ -21,6 +21,7 @@ mod implicit_model;
 mod loads;
 mod nodal;
 mod nodal_average;
+pub mod observer;
 mod ordering;
 mod part;
 mod sparse;
@@ -99,6 +100,8 @@ pub enum SolverError {
         residual: f64,
         reason: String,
     },
+    #[error("stopped at t = {time:.6e} s on request; the outputs hold the run up to there")]
+    Interrupted { time: f64 },
     #[error("at t = {time:.6e} s the linear solve failed: {reason}")]
     LinearSolve { time: f64, reason: String },
 }
