@@ -4,7 +4,9 @@
 //! - `musclefem point`: one material point in uniaxial stress along the fiber
 //!   (CSV + PNG of the stress history);
 //! - `musclefem demo` (also `musclefem` alone): the passive and active Hill muscle on the
-//!   default protocol.
+//!   default protocol;
+//! - `musclefem check SCENE.toml`: read and check a scene file without running it;
+//! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log.
 
 // Every crate that registers materials with `inventory` must be named here, or the
 // linker may drop its registrations (see DESIGN.md, "Two traps").
@@ -15,12 +17,13 @@ use musclefem_io as _;
 use musclefem_materials as _;
 
 mod commands;
+mod scene_run;
 mod summary;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 /// musclefem: 3D simulation of active skeletal muscle (today: the material library and a
 /// material-point driver). Without a subcommand, runs `demo`.
@@ -42,6 +45,43 @@ enum Command {
     /// The default job: the Hill muscle, passive and active (n2 = 1 after a 0.5 s
     /// isometric hold), stretched to 1.2; writes CSV and PNG files.
     Demo(DemoArgs),
+    /// Read and check a scene file (TOML) without running it; print what it holds.
+    Check(CheckArgs),
+    /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the
+    /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last
+    /// complete frame.
+    Run(RunArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// The scene file (see docs/scene-format.md).
+    pub scene: PathBuf,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum SolverChoice {
+    Explicit,
+    Implicit,
+}
+
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The scene file (see docs/scene-format.md).
+    pub scene: PathBuf,
+    /// Output directory [default: out/<scene name>].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Use this solver instead of the scene's, with its default settings for the scene's
+    /// duration and output interval.
+    #[arg(long, value_enum)]
+    pub solver: Option<SolverChoice>,
+    /// Worker threads [default: one per core].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Replace the results of a previous run in the output directory.
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Debug, Args)]
@@ -90,6 +130,8 @@ fn main() -> ExitCode {
         Some(Command::Materials(args)) => commands::materials(&args),
         Some(Command::Point(args)) => commands::point(&args),
         Some(Command::Demo(args)) => commands::demo(&args),
+        Some(Command::Check(args)) => scene_run::check(&args),
+        Some(Command::Run(args)) => scene_run::run(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

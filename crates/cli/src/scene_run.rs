@@ -1,0 +1,362 @@
+//! `musclefem check SCENE` and `musclefem run SCENE`: read a scene, check it, run it with
+//! a progress bar, and write the run directory (frames, PVD, history, scene copy, log).
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::Vector3;
+
+use musclefem_core::solver::SolverError;
+use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_observed};
+use musclefem_core::solver::implicit::{
+    ImplicitHistoryRow, ImplicitSettings, run_implicit_observed,
+};
+use musclefem_core::solver::observer::Observer;
+use musclefem_io::OutputError;
+use musclefem_io::output::{
+    ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
+};
+use musclefem_io::scene::{Analysis, Model, load_scene};
+use musclefem_materials::MaterialLibrary;
+
+use crate::{CheckArgs, RunArgs, SolverChoice};
+
+/// Print what the scene holds, or fail naming the file, line and key.
+pub fn check(args: &CheckArgs) -> Result<()> {
+    let model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    println!("{}: ok", args.scene.display());
+    print!("{}", describe(&model));
+    Ok(())
+}
+
+/// A few lines on the model: parts, loads, analysis.
+fn describe(model: &Model) -> String {
+    let mut text = String::new();
+    if !model.description.is_empty() {
+        text += &format!("  {}\n", model.description);
+    }
+    for (name, part) in model.part_names.iter().zip(&model.parts) {
+        let block = &model.mesh.blocks[part.block];
+        text += &format!(
+            "  part '{name}': {} {:?} elements, density {} kg/m3\n",
+            block.len(),
+            part.technology,
+            part.density
+        );
+    }
+    text += &format!(
+        "  {} nodes; {} prescribed displacement components, {} nodal forces, {} rigid ties\n",
+        model.mesh.nodes.len(),
+        model.loads.displacements.len(),
+        model.loads.forces.len(),
+        model.loads.rigid_ties.len()
+    );
+    text += &match &model.analysis {
+        Analysis::Explicit(s) => format!(
+            "  explicit, {} s, safety factor {}, output every {} s\n",
+            s.end_time, s.safety_factor, model.output_interval
+        ),
+        Analysis::Implicit(s) => format!(
+            "  implicit{}, {} s in {} increments, output every converged increment\n",
+            if s.dynamics.is_some() {
+                " (Newmark dynamics)"
+            } else {
+                " (quasi-static)"
+            },
+            s.end_time,
+            s.increments
+        ),
+    };
+    text
+}
+
+/// Run the scene and write its run directory.
+pub fn run(args: &RunArgs) -> Result<()> {
+    if let Some(threads) = args.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+            .context("cannot set the number of threads")?;
+    }
+    let started = Instant::now();
+    let mut model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    if let Some(choice) = args.solver {
+        model.analysis = switch_solver(&model, choice);
+    }
+    let scene_text = std::fs::read_to_string(&args.scene)
+        .with_context(|| format!("cannot read {}", args.scene.display()))?;
+    let out = args.out.clone().unwrap_or_else(|| {
+        let stem = args.scene.file_stem().unwrap_or_default();
+        PathBuf::from("out").join(stem)
+    });
+    let existing = if args.force {
+        ExistingResults::Replace
+    } else {
+        ExistingResults::Refuse
+    };
+    let mut directory = RunDirectory::create(&out, existing)
+        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+    directory.write_scene(&scene_text)?;
+    let columns = HistoryColumns::new(
+        model.displacement_names.clone(),
+        model
+            .loads
+            .rigid_ties
+            .iter()
+            .map(|t| t.name.clone())
+            .collect(),
+    );
+    let interrupted = Arc::new(AtomicBool::new(false));
+    {
+        let flag = interrupted.clone();
+        // A second Ctrl-C while the first is being honoured kills the process as usual.
+        let _ = ctrlc::set_handler(move || {
+            if flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+    }
+    print!("{}", describe(&model));
+    let duration = match &model.analysis {
+        Analysis::Explicit(s) => s.end_time,
+        Analysis::Implicit(s) => s.end_time,
+    };
+    let setup = started.elapsed();
+    let solve_started = Instant::now();
+    let mut watcher = Watcher {
+        model: &model,
+        directory: &mut directory,
+        history: None,
+        write_frames: model.write_frames,
+        bar: progress_bar(duration),
+        interrupted: interrupted.clone(),
+        error: None,
+        last_row: String::new(),
+    };
+    let (outcome, steps) = match &model.analysis {
+        Analysis::Explicit(settings) => {
+            watcher.history = Some(directory_history(&watcher, &columns, true)?);
+            let result = run_explicit_observed(
+                &model.mesh,
+                &model.parts,
+                &model.loads,
+                settings,
+                &mut watcher,
+            );
+            let steps = result.as_ref().map_or(0, |r| r.steps);
+            (result.map(|_| ()), steps)
+        }
+        Analysis::Implicit(settings) => {
+            watcher.history = Some(directory_history(&watcher, &columns, false)?);
+            let result = run_implicit_observed(
+                &model.mesh,
+                &model.parts,
+                &model.loads,
+                settings,
+                &mut watcher,
+            );
+            let steps = result.as_ref().map_or(0, |r| r.history.len());
+            (result.map(|_| ()), steps)
+        }
+    };
+    let solve = solve_started.elapsed();
+    watcher.bar.finish_and_clear();
+    let write_error = watcher.error.take();
+    let last_row = std::mem::take(&mut watcher.last_row);
+    if let Some(history) = watcher.history.take() {
+        history.finish()?;
+    }
+    drop(watcher);
+    let log = RunLog::new(format!(
+        "scene = {}\nsolver = {:?}\n",
+        args.scene.display(),
+        model.analysis
+    ))
+    .timing("setup", setup)
+    .timing("solve", solve);
+    directory.write_run_log(&log)?;
+    if let Some(error) = write_error {
+        return Err(error).context("writing the outputs failed; the run was stopped");
+    }
+    match outcome {
+        Ok(()) => {
+            println!(
+                "done: {steps} steps in {:.2?}; {} frames, history and log in {}",
+                solve,
+                directory.frames().len(),
+                out.display()
+            );
+            if !last_row.is_empty() {
+                println!("  at the end: {last_row}");
+            }
+            Ok(())
+        }
+        Err(SolverError::Interrupted { time }) => {
+            println!(
+                "stopped at t = {time:.6e} s on request; {} frames and the history up to \
+                 there are in {}",
+                directory.frames().len(),
+                out.display()
+            );
+            Ok(())
+        }
+        Err(error) => bail!(
+            "{}: {error}\n(the frames and history up to the failure are in {})",
+            args.scene.display(),
+            out.display()
+        ),
+    }
+}
+
+fn directory_history(
+    watcher: &Watcher,
+    columns: &HistoryColumns,
+    explicit: bool,
+) -> Result<HistoryWriter, OutputError> {
+    if explicit {
+        watcher.directory.explicit_history(columns)
+    } else {
+        watcher.directory.implicit_history(columns)
+    }
+}
+
+/// The other solver's default settings for the scene's duration and output interval.
+fn switch_solver(model: &Model, choice: SolverChoice) -> Analysis {
+    let duration = match &model.analysis {
+        Analysis::Explicit(s) => s.end_time,
+        Analysis::Implicit(s) => s.end_time,
+    };
+    match (choice, &model.analysis) {
+        (SolverChoice::Explicit, Analysis::Explicit(_))
+        | (SolverChoice::Implicit, Analysis::Implicit(_)) => model.analysis.clone(),
+        (SolverChoice::Explicit, _) => {
+            let mut settings = ExplicitSettings::new(duration);
+            settings.history_interval = model.output_interval;
+            Analysis::Explicit(settings)
+        }
+        (SolverChoice::Implicit, _) => {
+            let increments = ((duration / model.output_interval).round() as usize).max(1);
+            Analysis::Implicit(ImplicitSettings::new(duration, increments).with_cutting())
+        }
+    }
+}
+
+/// A bar over simulated time on a terminal; hidden otherwise (log lines are printed at
+/// the end instead).
+fn progress_bar(duration: f64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(1_000_000);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {percent:>3}% t = {msg} [{elapsed_precise}, ETA {eta_precise}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("0 / {duration} s"));
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}
+
+/// Writes frames and history rows as the run goes, drives the bar, honours Ctrl-C.
+struct Watcher<'a> {
+    model: &'a Model,
+    directory: &'a mut RunDirectory,
+    history: Option<HistoryWriter>,
+    write_frames: bool,
+    bar: ProgressBar,
+    interrupted: Arc<AtomicBool>,
+    error: Option<OutputError>,
+    last_row: String,
+}
+
+impl Watcher<'_> {
+    fn frame(&mut self, time: f64, displacement: &[Vector3<f64>]) -> ControlFlow<()> {
+        if self.write_frames {
+            let frame = Frame::new(time, &self.model.mesh, displacement);
+            if let Err(e) = self.directory.write_frame(&frame) {
+                self.error = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
+        self.tick(time)
+    }
+
+    fn tick(&mut self, time: f64) -> ControlFlow<()> {
+        let duration = match &self.model.analysis {
+            Analysis::Explicit(s) => s.end_time,
+            Analysis::Implicit(s) => s.end_time,
+        };
+        self.bar.set_position((1e6 * time / duration) as u64);
+        self.bar.set_message(format!("{time:.4e} / {duration} s"));
+        if self.interrupted.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+
+    fn reactions_text(&self, reactions: &[f64]) -> String {
+        self.model
+            .displacement_names
+            .iter()
+            .zip(reactions)
+            .map(|(name, r)| format!("{name} {r:.6e} N"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+impl Observer<HistoryRow> for Watcher<'_> {
+    fn record(&mut self, row: &HistoryRow, displacement: &[Vector3<f64>]) -> ControlFlow<()> {
+        if let Some(history) = &mut self.history
+            && let Err(e) = history.push_explicit(row)
+        {
+            self.error = Some(e);
+            return ControlFlow::Break(());
+        }
+        self.last_row = format!(
+            "t = {:.6e} s: {}",
+            row.time,
+            self.reactions_text(&row.reactions)
+        );
+        self.frame(row.time, displacement)
+    }
+
+    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        if steps.is_multiple_of(200) {
+            self.tick(time)
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+impl Observer<ImplicitHistoryRow> for Watcher<'_> {
+    fn record(
+        &mut self,
+        row: &ImplicitHistoryRow,
+        displacement: &[Vector3<f64>],
+    ) -> ControlFlow<()> {
+        if let Some(history) = &mut self.history
+            && let Err(e) = history.push_implicit(row)
+        {
+            self.error = Some(e);
+            return ControlFlow::Break(());
+        }
+        self.last_row = format!(
+            "t = {:.6e} s ({} Newton iterations): {}",
+            row.time,
+            row.iterations,
+            self.reactions_text(&row.reactions)
+        );
+        self.frame(row.time, displacement)
+    }
+}
