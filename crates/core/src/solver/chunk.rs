@@ -159,28 +159,22 @@ impl ElementChunk {
     ) -> Result<(), (usize, MaterialError)> {
         let ppe = kernel.points_per_element();
         let nstate = material.state_count();
-        let mut state = vec![0.0; nstate];
-        let mut stress = [VoigtStress::zeros()];
-        let mut tangent = [Tangent::zeros()];
+        let mut scratch_state = vec![0.0; nstate];
         for (local, element) in self.elements.clone().enumerate() {
             let point = local * ppe;
-            let block = PointBlock {
+            self.wave_modulus[local] = point_acoustic_modulus(
+                material,
                 time,
                 dt,
-                deformation_gradient_old: &self.f_old[point..point + 1],
-                deformation_gradient_new: &self.f_new[point..point + 1],
-                fiber_direction: &self.fiber[point..point + 1],
-                state_old: &self.state_old[point * nstate..(point + 1) * nstate],
-            };
-            let mut response = PointResponse {
-                cauchy_stress: &mut stress,
-                state_new: &mut state,
-                tangent: Some(&mut tangent),
-            };
-            material
-                .update(&block, &mut response)
-                .map_err(|error| (element, error))?;
-            self.wave_modulus[local] = largest_acoustic_modulus(&tangent[0]);
+                PointSlices {
+                    f_old: &self.f_old[point..point + 1],
+                    f_new: &self.f_new[point..point + 1],
+                    fiber: &self.fiber[point..point + 1],
+                    state_old: &self.state_old[point * nstate..(point + 1) * nstate],
+                },
+                &mut scratch_state,
+            )
+            .map_err(|error| (element, error))?;
         }
         Ok(())
     }
@@ -225,6 +219,44 @@ impl ElementChunk {
         std::mem::swap(&mut self.state_old, &mut self.state_new);
         std::mem::swap(&mut self.f_old, &mut self.f_new);
     }
+}
+
+/// One material point's inputs: deformation gradients at the start and end of the step,
+/// fiber direction and state at the start (one-element slices).
+pub(crate) struct PointSlices<'a> {
+    pub f_old: &'a [Matrix3<f64>],
+    pub f_new: &'a [Matrix3<f64>],
+    pub fiber: &'a [Vector3<f64>],
+    pub state_old: &'a [f64],
+}
+
+/// The largest acoustic modulus [Pa] of one material point over the step of `dt` ending at
+/// `time` ([`largest_acoustic_modulus`] of its tangent); the point's new state goes to
+/// `scratch_state` and is not kept.
+pub(crate) fn point_acoustic_modulus(
+    material: &dyn Material,
+    time: f64,
+    dt: f64,
+    point: PointSlices,
+    scratch_state: &mut [f64],
+) -> Result<f64, MaterialError> {
+    let mut stress = [VoigtStress::zeros()];
+    let mut tangent = [Tangent::zeros()];
+    let block = PointBlock {
+        time,
+        dt,
+        deformation_gradient_old: point.f_old,
+        deformation_gradient_new: point.f_new,
+        fiber_direction: point.fiber,
+        state_old: point.state_old,
+    };
+    let mut response = PointResponse {
+        cauchy_stress: &mut stress,
+        state_new: scratch_state,
+        tangent: Some(&mut tangent),
+    };
+    material.update(&block, &mut response)?;
+    Ok(largest_acoustic_modulus(&tangent[0]))
 }
 
 /// The largest acoustic modulus [Pa] of a material point with tangent ∂P/∂F: the largest

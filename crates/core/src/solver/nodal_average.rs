@@ -20,11 +20,9 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use musclefem_materials::tensor::symmetric_from_voigt;
-use musclefem_materials::{
-    Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
-};
+use musclefem_materials::{Material, MaterialError, PointBlock, PointResponse, VoigtStress};
 
-use super::chunk::{characteristic_length, chunk_ranges};
+use super::chunk::{PointSlices, characteristic_length, chunk_ranges, point_acoustic_modulus};
 use crate::element::BlockKernel;
 use crate::element::tet4_nodal_average::{
     NodalAveraging, add_deviatoric_forces, add_pressure_forces, averaged_deformation_gradient,
@@ -292,31 +290,20 @@ impl AveragedChunk {
         dt: f64,
     ) -> Result<(), (usize, MaterialError)> {
         let nstate = self.scratch_state.len();
-        let mut stress = [VoigtStress::zeros()];
-        let mut tangent = [Tangent::zeros()];
         for (local, element) in self.elements.clone().enumerate() {
-            let points = PointBlock {
+            self.wave_modulus[local] = point_acoustic_modulus(
+                material,
                 time,
                 dt,
-                deformation_gradient_old: &self.f_old[local..local + 1],
-                deformation_gradient_new: &self.f_new[local..local + 1],
-                fiber_direction: &self.fiber[local..local + 1],
-                state_old: &self.state_old[local * nstate..(local + 1) * nstate],
-            };
-            let mut response = PointResponse {
-                cauchy_stress: &mut stress,
-                state_new: &mut self.scratch_state,
-                tangent: Some(&mut tangent),
-            };
-            material
-                .update(&points, &mut response)
-                .map_err(|error| (element, error))?;
-            self.wave_modulus[local] = (0..3)
-                .map(|j| {
-                    let acoustic = Matrix3::from_fn(|i, k| tangent[0][(i + 3 * j, k + 3 * j)]);
-                    acoustic.symmetric_eigenvalues().max()
-                })
-                .fold(0.0, f64::max);
+                PointSlices {
+                    f_old: &self.f_old[local..local + 1],
+                    f_new: &self.f_new[local..local + 1],
+                    fiber: &self.fiber[local..local + 1],
+                    state_old: &self.state_old[local * nstate..(local + 1) * nstate],
+                },
+                &mut self.scratch_state,
+            )
+            .map_err(|error| (element, error))?;
         }
         Ok(())
     }
