@@ -7,6 +7,7 @@ mod build;
 mod error;
 mod format;
 mod parse;
+mod part_mesh;
 
 use std::path::Path;
 
