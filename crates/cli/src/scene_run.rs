@@ -135,6 +135,9 @@ pub fn run(args: &RunArgs) -> Result<()> {
         history: None,
         write_frames: model.write_frames,
         bar: progress_bar(duration),
+        log_lines: !std::io::stderr().is_terminal(),
+        next_log: 0.0,
+        started: Instant::now(),
         interrupted: interrupted.clone(),
         error: None,
         last_row: String::new(),
@@ -247,8 +250,8 @@ fn switch_solver(model: &Model, choice: SolverChoice) -> Analysis {
     }
 }
 
-/// A bar over simulated time on a terminal; hidden otherwise (log lines are printed at
-/// the end instead).
+/// A bar over simulated time on a terminal; hidden otherwise (plain log lines are printed
+/// instead, see [`Watcher`]).
 fn progress_bar(duration: f64) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
@@ -272,6 +275,11 @@ struct Watcher<'a> {
     history: Option<HistoryWriter>,
     write_frames: bool,
     bar: ProgressBar,
+    /// Without a terminal: a plain log line on stderr every tenth of the duration and at
+    /// the end.
+    log_lines: bool,
+    next_log: f64,
+    started: Instant,
     interrupted: Arc<AtomicBool>,
     error: Option<OutputError>,
     last_row: String,
@@ -296,6 +304,15 @@ impl Watcher<'_> {
         };
         self.bar.set_position((1e6 * time / duration) as u64);
         self.bar.set_message(format!("{time:.4e} / {duration} s"));
+        let at_end = time >= duration * (1.0 - 1e-12);
+        if self.log_lines && (time >= self.next_log || at_end) {
+            eprintln!(
+                "t = {time:.6e} s of {duration} s ({:.0} %), {:.2?} elapsed",
+                100.0 * time / duration,
+                self.started.elapsed()
+            );
+            self.next_log = time + 0.1 * duration;
+        }
         if self.interrupted.load(Ordering::SeqCst) {
             ControlFlow::Break(())
         } else {

@@ -72,6 +72,12 @@ fn run_writes_frames_history_scene_and_log() {
     let scene = example("neo_hookean_cube_stretch.toml");
     let out = musclefem(&dir, &["run", &scene, "--out", "result"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
+    // Not a terminal: plain progress lines instead of a bar.
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("t = 1.000000e0 s of 1 s (100 %)"),
+        "{stderr}"
+    );
     let root = dir.join("result");
     let frames = read_pvd(&root.join("result.pvd")).unwrap();
     assert_eq!(frames.len(), 10);
