@@ -10,17 +10,16 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
-use nalgebra::Vector3;
 
 use musclefem_core::solver::SolverError;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_observed};
 use musclefem_core::solver::implicit::{
     ImplicitHistoryRow, ImplicitSettings, run_implicit_observed,
 };
-use musclefem_core::solver::observer::Observer;
+use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_io::OutputError;
 use musclefem_io::output::{
-    ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
+    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
 };
 use musclefem_io::scene::{Analysis, Model, load_scene};
 use musclefem_materials::MaterialLibrary;
@@ -140,6 +139,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         started: Instant::now(),
         interrupted: interrupted.clone(),
         error: None,
+        fields_error: None,
         last_row: String::new(),
     };
     let (outcome, steps) = match &model.analysis {
@@ -171,6 +171,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let solve = solve_started.elapsed();
     watcher.bar.finish_and_clear();
     let write_error = watcher.error.take();
+    let fields_error = watcher.fields_error.take();
     let last_row = std::mem::take(&mut watcher.last_row);
     if let Some(history) = watcher.history.take() {
         history.finish()?;
@@ -186,6 +187,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
     directory.write_run_log(&log)?;
     if let Some(error) = write_error {
         return Err(error).context("writing the outputs failed; the run was stopped");
+    }
+    if let Some(error) = fields_error {
+        bail!(
+            "{}: evaluating the element fields of a frame failed: {error}\n(the frames and \
+             history up to there are in {})",
+            args.scene.display(),
+            out.display()
+        );
     }
     match outcome {
         Ok(()) => {
@@ -282,19 +291,29 @@ struct Watcher<'a> {
     started: Instant,
     interrupted: Arc<AtomicBool>,
     error: Option<OutputError>,
+    /// A material failure while evaluating a frame's element fields.
+    fields_error: Option<SolverError>,
     last_row: String,
 }
 
 impl Watcher<'_> {
-    fn frame(&mut self, time: f64, displacement: &[Vector3<f64>]) -> ControlFlow<()> {
+    /// The frame of `snapshot`, with its element fields, if frames are asked for.
+    fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
         if self.write_frames {
-            let frame = Frame::new(time, &self.model.mesh, displacement);
-            if let Err(e) = self.directory.write_frame(&frame) {
+            let fields = match snapshot.element_fields() {
+                Ok(parts) => ElementFieldArrays::gather(&self.model.mesh, &parts),
+                Err(e) => {
+                    self.fields_error = Some(e);
+                    return ControlFlow::Break(());
+                }
+            };
+            let frame = Frame::new(snapshot.time, &self.model.mesh, snapshot.displacement);
+            if let Err(e) = self.directory.write_frame(&fields.attach(frame)) {
                 self.error = Some(e);
                 return ControlFlow::Break(());
             }
         }
-        self.tick(time)
+        self.tick(snapshot.time)
     }
 
     fn tick(&mut self, time: f64) -> ControlFlow<()> {
@@ -332,7 +351,7 @@ impl Watcher<'_> {
 }
 
 impl Observer<HistoryRow> for Watcher<'_> {
-    fn record(&mut self, row: &HistoryRow, displacement: &[Vector3<f64>]) -> ControlFlow<()> {
+    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
         if let Some(history) = &mut self.history
             && let Err(e) = history.push_explicit(row)
         {
@@ -344,7 +363,7 @@ impl Observer<HistoryRow> for Watcher<'_> {
             row.time,
             self.reactions_text(&row.reactions)
         );
-        self.frame(row.time, displacement)
+        self.frame(snapshot)
     }
 
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
@@ -357,11 +376,7 @@ impl Observer<HistoryRow> for Watcher<'_> {
 }
 
 impl Observer<ImplicitHistoryRow> for Watcher<'_> {
-    fn record(
-        &mut self,
-        row: &ImplicitHistoryRow,
-        displacement: &[Vector3<f64>],
-    ) -> ControlFlow<()> {
+    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
         if let Some(history) = &mut self.history
             && let Err(e) = history.push_implicit(row)
         {
@@ -374,6 +389,6 @@ impl Observer<ImplicitHistoryRow> for Watcher<'_> {
             row.iterations,
             self.reactions_text(&row.reactions)
         );
-        self.frame(row.time, displacement)
+        self.frame(snapshot)
     }
 }

@@ -1,7 +1,9 @@
 //! `musclefem check` and `musclefem run` on the examples and on broken scenes.
 
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use musclefem_io::csv::read_table;
 use musclefem_io::output::read_pvd;
@@ -85,6 +87,19 @@ fn run_writes_frames_history_scene_and_log() {
     for frame in &frames {
         assert!(root.join(&frame.file).is_file(), "{}", frame.file);
     }
+    let last_frame = std::fs::read_to_string(root.join(&frames.last().unwrap().file)).unwrap();
+    for array in [
+        "displacement",
+        "cauchy_stress",
+        "von_mises",
+        "fiber_direction_current",
+        "block_id",
+    ] {
+        assert!(
+            last_frame.contains(&format!("Name=\"{array}\"")),
+            "the last frame has no '{array}' array"
+        );
+    }
     let header = "time_s,time_step_s,newton_iterations,reaction_cube.x1.x_n,\
                   reaction_cube.x0.x_n,reaction_cube.y0.y_n,reaction_cube.z0.z_n,\
                   internal_energy_j,kinetic_energy_j,external_work_j";
@@ -141,4 +156,95 @@ fn run_with_the_other_solver_agrees() {
         .and_then(|number| number.parse().ok())
         .unwrap_or_else(|| panic!("no reaction in {stdout}"));
     assert!((reaction - 1.002568).abs() < 0.01, "{reaction} N");
+}
+
+/// The Hill example's frames carry the activation and the material's state variables.
+#[test]
+fn hill_frames_carry_activation_and_state_variables() {
+    let dir = test_dir("hill");
+    let scene = example("hill_block_isometric.toml");
+    let out = musclefem(&dir, &["run", &scene, "--out", "result"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let root = dir.join("result");
+    let frames = read_pvd(&root.join("result.pvd")).unwrap();
+    let last = std::fs::read_to_string(root.join(&frames.last().unwrap().file)).unwrap();
+    for array in [
+        "activation",
+        "state_lambda_m",
+        "state_lambda_s",
+        "state_sigma_see",
+    ] {
+        assert!(last.contains(&format!("Name=\"{array}\"")), "no '{array}'");
+    }
+}
+
+/// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 0, a message saying where it
+/// stopped, and a result.pvd that lists only complete frames.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_run_cleanly() {
+    let dir = test_dir("interrupt");
+    // The neo-Hookean example made long: 1000 s explicit on a finer mesh.
+    let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
+        .unwrap()
+        .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
+        .replace("duration = 1.0", "duration = 1000.0")
+        .replace("output_interval = 0.1", "output_interval = 0.01")
+        .replace("solver = \"implicit\"", "solver = \"explicit\"");
+    std::fs::write(dir.join("long.toml"), scene).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(["run", "long.toml", "--out", "result"])
+        .current_dir(&dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first plain progress line (t = 0) says the solver is running.
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    stderr.read_line(&mut line).unwrap();
+    assert!(line.starts_with("t = "), "{line}");
+    // Let a few frames be written, then interrupt.
+    let started = Instant::now();
+    while read_pvd(&dir.join("result/result.pvd")).map_or(0, |f| f.len()) < 3 {
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "no frames after 2 min"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let signal = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signal.success());
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the run did not stop within 60 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stdout = String::new();
+    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut stdout).unwrap();
+    assert!(status.success(), "{status:?}\n{stdout}");
+    assert!(stdout.contains("stopped at t = "), "{stdout}");
+    let root = dir.join("result");
+    let frames = read_pvd(&root.join("result.pvd")).unwrap();
+    assert!(frames.len() >= 3);
+    assert!(frames.last().unwrap().time < 1000.0);
+    for frame in &frames {
+        let vtu = std::fs::read_to_string(root.join(&frame.file)).unwrap();
+        assert!(
+            vtu.trim_end().ends_with("</VTKFile>"),
+            "{} is cut",
+            frame.file
+        );
+    }
+    assert!(root.join("run.log").is_file());
+    assert!(root.join("history.csv").is_file());
 }

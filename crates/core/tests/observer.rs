@@ -4,8 +4,6 @@
 use std::collections::BTreeMap;
 use std::ops::ControlFlow;
 
-use nalgebra::Vector3;
-
 use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::box_of_hexes;
@@ -15,7 +13,7 @@ use musclefem_core::solver::explicit::{
 use musclefem_core::solver::implicit::{
     ImplicitHistoryRow, ImplicitSettings, run_implicit_observed, run_quasi_static,
 };
-use musclefem_core::solver::observer::Observer;
+use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement, SolverError};
 use musclefem_materials::{Amplitude, MaterialLibrary};
 
@@ -53,8 +51,12 @@ struct Recorder {
 }
 
 impl<R: TimeOf> Observer<R> for Recorder {
-    fn record(&mut self, row: &R, displacement: &[Vector3<f64>]) -> ControlFlow<()> {
-        let largest = displacement.iter().map(|u| u.amax()).fold(0.0, f64::max);
+    fn record(&mut self, row: &R, snapshot: &Snapshot) -> ControlFlow<()> {
+        let largest = snapshot
+            .displacement
+            .iter()
+            .map(|u| u.amax())
+            .fold(0.0, f64::max);
         self.seen.push((row.time_of(), largest));
         if self.seen.len() >= self.stop_after {
             ControlFlow::Break(())

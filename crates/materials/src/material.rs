@@ -91,6 +91,12 @@ pub trait Material: Send + Sync + std::fmt::Debug {
         true
     }
 
+    /// Activation level at `time` [s] (dimensionless, 0 = passive, 1 = full) of a material
+    /// that has one, for the outputs; `None` for a passive material.
+    fn activation(&self, _time: f64) -> Option<f64> {
+        None
+    }
+
     /// Update a block whose shapes and inputs were already checked by `update`. Fills the
     /// tangent, when asked for, only if `provides_tangent()`; `update` completes it
     /// otherwise.

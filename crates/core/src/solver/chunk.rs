@@ -12,6 +12,7 @@ use musclefem_materials::{
     Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
 };
 
+use super::element_fields::AcceptedPoints;
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
@@ -218,6 +219,17 @@ impl ElementChunk {
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.state_old, &mut self.state_new);
         std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+
+    /// The material points of the last accepted step, for the output fields.
+    pub fn accepted_points(&self) -> AcceptedPoints<'_> {
+        AcceptedPoints {
+            deformation_gradient: &self.f_old,
+            fiber: &self.fiber,
+            state: &self.state_old,
+            first_element: self.elements.start,
+            points_per_element: self.f_old.len() / self.elements.len().max(1),
+        }
     }
 }
 

@@ -53,11 +53,12 @@
 use nalgebra::Vector3;
 
 use super::bulk_viscosity::BulkViscosity;
+use super::element_fields::PartFields;
 use super::explicit_parts::{
     PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
 };
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
-use super::observer::{NoObserver, Observer};
+use super::observer::{NoObserver, Observer, Snapshot};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
@@ -324,8 +325,10 @@ pub fn run_explicit_observed(
                 external_work,
             });
             next_record += settings.history_interval;
+            let fields = || all_fields(mesh, &runs, time);
+            let snapshot = Snapshot::new(time, &displacement, &fields);
             if let (Some(row), false) = (history.last(), closing)
-                && observer.record(row, &displacement).is_break()
+                && observer.record(row, &snapshot).is_break()
             {
                 return Err(SolverError::Interrupted { time });
             }
@@ -341,7 +344,8 @@ pub fn run_explicit_observed(
         if closing {
             if let Some(row) = history.last() {
                 // The run is over: a request to stop changes nothing.
-                let _ = observer.record(row, &displacement);
+                let fields = || all_fields(mesh, &runs, time);
+                let _ = observer.record(row, &Snapshot::new(time, &displacement, &fields));
             }
             break;
         }
@@ -390,6 +394,11 @@ pub fn run_explicit_observed(
         steps,
         added_mass_fraction: added_mass / physical_mass,
     })
+}
+
+/// The output fields of every part at the last accepted step, ending at `time`.
+fn all_fields(mesh: &Mesh, runs: &[PartRun], time: f64) -> Result<Vec<PartFields>, SolverError> {
+    runs.iter().map(|run| run.fields(mesh, time)).collect()
 }
 
 fn check_settings(settings: &ExplicitSettings) -> Result<(), SolverError> {

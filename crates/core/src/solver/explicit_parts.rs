@@ -11,6 +11,7 @@ use musclefem_materials::Material;
 use super::assembly::NodeAdjacency;
 use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
 use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk, chunk_ranges};
+use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::hex8_one_point_chunk::OnePointHexChunk;
 use super::nodal::NODES_PER_TASK;
 use super::nodal_average::NodalAveragePart;
@@ -186,6 +187,22 @@ impl<'a> PartRun<'a> {
                 Box::new(averaged.element_stable_steps(density))
             }
         }
+    }
+
+    /// The part's per-element output fields at the last accepted step, ending at `time`.
+    pub fn fields(&self, mesh: &Mesh, time: f64) -> Result<PartFields, SolverError> {
+        let block = &mesh.blocks[self.block];
+        let points: Vec<AcceptedPoints> = match &self.elements {
+            PartElements::General { chunks, .. } => {
+                chunks.iter().map(ElementChunk::accepted_points).collect()
+            }
+            PartElements::OnePointHex { chunks, .. } => chunks
+                .iter()
+                .map(|chunk| chunk.accepted_points(block))
+                .collect(),
+            PartElements::NodalAverage { averaged, .. } => averaged.accepted_points(),
+        };
+        part_fields(mesh, self.block, self.material, time, &points)
     }
 
     /// Recompute the cached smallest stable step of the part.

@@ -17,6 +17,7 @@ use musclefem_materials::{
 };
 
 use super::chunk::{ELEMENTS_PER_CHUNK, largest_acoustic_modulus};
+use super::element_fields::AcceptedPoints;
 use crate::element::ElementError;
 use crate::element::hex8_one_point::{OnePointReference, check_hourglass_modulus};
 use crate::element::hex8_one_point_batch::{
@@ -287,6 +288,18 @@ impl OnePointHexChunk {
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.state_old, &mut self.state_new);
         std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+
+    /// The material points (one per element) of the last accepted step, for the output
+    /// fields.
+    pub fn accepted_points<'a>(&'a self, block: &'a ElementBlock) -> AcceptedPoints<'a> {
+        AcceptedPoints {
+            deformation_gradient: &self.f_old,
+            fiber: &block.fiber_direction[self.elements.clone()],
+            state: &self.state_old,
+            first_element: self.elements.start,
+            points_per_element: 1,
+        }
     }
 }
 

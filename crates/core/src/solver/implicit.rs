@@ -49,7 +49,7 @@ use nalgebra::Vector3;
 
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
-use super::observer::{NoObserver, Observer};
+use super::observer::{NoObserver, Observer, Snapshot};
 use super::sparse::PRESCRIBED;
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
@@ -338,8 +338,10 @@ pub fn run_implicit_observed(
                     rigid_reactions,
                     energy,
                 });
+                let fields = || model.fields(time);
+                let snapshot = Snapshot::new(time, &displacement, &fields);
                 if let Some(row) = history.last()
-                    && (observer.record(row, &displacement).is_break()
+                    && (observer.record(row, &snapshot).is_break()
                         || observer.progress(time, history.len()).is_break())
                     && time < end
                 {

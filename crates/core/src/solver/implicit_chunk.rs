@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 use musclefem_materials::{Material, MaterialError};
 
 use super::chunk::ElementChunk;
+use super::element_fields::AcceptedPoints;
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
@@ -101,5 +102,10 @@ impl ImplicitChunk {
     /// Accept the step: the new state and deformation become the old ones.
     pub fn commit(&mut self) {
         self.chunk.commit();
+    }
+
+    /// The material points of the last accepted step, for the output fields.
+    pub fn accepted_points(&self) -> AcceptedPoints<'_> {
+        self.chunk.accepted_points()
     }
 }

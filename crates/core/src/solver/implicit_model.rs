@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use musclefem_materials::Material;
 
 use super::chunk::chunk_ranges;
+use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_dynamics::Inertia;
 use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
@@ -396,6 +397,22 @@ impl<'a> Model<'a> {
                 displacement[d / 3][d % 3] = base[d / 3][d % 3] + alpha * direction[eq as usize];
             }
         }
+    }
+
+    /// Per-element output fields of every part at the last accepted step, ending at
+    /// `time` [s].
+    pub fn fields(&self, time: f64) -> Result<Vec<PartFields>, SolverError> {
+        self.runs
+            .iter()
+            .map(|run| {
+                let points: Vec<AcceptedPoints> = run
+                    .chunks
+                    .iter()
+                    .map(ImplicitChunk::accepted_points)
+                    .collect();
+                part_fields(self.mesh, run.block, run.material, time, &points)
+            })
+            .collect()
     }
 
     /// Forces the supports take on the prescribed components, f_int + M a − f_ext (zero on

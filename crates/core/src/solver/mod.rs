@@ -11,6 +11,7 @@
 mod assembly;
 pub mod bulk_viscosity;
 mod chunk;
+pub mod element_fields;
 pub mod explicit;
 mod explicit_parts;
 mod hex8_one_point_chunk;

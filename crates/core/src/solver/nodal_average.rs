@@ -23,6 +23,7 @@ use musclefem_materials::tensor::symmetric_from_voigt;
 use musclefem_materials::{Material, MaterialError, PointBlock, PointResponse, VoigtStress};
 
 use super::chunk::{PointSlices, characteristic_length, chunk_ranges, point_acoustic_modulus};
+use super::element_fields::AcceptedPoints;
 use crate::element::BlockKernel;
 use crate::element::tet4_nodal_average::{
     NodalAveraging, add_deviatoric_forces, add_pressure_forces, averaged_deformation_gradient,
@@ -186,6 +187,21 @@ impl NodalAveragePart {
             std::mem::swap(&mut chunk.state_old, &mut chunk.state_new);
             std::mem::swap(&mut chunk.f_old, &mut chunk.f_new);
         }
+    }
+
+    /// The material points (one per element, at F̄) of the last accepted step, chunk by
+    /// chunk, for the output fields.
+    pub fn accepted_points(&self) -> Vec<AcceptedPoints<'_>> {
+        self.chunks
+            .iter()
+            .map(|chunk| AcceptedPoints {
+                deformation_gradient: &chunk.f_old,
+                fiber: &chunk.fiber,
+                state: &chunk.state_old,
+                first_element: chunk.elements.start,
+                points_per_element: 1,
+            })
+            .collect()
     }
 }
 

@@ -1,16 +1,51 @@
-//! What a caller sees of a run while it goes: every recorded history row with the nodal
-//! displacements at that instant (for frames and live histories), and the progress of the
-//! steps (for a progress bar). Either may stop the run cleanly (Ctrl-C): the solver then
-//! returns [`super::SolverError::Interrupted`] after the last recorded row.
+//! What a caller sees of a run while it goes: every recorded history row with a
+//! [`Snapshot`] of that instant (displacements, and per-element fields on request, for
+//! frames and live histories), and the progress of the steps (for a progress bar). Either
+//! may stop the run cleanly (Ctrl-C): the solver then returns
+//! [`super::SolverError::Interrupted`] after the last recorded row.
 
 use std::ops::ControlFlow;
 
 use nalgebra::Vector3;
 
+use super::SolverError;
+use super::element_fields::PartFields;
+
+/// The state of a run at a recorded instant.
+pub struct Snapshot<'a> {
+    /// Time [s].
+    pub time: f64,
+    /// Displacement of every node [m].
+    pub displacement: &'a [Vector3<f64>],
+    fields: &'a dyn Fn() -> Result<Vec<PartFields>, SolverError>,
+}
+
+impl<'a> Snapshot<'a> {
+    /// A snapshot at `time` whose element fields `fields` evaluates when asked.
+    pub fn new(
+        time: f64,
+        displacement: &'a [Vector3<f64>],
+        fields: &'a dyn Fn() -> Result<Vec<PartFields>, SolverError>,
+    ) -> Self {
+        Self {
+            time,
+            displacement,
+            fields,
+        }
+    }
+
+    /// Per-element fields of every part (stress, fiber direction, state, activation), in
+    /// part order. Evaluated on each call, at about the cost of one step's material
+    /// update: ask only for the instants that need them (frames).
+    pub fn element_fields(&self) -> Result<Vec<PartFields>, SolverError> {
+        (self.fields)()
+    }
+}
+
 /// Watches a run whose history rows are `Row`s.
 pub trait Observer<Row> {
-    /// A history row was recorded, with the displacements at its time [m].
-    fn record(&mut self, row: &Row, displacement: &[Vector3<f64>]) -> ControlFlow<()>;
+    /// A history row was recorded, with the state of the run at its time.
+    fn record(&mut self, row: &Row, snapshot: &Snapshot) -> ControlFlow<()>;
 
     /// A step ended at `time` [s], the `steps`-th; called every step, keep it cheap.
     fn progress(&mut self, _time: f64, _steps: usize) -> ControlFlow<()> {
@@ -23,7 +58,7 @@ pub trait Observer<Row> {
 pub struct NoObserver;
 
 impl<Row> Observer<Row> for NoObserver {
-    fn record(&mut self, _row: &Row, _displacement: &[Vector3<f64>]) -> ControlFlow<()> {
+    fn record(&mut self, _row: &Row, _snapshot: &Snapshot) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
 }

@@ -301,14 +301,7 @@ fn check_name(name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Von Mises equivalent stress √(3/2 s:s) [Pa] of a Cauchy stress in Voigt order
-/// (xx, yy, zz, yz, xz, xy), s its deviator.
-pub fn von_mises(stress: &VoigtStress) -> f64 {
-    let mean = (stress[0] + stress[1] + stress[2]) / 3.0;
-    let normal: f64 = (0..3).map(|i| (stress[i] - mean).powi(2)).sum();
-    let shear: f64 = (3..6).map(|i| stress[i].powi(2)).sum();
-    (1.5 * (normal + 2.0 * shear)).sqrt()
-}
+pub use musclefem_materials::tensor::von_mises;
 
 /// A Voigt stress (xx, yy, zz, yz, xz, xy) in the order ParaView and VTK give 6-component
 /// symmetric tensors (`vtkMath::TensorFromSymmetricTensor`): (XX, YY, ZZ, XY, YZ, XZ).

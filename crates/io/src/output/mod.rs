@@ -1,6 +1,8 @@
 //! Output of a run for ParaView and for plotting: VTU frames, a PVD time series, CSV
 //! histories, a copy of the scene and a run log, all written atomically.
 //!
+//! - [`element_fields`]: [`ElementFieldArrays`], the solvers' per-part element fields
+//!   (stress, fiber direction, activation, state variables) as frame arrays;
 //! - [`frame`]: [`Frame`], one output frame (mesh, nodal and element fields) filled from
 //!   plain slices, with [`von_mises`] and the stress-order conversion;
 //! - [`vtu`]: [`write_vtu`], the VTU file of a frame (cell types, node orders, array
@@ -11,12 +13,14 @@
 //! - [`run_directory`]: [`RunDirectory`], which lays all of these out in one directory
 //!   and keeps `result.pvd` listing complete frames only, and [`RunLog`].
 
+pub mod element_fields;
 pub mod frame;
 pub mod history;
 pub mod pvd;
 pub mod run_directory;
 pub mod vtu;
 
+pub use element_fields::ElementFieldArrays;
 pub use frame::{Field, FieldValues, Frame, voigt_to_vtk_symmetric, von_mises};
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use pvd::{PvdEntry, read_pvd, write_pvd};

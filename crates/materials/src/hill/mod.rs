@@ -187,6 +187,11 @@ impl Material for HillMuscle {
         STATE_VARIABLES.as_slice()
     }
 
+    /// f_t(t) of Eq. 12.
+    fn activation(&self, time: f64) -> Option<f64> {
+        Some(self.parameters.activation.level(time))
+    }
+
     fn compute(
         &self,
         block: &PointBlock,
