@@ -70,6 +70,14 @@ pub fn write_uniaxial_csv(path: &Path, rows: &[UniaxialRow]) -> Result<(), Outpu
 /// Read a table written by [`format_table`]: checks the header, returns the rows. Errors
 /// name the file and the line.
 pub fn read_table(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, OutputError> {
+    Ok(read_table_lines(path, header)?
+        .into_iter()
+        .map(|(_, row)| row)
+        .collect())
+}
+
+/// [`read_table`] with the 1-based line of each row, for checks that name the line.
+pub fn read_table_lines(path: &Path, header: &str) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io("read", path, e))?;
     let error = |line: usize, message: String| OutputError::Parse {
         path: path.to_path_buf(),
@@ -104,7 +112,7 @@ pub fn read_table(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, OutputErro
                 format!("{} fields, expected {columns}", row.len()),
             ));
         }
-        rows.push(row);
+        rows.push((number, row));
     }
     Ok(rows)
 }

@@ -6,6 +6,7 @@
 //!   directory, fsync, rename), so an interrupted run never leaves a half-written output;
 //! - [`csv`]: CSV tables at full `f64` precision, among them the material-point driver's
 //!   history ([`csv::write_uniaxial_csv`]);
+//! - [`fiber_csv`]: fiber fields as CSV (element id, centroid, unit direction);
 //! - [`output`]: VTU frames and a PVD time series for ParaView, CSV histories, the scene
 //!   copy and the run log, laid out in a run directory;
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
@@ -18,6 +19,7 @@
 pub mod atomic;
 pub mod csv;
 pub mod error;
+pub mod fiber_csv;
 pub mod mesh_import;
 pub mod output;
 pub mod plot;

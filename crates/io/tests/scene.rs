@@ -300,6 +300,12 @@ fn a_part_meshed_from_an_abaqus_file_builds_and_its_errors_are_named() {
         "{first:?}"
     );
 
+    // Element sets and surfaces of the block come along, renamed PART.SET.
+    assert_eq!(model.mesh.element_sets["cube.first"].len(), 1);
+    assert_eq!(model.mesh.element_sets["cube.both"].len(), 2);
+    assert_eq!(model.mesh.surfaces["cube.right"].len(), 1);
+    assert_eq!(model.mesh.surfaces["cube.bottom"].len(), 2);
+
     let tets = scene.replace("element = \"hex8-full\"", "element = \"tet4\"");
     let message = build(&tets).unwrap_err().to_string();
     assert!(
@@ -318,4 +324,77 @@ fn a_part_meshed_from_an_abaqus_file_builds_and_its_errors_are_named() {
     );
     let message = build(&neither).unwrap_err().to_string();
     assert!(message.contains("either as generator"), "{message}");
+}
+
+/// Fibers per element from a CSV file: by file label for a part read from a file, by
+/// 0-based index for a generated box; unknown, repeated and missing elements are named.
+#[test]
+fn fibers_per_element_come_from_a_file() {
+    let directory =
+        std::env::temp_dir().join(format!("musclefem-scene-fibers-{}", std::process::id()));
+    std::fs::create_dir_all(directory.join("meshes")).unwrap();
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/meshes/part_instance.inp");
+    std::fs::copy(&source, directory.join("meshes/part_instance.inp")).unwrap();
+    let scene_path = directory.join("fibers.toml");
+    let from_file = VALID
+        .replace(
+            "mesh = { generator = \"box\", size = [0.01, 0.01, 0.01], divisions = [2, 2, 2] }",
+            "mesh = { file = \"meshes/part_instance.inp\", block = \"all\" }\nfibers = { file = \"fibers.csv\" }",
+        )
+        .replace("nodes = \"x1\"", "nodes = \"left\"");
+    let build = |text: &str, fibers: &str| {
+        std::fs::write(directory.join("fibers.csv"), fibers).unwrap();
+        let (scene, locator) = parse_scene(text, &scene_path)?;
+        musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+    };
+    let header = "element,cx,cy,cz,fx,fy,fz\n";
+    let model = build(
+        &from_file,
+        &format!("{header}12,0,0,0,0,0,2\n11,0,0,0,0,1,0\n"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let fibers = &model.mesh.blocks[0].fiber_direction;
+    assert_eq!(fibers[0], nalgebra::Vector3::y(), "label 11 is element 0");
+    assert_eq!(fibers[1], nalgebra::Vector3::z(), "normalised");
+
+    for (rows, fragment) in [
+        (
+            "11,0,0,0,1,0,0\n13,0,0,0,1,0,0\n",
+            "line 3: the part has no element 13",
+        ),
+        (
+            "11,0,0,0,1,0,0\n11,0,0,0,1,0,0\n",
+            "line 3: element 11 is given twice",
+        ),
+        (
+            "12,0,0,0,1,0,0\n",
+            "no fiber for 1 of the part's 2 elements (the first: element 11)",
+        ),
+        ("11,0,0,0,0,0,0\n", "line 2: fiber direction"),
+    ] {
+        let message = build(&from_file, &format!("{header}{rows}"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("fibers.toml:") && message.contains(fragment),
+            "{message}"
+        );
+    }
+
+    // A generated box: ids are 0-based element indices.
+    let boxed = VALID.replace(
+        "divisions = [2, 2, 2] }",
+        "divisions = [2, 1, 1] }\nfibers = { file = \"fibers.csv\" }",
+    );
+    let model = build(&boxed, &format!("{header}1,0,0,0,1,1,0\n0,0,0,0,0,0,1\n")).unwrap();
+    let fibers = &model.mesh.blocks[0].fiber_direction;
+    assert_eq!(fibers[0], nalgebra::Vector3::z());
+    assert!((fibers[1] - nalgebra::Vector3::new(1.0, 1.0, 0.0).normalize()).norm() < 1e-15);
+
+    let both = boxed.replace(
+        "fibers = { file = \"fibers.csv\" }",
+        "fibers = { file = \"fibers.csv\", direction = [1, 0, 0] }",
+    );
+    let message = build(&both, header).unwrap_err().to_string();
+    assert!(message.contains("either as direction"), "{message}");
 }

@@ -70,7 +70,7 @@ pub struct PartEntry {
     pub mesh: MeshEntry,
     /// Fiber direction of every element; default along x.
     #[serde(default)]
-    pub fibers: Option<FiberEntry>,
+    pub fibers: Option<Spanned<FiberEntry>>,
 }
 
 /// `[parts.mesh]`: a generated box, or a block of a mesh file.
@@ -89,11 +89,15 @@ pub struct MeshEntry {
     pub block: Option<Spanned<String>>,
 }
 
-/// `[parts.fibers]`: a constant fiber direction (normalised when read).
+/// `[parts.fibers]`: a constant fiber direction (normalised when read), or one per element
+/// from a fibers CSV file (`element,cx,cy,cz,fx,fy,fz`, as `musclefem fibers` writes).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FiberEntry {
-    pub direction: Spanned<[f64; 3]>,
+    pub direction: Option<Spanned<[f64; 3]>>,
+    /// Relative to the scene file; element ids are the mesh file's labels, or 0-based
+    /// indices for a generated mesh.
+    pub file: Option<Spanned<String>>,
 }
 
 /// `[[amplitudes]]`: a piecewise-linear function of time, constant outside its knots.

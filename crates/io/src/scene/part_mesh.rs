@@ -1,17 +1,20 @@
 //! The mesh of one part: a generated box, or one block of an Abaqus/Gmsh file with its
-//! nodes renumbered, and how parts are appended into the one mesh of a model (node sets
-//! renamed `PART.SET`).
+//! nodes renumbered and the sets and surfaces that touch it, with its fibers (constant or
+//! per element from a CSV file), and how parts are appended into the one mesh of a model
+//! (node sets, element sets and surfaces renamed `PART.SET`).
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use nalgebra::Vector3;
 use toml::Spanned;
 
 use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
-use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::mesh::{ElementRef, ElementShape, Face, Mesh};
 
 use super::error::{Locator, SceneError, suggestion};
-use super::format::PartEntry;
+use super::format::{FiberEntry, PartEntry};
+use crate::fiber_csv::read_fibers_csv;
 use crate::mesh_import::read_mesh;
 
 /// The mesh of a part (generated, or one block of a file), with its fibers.
@@ -22,9 +25,12 @@ pub(super) fn part_mesh(
     locator: &Locator,
 ) -> Result<Mesh, SceneError> {
     let spec = &entry.mesh;
-    let mut mesh = match (&spec.generator, &spec.file) {
-        (Some(generator), None) => generate_box(entry, generator, locator)?,
-        (None, Some(file)) => read_block(entry, file, directory, locator)?,
+    let (mut mesh, labels) = match (&spec.generator, &spec.file) {
+        (Some(generator), None) => (generate_box(entry, generator, locator)?, None),
+        (None, Some(file)) => {
+            let (mesh, labels) = read_block(entry, file, directory, locator)?;
+            (mesh, Some(labels))
+        }
         _ => {
             return Err(locator.error(
                 entry.name.span(),
@@ -47,18 +53,77 @@ pub(super) fn part_mesh(
         ));
     }
     if let Some(fibers) = &entry.fibers {
-        let direction = Vector3::from(*fibers.direction.get_ref());
-        if !(direction.norm() > 0.0 && direction.iter().all(|x| x.is_finite())) {
-            return Err(locator.error(
-                fibers.direction.span(),
-                "the fiber direction must be a finite non-zero vector".to_string(),
-            ));
-        }
-        for block in &mut mesh.blocks {
-            block.fiber_direction.fill(direction.normalize());
-        }
+        let directions = fiber_directions(fibers, &mesh, labels.as_deref(), directory, locator)?;
+        mesh.blocks[0].fiber_direction = directions;
     }
     Ok(mesh)
+}
+
+/// The fiber direction of every element of the part's (one) block: a constant, or read
+/// per element from a fibers file. Every element must be given exactly once.
+fn fiber_directions(
+    fibers: &Spanned<FiberEntry>,
+    mesh: &Mesh,
+    labels: Option<&[i64]>,
+    directory: &Path,
+    locator: &Locator,
+) -> Result<Vec<Vector3<f64>>, SceneError> {
+    let elements = mesh.blocks[0].len();
+    match (&fibers.get_ref().direction, &fibers.get_ref().file) {
+        (Some(direction), None) => {
+            let value = Vector3::from(*direction.get_ref());
+            if !(value.norm() > 0.0 && value.iter().all(|x| x.is_finite())) {
+                return Err(locator.error(
+                    direction.span(),
+                    "the fiber direction must be a finite non-zero vector".to_string(),
+                ));
+            }
+            Ok(vec![value.normalize(); elements])
+        }
+        (None, Some(file)) => {
+            let path = directory.join(file.get_ref());
+            let at = |message: String| locator.error(file.span(), message);
+            let rows = read_fibers_csv(&path).map_err(|e| at(e.to_string()))?;
+            // Element id → index in the block.
+            let index: HashMap<i64, usize> = match labels {
+                Some(labels) => labels.iter().enumerate().map(|(i, &l)| (l, i)).collect(),
+                None => (0..elements).map(|i| (i as i64, i)).collect(),
+            };
+            let mut directions: Vec<Option<Vector3<f64>>> = vec![None; elements];
+            for (line, row) in rows {
+                let Some(&element) = index.get(&row.element) else {
+                    return Err(at(format!(
+                        "'{}' line {line}: the part has no element {}",
+                        path.display(),
+                        row.element
+                    )));
+                };
+                if directions[element].replace(row.direction).is_some() {
+                    return Err(at(format!(
+                        "'{}' line {line}: element {} is given twice",
+                        path.display(),
+                        row.element
+                    )));
+                }
+            }
+            let missing: Vec<usize> = (0..elements).filter(|&e| directions[e].is_none()).collect();
+            if let Some(&first) = missing.first() {
+                let id = labels.map_or(first as i64, |l| l[first]);
+                return Err(at(format!(
+                    "'{}' gives no fiber for {} of the part's {elements} elements (the first: \
+                     element {id})",
+                    path.display(),
+                    missing.len()
+                )));
+            }
+            Ok(directions.into_iter().flatten().collect())
+        }
+        _ => Err(locator.error(
+            fibers.span(),
+            "give the fibers either as direction = [x, y, z] or as file = \"fibers.csv\""
+                .to_string(),
+        )),
+    }
 }
 
 /// A generated box of hexes, or of tets (linear or quadratic) for tet elements.
@@ -93,17 +158,18 @@ fn generate_box(
     generated.map_err(|e| locator.error(size.span(), e.to_string()))
 }
 
-/// One block of a mesh file, with only its nodes (renumbered) and the node sets restricted
-/// to them.
+/// One block of a mesh file, with only its nodes (renumbered), the node sets, element sets
+/// and surfaces restricted to it, and the file's label of each element.
 fn read_block(
     entry: &PartEntry,
     file: &Spanned<String>,
     directory: &Path,
     locator: &Locator,
-) -> Result<Mesh, SceneError> {
+) -> Result<(Mesh, Vec<i64>), SceneError> {
     let path = directory.join(file.get_ref());
     let imported = read_mesh(&path).map_err(|e| locator.error(file.span(), e.to_string()))?;
     let mesh = imported.mesh;
+    let mut element_labels = imported.element_labels;
     let names: Vec<&str> = mesh.blocks.iter().map(|b| b.name.as_str()).collect();
     let index = match &entry.mesh.block {
         Some(name) => names
@@ -155,13 +221,63 @@ fn read_block(
             part.node_sets.insert(name.clone(), kept);
         }
     }
-    Ok(part)
+    let in_block = |block: u32| block as usize == index;
+    for (name, set) in &mesh.element_sets {
+        let kept: Vec<ElementRef> = set
+            .iter()
+            .filter(|e| in_block(e.block))
+            .map(|e| ElementRef { block: 0, ..*e })
+            .collect();
+        if !kept.is_empty() {
+            part.element_sets.insert(name.clone(), kept);
+        }
+    }
+    for (name, faces) in &mesh.surfaces {
+        let kept: Vec<Face> = faces
+            .iter()
+            .filter(|f| in_block(f.element.block))
+            .map(|f| Face {
+                element: ElementRef {
+                    block: 0,
+                    ..f.element
+                },
+                ..*f
+            })
+            .collect();
+        if !kept.is_empty() {
+            part.surfaces.insert(name.clone(), kept);
+        }
+    }
+    Ok((part, std::mem::take(&mut element_labels[index])))
 }
 
 /// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
-/// block named after the part, node sets renamed `PART.SET`.
+/// block named after the part, node sets, element sets and surfaces renamed `PART.SET`.
 pub(super) fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
     let offset = mesh.nodes.len() as u32;
+    let first_block = mesh.blocks.len() as u32;
+    let moved = |e: ElementRef| ElementRef {
+        block: e.block + first_block,
+        ..e
+    };
+    for (set, elements) in part.element_sets {
+        mesh.element_sets.insert(
+            format!("{name}.{set}"),
+            elements.into_iter().map(moved).collect(),
+        );
+    }
+    for (surface, faces) in part.surfaces {
+        mesh.surfaces.insert(
+            format!("{name}.{surface}"),
+            faces
+                .into_iter()
+                .map(|f| Face {
+                    element: moved(f.element),
+                    ..f
+                })
+                .collect(),
+        );
+    }
     for i in 0..part.nodes.len() {
         mesh.nodes.push(part.nodes.position(i));
     }
