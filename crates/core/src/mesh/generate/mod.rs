@@ -118,24 +118,32 @@ pub fn box_of_tets(
     let block = match order {
         TetOrder::Linear => ElementBlock::new("tets", ElementShape::Tet4, corners)?,
         TetOrder::Quadratic => {
-            let shape = ElementShape::Tet10;
-            let mut connectivity = Vec::with_capacity(corners.len() / 4 * 10);
-            let mut edge_nodes: HashMap<(u32, u32), u32> = HashMap::new();
-            for tet in corners.chunks_exact(4) {
-                connectivity.extend_from_slice(tet);
-                for &[a, b] in shape.edges() {
-                    let (a, b) = (tet[a as usize], tet[b as usize]);
-                    let id = *edge_nodes.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                        let mid = 0.5 * (nodes.position(a as usize) + nodes.position(b as usize));
-                        nodes.push(mid)
-                    });
-                    connectivity.push(id);
-                }
-            }
-            ElementBlock::new("tets", shape, connectivity)?
+            let connectivity = add_mid_edge_nodes(&mut nodes, &corners);
+            ElementBlock::new("tets", ElementShape::Tet10, connectivity)?
         }
     };
     Ok(lattice.finish(nodes, block))
+}
+
+/// The tet10 connectivity of the tet4 connectivity `corners`: every edge gets one node at
+/// the midpoint of its ends, pushed onto `nodes` in the order the elements first meet
+/// it and shared by all the tets around the edge (so the mesh stays conforming).
+fn add_mid_edge_nodes(nodes: &mut Nodes, corners: &[u32]) -> Vec<u32> {
+    let shape = ElementShape::Tet10;
+    let mut connectivity = Vec::with_capacity(corners.len() / 4 * 10);
+    let mut edge_nodes: HashMap<(u32, u32), u32> = HashMap::new();
+    for tet in corners.chunks_exact(4) {
+        connectivity.extend_from_slice(tet);
+        for &[a, b] in shape.edges() {
+            let (a, b) = (tet[a as usize], tet[b as usize]);
+            let id = *edge_nodes.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let mid = 0.5 * (nodes.position(a as usize) + nodes.position(b as usize));
+                nodes.push(mid)
+            });
+            connectivity.push(id);
+        }
+    }
+    connectivity
 }
 
 fn permutation_is_odd(p: [usize; 3]) -> bool {
