@@ -12,9 +12,14 @@
 //! The mesh has one block, named `hexes` or `tets`, with every fiber along e_x.
 //!
 //! [`cooks_membrane`] maps such a box onto Cook's tapered panel (a locking benchmark).
+//!
+//! [`fusiform_mesh`] meshes the paper's elongation specimen, a fusiform muscle (or a
+//! cylinder), with hex8, tet4 or tet10 of a target size, on an O-grid cross-section, with
+//! its own names (`origin`, `insertion`, `lateral`, `muscle`, ...; see there).
 
 mod cooks_membrane;
 mod distort;
+mod fusiform;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -24,6 +29,10 @@ pub use cooks_membrane::{
     COOKS_MEMBRANE_AREA, COOKS_MEMBRANE_CORNERS, consistent_nodal_areas, cooks_membrane,
 };
 pub use distort::distort;
+pub use fusiform::{
+    PAPER_END_RADIUS, PAPER_LENGTH, PAPER_MID_RADIUS, SpecimenDivisions, SpecimenShape,
+    SpecimenSpec, fusiform_mesh,
+};
 
 use super::error::MeshError;
 use super::refs::{ElementRef, Face};
