@@ -153,6 +153,44 @@ impl ElementShape {
             }
         }
     }
+
+    /// Smallest scaled Jacobian over the corners (dimensionless, 1 for a cube or a
+    /// regular tetrahedron, ≤ 0 for an inverted corner): a shape-quality measure.
+    ///
+    /// - hex8: at each corner, det J / (|J₁| |J₂| |J₃|), J_i the columns of the Jacobian
+    ///   there (half the three edges leaving the corner): the sine-like measure of how far
+    ///   the corner's edges are from orthogonal;
+    /// - tet4, tet10: at each corner, √2 · 6V / (l₁ l₂ l₃), V the volume of the straight
+    ///   tetrahedron of the four corners and l_i the lengths of the three edges at the
+    ///   corner (√2 makes the regular tetrahedron 1; tet10 mid-edge nodes are ignored).
+    ///
+    /// # Panics
+    /// If `coords.len()` differs from [`Self::nodes_per_element`].
+    pub fn min_scaled_jacobian(self, coords: &[Vector3<f64>]) -> f64 {
+        assert_eq!(coords.len(), self.nodes_per_element(), "{self} coordinates");
+        match self {
+            ElementShape::Hex8 => HEX8_REFERENCE
+                .iter()
+                .map(|&xi| {
+                    let j = jacobian(coords, &hex8_gradients(xi));
+                    let lengths = j.column(0).norm() * j.column(1).norm() * j.column(2).norm();
+                    j.determinant() / lengths
+                })
+                .fold(f64::INFINITY, f64::min),
+            ElementShape::Tet4 | ElementShape::Tet10 => {
+                let six_volume = 6.0 * tet4_volume(&coords[..4]);
+                (0..4)
+                    .map(|corner| {
+                        let lengths: f64 = (0..4)
+                            .filter(|&other| other != corner)
+                            .map(|other| (coords[other] - coords[corner]).norm())
+                            .product();
+                        std::f64::consts::SQRT_2 * six_volume / lengths
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
 }
 
 impl FaceShape {
@@ -337,6 +375,32 @@ mod tests {
         let v4 = ElementShape::Tet4.volume(&corners);
         assert!((ElementShape::Tet10.volume(&coords) - v4).abs() < 1e-15);
         assert!((ElementShape::Tet10.min_jacobian_volume(&coords) - v4).abs() < 1e-14);
+    }
+
+    #[test]
+    fn scaled_jacobian_is_one_for_ideal_shapes_and_falls_with_shear() {
+        let cube = reference_coords(ElementShape::Hex8);
+        assert!((ElementShape::Hex8.min_scaled_jacobian(&cube) - 1.0).abs() < 1e-15);
+        // Regular tetrahedron: alternate corners of a cube.
+        let p = |x: f64, y: f64, z: f64| Vector3::new(x, y, z);
+        let regular = [
+            p(0.0, 0.0, 0.0),
+            p(1.0, 1.0, 0.0),
+            p(0.0, 1.0, 1.0),
+            p(1.0, 0.0, 1.0),
+        ];
+        let s = ElementShape::Tet4.min_scaled_jacobian(&regular);
+        assert!((s - 1.0).abs() < 1e-14, "{s}");
+        // A hex sheared by 45° in x–z: every corner has edges at 45° (or 135°): sin 45°.
+        let sheared: Vec<_> = cube
+            .iter()
+            .map(|x| Vector3::new(x.x + x.z, x.y, x.z))
+            .collect();
+        let s = ElementShape::Hex8.min_scaled_jacobian(&sheared);
+        assert!((s - std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-15, "{s}");
+        let (mut coords, _) = affine(ElementShape::Hex8);
+        coords.swap(1, 2);
+        assert!(ElementShape::Hex8.min_scaled_jacobian(&coords) < 0.0);
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //!   connectivity and a fiber direction per element;
 //! - [`ElementRef`] and [`Face`]: an element, or one face of it, across blocks;
 //! - [`Mesh`]: all of these, with named sets, lookups, volumes and [`Mesh::validate`];
-//! - [`generate`]: structured boxes of hexes and tets, and a random interior distortion;
+//! - [`generate`]: structured boxes of hexes and tets, Cook's membrane, the fusiform
+//!   muscle specimen (and a cylinder) on an O-grid, and a random interior distortion;
 //! - [`geometry`]: shape-function gradients, Jacobians, volumes and face area vectors.
 //!
 //! A mesh is plain data with public fields, so that importers, generators and solvers use

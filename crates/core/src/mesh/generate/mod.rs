@@ -12,9 +12,14 @@
 //! The mesh has one block, named `hexes` or `tets`, with every fiber along e_x.
 //!
 //! [`cooks_membrane`] maps such a box onto Cook's tapered panel (a locking benchmark).
+//!
+//! [`fusiform_mesh`] meshes the paper's elongation specimen, a fusiform muscle (or a
+//! cylinder), with hex8, tet4 or tet10 of a target size, on an O-grid cross-section, with
+//! its own names (`origin`, `insertion`, `lateral`, `muscle`, ...; see there).
 
 mod cooks_membrane;
 mod distort;
+mod fusiform;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -24,6 +29,10 @@ pub use cooks_membrane::{
     COOKS_MEMBRANE_AREA, COOKS_MEMBRANE_CORNERS, consistent_nodal_areas, cooks_membrane,
 };
 pub use distort::distort;
+pub use fusiform::{
+    PAPER_END_RADIUS, PAPER_LENGTH, PAPER_MID_RADIUS, SpecimenDivisions, SpecimenShape,
+    SpecimenSpec, fusiform_mesh,
+};
 
 use super::error::MeshError;
 use super::refs::{ElementRef, Face};
@@ -118,24 +127,32 @@ pub fn box_of_tets(
     let block = match order {
         TetOrder::Linear => ElementBlock::new("tets", ElementShape::Tet4, corners)?,
         TetOrder::Quadratic => {
-            let shape = ElementShape::Tet10;
-            let mut connectivity = Vec::with_capacity(corners.len() / 4 * 10);
-            let mut edge_nodes: HashMap<(u32, u32), u32> = HashMap::new();
-            for tet in corners.chunks_exact(4) {
-                connectivity.extend_from_slice(tet);
-                for &[a, b] in shape.edges() {
-                    let (a, b) = (tet[a as usize], tet[b as usize]);
-                    let id = *edge_nodes.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                        let mid = 0.5 * (nodes.position(a as usize) + nodes.position(b as usize));
-                        nodes.push(mid)
-                    });
-                    connectivity.push(id);
-                }
-            }
-            ElementBlock::new("tets", shape, connectivity)?
+            let connectivity = add_mid_edge_nodes(&mut nodes, &corners);
+            ElementBlock::new("tets", ElementShape::Tet10, connectivity)?
         }
     };
     Ok(lattice.finish(nodes, block))
+}
+
+/// The tet10 connectivity of the tet4 connectivity `corners`: every edge gets one node at
+/// the midpoint of its ends, pushed onto `nodes` in the order the elements first meet
+/// it and shared by all the tets around the edge (so the mesh stays conforming).
+fn add_mid_edge_nodes(nodes: &mut Nodes, corners: &[u32]) -> Vec<u32> {
+    let shape = ElementShape::Tet10;
+    let mut connectivity = Vec::with_capacity(corners.len() / 4 * 10);
+    let mut edge_nodes: HashMap<(u32, u32), u32> = HashMap::new();
+    for tet in corners.chunks_exact(4) {
+        connectivity.extend_from_slice(tet);
+        for &[a, b] in shape.edges() {
+            let (a, b) = (tet[a as usize], tet[b as usize]);
+            let id = *edge_nodes.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let mid = 0.5 * (nodes.position(a as usize) + nodes.position(b as usize));
+                nodes.push(mid)
+            });
+            connectivity.push(id);
+        }
+    }
+    connectivity
 }
 
 fn permutation_is_odd(p: [usize; 3]) -> bool {
