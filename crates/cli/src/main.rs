@@ -6,7 +6,9 @@
 //! - `musclefem demo` (also `musclefem` alone): the passive and active Hill muscle on the
 //!   default protocol;
 //! - `musclefem check SCENE.toml`: read and check a scene file without running it;
-//! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log.
+//! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log;
+//! - `musclefem elongate`: the paper's passive and active elongation tests of the
+//!   fusiform muscle (see the library's `elongation` module).
 
 // Every crate that registers materials with `inventory` must be named here, or the
 // linker may drop its registrations (see DESIGN.md, "Two traps").
@@ -17,6 +19,7 @@ use musclefem_io as _;
 use musclefem_materials as _;
 
 mod commands;
+mod elongate_command;
 mod scene_run;
 mod summary;
 
@@ -47,6 +50,10 @@ enum Command {
     Demo(DemoArgs),
     /// Read and check a scene file (TOML) without running it; print what it holds.
     Check(CheckArgs),
+    /// The paper's single-muscle tests: uniaxial elongation of the 50 mm fusiform muscle,
+    /// passive and/or active after a 0.5 s isometric hold, pulled at 5 mm/s for 2 s;
+    /// writes curve.csv (engineering stress vs strain), curve.png and VTU/PVD frames.
+    Elongate(elongate_command::ElongateArgs),
     /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the
     /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last
     /// complete frame.
@@ -132,6 +139,7 @@ fn main() -> ExitCode {
         Some(Command::Demo(args)) => commands::demo(&args),
         Some(Command::Check(args)) => scene_run::check(&args),
         Some(Command::Run(args)) => scene_run::run(&args),
+        Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

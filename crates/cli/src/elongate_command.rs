@@ -1,0 +1,284 @@
+//! `musclefem elongate`: the paper's passive and active elongation tests of the fusiform
+//! muscle, with curve.csv, curve.png, VTU/PVD frames and the stress at 10 % and 20 %
+//! strain.
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use musclefem::elongation::run::run_on;
+use musclefem::elongation::setup::setup;
+use musclefem::elongation::{
+    Curve, CurvePoint, ElementChoice, ElongationRun, ElongationTest, ElongationWatcher, Grips,
+    Mode, Shape, Solver,
+};
+use musclefem_core::solver::observer::Snapshot;
+use musclefem_io::output::{ElementFieldArrays, ExistingResults, Frame, RunDirectory, RunLog};
+use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
+
+/// Which tests to run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ModeChoice {
+    Passive,
+    Active,
+    /// Both, into DIR/passive and DIR/active, with one chart of both curves.
+    Both,
+}
+
+#[derive(Debug, Args)]
+pub struct ElongateArgs {
+    /// Passive (pulled at 5 mm/s for 2 s), active (held 0.5 s while fully activating,
+    /// then pulled at 5 mm/s for 2 s) or both.
+    #[arg(long, value_enum, default_value = "both")]
+    pub mode: ModeChoice,
+    /// Solver: implicit (quasi-static Newton, recommended for this slow motion) or
+    /// explicit (central differences with mass scaling, the paper's method).
+    #[arg(long, value_enum, default_value = "implicit")]
+    pub solver: Solver,
+    /// Element technology.
+    #[arg(long, value_enum, default_value = "hex8-fbar")]
+    pub element: ElementChoice,
+    /// Target element edge length [mm].
+    #[arg(long, value_name = "MM", default_value_t = 1e3 * musclefem::elongation::DEFAULT_MESH_SIZE)]
+    pub mesh_size: f64,
+    /// Specimen: the 50 mm fusiform muscle (end diameter 9 mm, mid-belly 17.5 mm), or a
+    /// cylinder of the mid-belly diameter (homogeneous deformation with sliding grips).
+    #[arg(long, value_enum, default_value = "fusiform")]
+    pub shape: Shape,
+    /// Fixed grips clamp the end faces; sliding grips prescribe only their axial motion.
+    #[arg(long, value_enum, default_value = "fixed")]
+    pub grips: Grips,
+    /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.025 s
+    /// implicit, 2e-5 s explicit).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_step: Option<f64>,
+    /// Hill parameter overriding Table 1, e.g. --param sigma0=3e5 (units as in
+    /// `musclefem materials`); repeatable. n2 and t0 are set by the mode.
+    #[arg(long = "param", value_name = "KEY=VALUE")]
+    pub params: Vec<String>,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/elongate")]
+    pub out: PathBuf,
+    /// Time between frames [s] (0: no frames).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.25)]
+    pub frame_interval: f64,
+    /// Replace the results of a previous run in the output directory.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn elongate(args: &ElongateArgs) -> Result<()> {
+    let modes: &[Mode] = match args.mode {
+        ModeChoice::Passive => &[Mode::Passive],
+        ModeChoice::Active => &[Mode::Active],
+        ModeChoice::Both => &[Mode::Passive, Mode::Active],
+    };
+    let parameters = crate::commands::parse_params(&args.params)?;
+    if parameters.contains_key("n2") || parameters.contains_key("t0") {
+        bail!("--param n2 / t0: the mode sets the activation (passive n2 = 0, active n2 = 1)");
+    }
+    let mut runs = Vec::new();
+    for &mode in modes {
+        let test = ElongationTest {
+            mode,
+            solver: args.solver,
+            element: args.element,
+            mesh_size: 1e-3 * args.mesh_size,
+            shape: args.shape,
+            grips: args.grips,
+            parameters: parameters.clone(),
+            time_step: args.time_step,
+            ..ElongationTest::recommended(mode)
+        };
+        let directory = if modes.len() == 1 {
+            args.out.clone()
+        } else {
+            args.out.join(mode.name())
+        };
+        let run = run_one(&test, &directory, args)?;
+        runs.push((mode, run));
+    }
+    let chart = args.out.join("curve.png");
+    let figure = curve_figure(args, &runs);
+    stage_png(&chart, &figure)?.commit()?;
+    println!("chart: {}", chart.display());
+    Ok(())
+}
+
+/// Run one test into `directory`: frames, curve.csv, run.log (and curve.png for a single
+/// mode), and print its summary.
+fn run_one(test: &ElongationTest, directory: &Path, args: &ElongateArgs) -> Result<ElongationRun> {
+    let existing = if args.force {
+        ExistingResults::Replace
+    } else {
+        ExistingResults::Refuse
+    };
+    let mut output = RunDirectory::create(directory, existing)
+        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+    let label = format!(
+        "{} {} elongation, {} {}, {} mm, {} grips",
+        test.solver.name(),
+        test.mode.name(),
+        test.shape.name(),
+        element_name(test.element),
+        1e3 * test.mesh_size,
+        grips_name(test.grips),
+    );
+    println!("{label}");
+    let setup = setup(test)?;
+    let mut watcher = FrameWriter {
+        directory: &mut output,
+        interval: args.frame_interval,
+        next: 0.0,
+        mesh: &setup.specimen.mesh,
+        error: None,
+        bar: progress_bar(test.mode.duration()),
+    };
+    let result = run_on(test, &setup, &mut watcher);
+    watcher.bar.finish_and_clear();
+    if let Some(error) = watcher.error.take() {
+        return Err(error).context("writing a frame failed");
+    }
+    let run = result?;
+    run.curve
+        .stage_csv(&directory.join("curve.csv"))?
+        .commit()?;
+    let log = RunLog::new(format!(
+        "test = {label}\nelements = {}\nnodes = {}\nsteps = {}\n",
+        run.elements, run.nodes, run.steps
+    ))
+    .timing("solve", run.solve_time);
+    output.write_run_log(&log)?;
+    print_summary(&run);
+    Ok(run)
+}
+
+fn print_summary(run: &ElongationRun) {
+    let iterations = run
+        .newton_iterations
+        .map_or(String::new(), |n| format!(" ({n} Newton iterations)"));
+    println!(
+        "  {} elements, {} nodes, {} steps{iterations} in {:.2?}",
+        run.elements, run.nodes, run.steps, run.solve_time
+    );
+    if let (Some(ratio), Some(added)) = (run.kinetic_to_internal, run.added_mass_fraction) {
+        println!(
+            "  mass scaling added {:.3e} of the mass; largest kinetic/internal energy during \
+             the pull {:.2e}",
+            added, ratio
+        );
+    }
+    for strain in [0.1, 0.2] {
+        match run.curve.stress_at_strain(strain) {
+            Some(stress) => println!(
+                "  engineering stress at {:.0} % strain: {:.2} kPa",
+                100.0 * strain,
+                1e-3 * stress
+            ),
+            None => println!("  {:.0} % strain was not reached", 100.0 * strain),
+        }
+    }
+}
+
+/// Writes a frame with the element fields every `interval` of simulated time.
+struct FrameWriter<'a> {
+    directory: &'a mut RunDirectory,
+    interval: f64,
+    next: f64,
+    mesh: &'a musclefem_core::mesh::Mesh,
+    error: Option<anyhow::Error>,
+    bar: ProgressBar,
+}
+
+impl ElongationWatcher for FrameWriter<'_> {
+    fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.bar.set_position((1e3 * point.time) as u64);
+        if self.interval <= 0.0 || point.time < self.next - 1e-12 {
+            return ControlFlow::Continue(());
+        }
+        self.next = point.time + self.interval;
+        let mesh = self.mesh;
+        let written = snapshot
+            .element_fields()
+            .map_err(anyhow::Error::from)
+            .and_then(|parts| {
+                let fields = ElementFieldArrays::gather(mesh, &parts);
+                let frame = Frame::new(point.time, mesh, snapshot.displacement);
+                self.directory
+                    .write_frame(&fields.attach(frame))
+                    .map_err(anyhow::Error::from)
+            });
+        match written {
+            Ok(_) => ControlFlow::Continue(()),
+            Err(e) => {
+                self.error = Some(e);
+                ControlFlow::Break(())
+            }
+        }
+    }
+
+    fn progress(&mut self, time: f64) -> ControlFlow<()> {
+        self.bar.set_position((1e3 * time) as u64);
+        ControlFlow::Continue(())
+    }
+}
+
+fn progress_bar(duration: f64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new((1e3 * duration) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos} / {len} ms [{elapsed_precise}, ETA {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Engineering stress [kPa] against strain [%] of every run on one chart.
+fn curve_figure(args: &ElongateArgs, runs: &[(Mode, ElongationRun)]) -> Figure {
+    let mut panel = Panel::new(
+        format!(
+            "{} elongation at 5 mm/s ({}, {}, {} mm)",
+            match args.shape {
+                Shape::Fusiform => "fusiform muscle",
+                Shape::Cylinder => "cylinder",
+            },
+            args.solver.name(),
+            element_name(args.element),
+            args.mesh_size
+        ),
+        "engineering strain [%]",
+        "engineering stress [kPa]",
+    )
+    .with_legend(LegendPosition::UpperLeft);
+    for (mode, run) in runs {
+        panel = panel.with_series(Series::new(mode.name(), curve_points(&run.curve)));
+    }
+    Figure::new("musclefem elongate").with_panel(panel)
+}
+
+fn curve_points(curve: &Curve) -> Vec<(f64, f64)> {
+    curve
+        .points
+        .iter()
+        .map(|p| (100.0 * p.strain, 1e-3 * p.stress))
+        .collect()
+}
+
+fn element_name(element: ElementChoice) -> String {
+    element
+        .to_possible_value()
+        .map_or_else(|| format!("{element:?}"), |v| v.get_name().to_string())
+}
+
+fn grips_name(grips: Grips) -> &'static str {
+    match grips {
+        Grips::Fixed => "fixed",
+        Grips::Sliding => "sliding",
+    }
+}

@@ -1,0 +1,107 @@
+//! The paper's single-muscle tests (seed §2.2, Fig. 5) as a library: uniaxial elongation
+//! of a 50 mm fusiform muscle (or a cylinder, for verification), passive, or active after
+//! a 0.5 s isometric hold, with either solver, reported as engineering stress (reaction
+//! force / reference mid-belly cross-section area) against engineering strain
+//! (elongation / 50 mm).
+//!
+//! - [`protocol`]: the pulling speed, durations and activation of each [`Mode`], and the
+//!   [`Grips`];
+//! - [`specimen`]: the specimen meshes and their reference length and area;
+//! - [`setup`]: the mesh, the Hill muscle part, the end conditions and solver settings;
+//! - [`run`]: [`run_elongation`], which runs one test and returns its [`Curve`];
+//! - [`curve`]: the curve, `curve.csv`, and the stress at a strain.
+
+pub mod curve;
+pub mod protocol;
+pub mod run;
+pub mod setup;
+pub mod specimen;
+
+use std::collections::BTreeMap;
+
+pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint};
+pub use protocol::{Grips, Mode};
+pub use run::{ElongationRun, ElongationWatcher, Unwatched, run_elongation};
+pub use specimen::Shape;
+
+/// Which solver runs the test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Solver {
+    /// Central differences with mass scaling (the paper's method).
+    Explicit,
+    /// Quasi-static Newton with automatic step cutting (the recommended one: the motion
+    /// is slow).
+    Implicit,
+}
+
+/// The element technology, by its scene-file name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum ElementChoice {
+    /// Hex8 with the F-bar (mean dilatation) projection: locking-free, both solvers.
+    #[value(name = "hex8-fbar")]
+    Hex8Fbar,
+    /// Fully integrated hex8 (locks for nearly incompressible tissue).
+    #[value(name = "hex8-full")]
+    Hex8Full,
+    /// One-point hex8 with hourglass control.
+    #[value(name = "hex8-one-point")]
+    Hex8OnePoint,
+    /// Linear tet (locks).
+    #[value(name = "tet4")]
+    Tet4,
+    /// Nodally averaged F-bar tet4 (explicit only).
+    #[value(name = "tet4-nodal-average")]
+    Tet4NodalAverage,
+    /// Quadratic tet.
+    #[value(name = "tet10")]
+    Tet10,
+}
+
+impl ElementChoice {
+    /// Whether the element is a hexahedron (else a tetrahedron).
+    pub fn is_hex(self) -> bool {
+        matches!(
+            self,
+            ElementChoice::Hex8Fbar | ElementChoice::Hex8Full | ElementChoice::Hex8OnePoint
+        )
+    }
+}
+
+/// One elongation test.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ElongationTest {
+    pub mode: Mode,
+    pub solver: Solver,
+    pub element: ElementChoice,
+    /// Target element edge length [m].
+    pub mesh_size: f64,
+    pub shape: Shape,
+    pub grips: Grips,
+    /// Hill parameters overriding Table 1 (the mode sets n2 and t0).
+    pub parameters: BTreeMap<String, f64>,
+    /// Implicit increment, or explicit mass-scaling target step [s]; `None` = default.
+    pub time_step: Option<f64>,
+    /// Explicit: time between curve points [s] (implicit: every increment).
+    pub output_interval: f64,
+}
+
+/// Default element size [m].
+pub const DEFAULT_MESH_SIZE: f64 = 0.002;
+
+impl ElongationTest {
+    /// The recommended test of `mode`: implicit, F-bar hex8, fusiform, fixed grips, the
+    /// default mesh size.
+    pub fn recommended(mode: Mode) -> Self {
+        ElongationTest {
+            mode,
+            solver: Solver::Implicit,
+            element: ElementChoice::Hex8Fbar,
+            mesh_size: DEFAULT_MESH_SIZE,
+            shape: Shape::Fusiform,
+            grips: Grips::Fixed,
+            parameters: BTreeMap::new(),
+            time_step: None,
+            output_interval: 0.025,
+        }
+    }
+}

@@ -1,0 +1,191 @@
+//! Running an elongation test: the chosen solver on the setup, a curve point at every
+//! recorded instant, and the caller's hook (frames, progress, Ctrl-C) at each.
+
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+
+use musclefem_core::solver::explicit::{HistoryRow, run_explicit_observed};
+use musclefem_core::solver::implicit::{ImplicitHistoryRow, run_implicit_observed};
+use musclefem_core::solver::observer::{Observer, Snapshot};
+
+use super::curve::{Curve, CurvePoint};
+use super::setup::{Setup, explicit_settings, implicit_settings, setup};
+use super::{ElongationTest, Solver};
+
+/// What a caller sees of a running test: each curve point with the solver's snapshot, and
+/// the progress (time [s]). Either may stop the run.
+pub trait ElongationWatcher {
+    fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()>;
+    fn progress(&mut self, _time: f64) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// A watcher that watches nothing.
+pub struct Unwatched;
+
+impl ElongationWatcher for Unwatched {
+    fn point(&mut self, _point: &CurvePoint, _snapshot: &Snapshot) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// The result of one test.
+pub struct ElongationRun {
+    pub curve: Curve,
+    /// Elements and nodes of the specimen mesh.
+    pub elements: usize,
+    pub nodes: usize,
+    /// Wall time of the solve (setup excluded).
+    pub solve_time: Duration,
+    /// Steps (explicit) or increments (implicit).
+    pub steps: usize,
+    /// Implicit only: Newton iterations over all increments.
+    pub newton_iterations: Option<usize>,
+    /// Explicit only: largest kinetic / internal energy over the pull, and the mass added
+    /// by mass scaling over the physical mass.
+    pub kinetic_to_internal: Option<f64>,
+    pub added_mass_fraction: Option<f64>,
+}
+
+/// Run `test`, showing `watcher` every curve point.
+pub fn run_elongation(
+    test: &ElongationTest,
+    watcher: &mut dyn ElongationWatcher,
+) -> Result<ElongationRun> {
+    run_on(test, &setup(test)?, watcher)
+}
+
+/// Run `test` on its already built `setup` (see [`setup`]).
+pub fn run_on(
+    test: &ElongationTest,
+    setup: &Setup,
+    watcher: &mut dyn ElongationWatcher,
+) -> Result<ElongationRun> {
+    let mut adapter = Adapter {
+        length: setup.specimen.length,
+        area: setup.specimen.reference_area,
+        pulled: test.mode.pulled_end(),
+        curve: Curve::default(),
+        watcher,
+        kinetic_to_internal: 0.0,
+        hold: test.mode.hold(),
+    };
+    let started = Instant::now();
+    let mesh = &setup.specimen.mesh;
+    let context = || {
+        format!(
+            "{} {} elongation of the {} ({} elements)",
+            test.solver.name(),
+            test.mode.name(),
+            test.shape.name(),
+            mesh.element_count()
+        )
+    };
+    let (steps, newton_iterations, kinetic_to_internal, added_mass_fraction) = match test.solver {
+        Solver::Implicit => {
+            let result = run_implicit_observed(
+                mesh,
+                &setup.parts,
+                &setup.loads,
+                &implicit_settings(test),
+                &mut adapter,
+            )
+            .with_context(context)?;
+            let iterations = result.history.iter().map(|r| r.iterations).sum();
+            (result.history.len(), Some(iterations), None, None)
+        }
+        Solver::Explicit => {
+            let result = run_explicit_observed(
+                mesh,
+                &setup.parts,
+                &setup.loads,
+                &explicit_settings(test),
+                &mut adapter,
+            )
+            .with_context(context)?;
+            (
+                result.steps,
+                None,
+                Some(adapter.kinetic_to_internal),
+                Some(result.added_mass_fraction),
+            )
+        }
+    };
+    let mut curve = std::mem::take(&mut adapter.curve);
+    if curve.points.first().is_none_or(|p| p.time > 0.0) {
+        // The implicit solver records converged increments only: the test starts
+        // stress-free.
+        curve.points.insert(
+            0,
+            CurvePoint {
+                time: 0.0,
+                strain: 0.0,
+                force: 0.0,
+                stress: 0.0,
+            },
+        );
+    }
+    Ok(ElongationRun {
+        solve_time: started.elapsed(),
+        elements: mesh.element_count(),
+        nodes: mesh.node_count(),
+        curve,
+        steps,
+        newton_iterations,
+        kinetic_to_internal,
+        added_mass_fraction,
+    })
+}
+
+/// Turns the solvers' history rows into curve points.
+struct Adapter<'w> {
+    length: f64,
+    area: f64,
+    pulled: musclefem_materials::Amplitude,
+    curve: Curve,
+    watcher: &'w mut dyn ElongationWatcher,
+    kinetic_to_internal: f64,
+    hold: f64,
+}
+
+impl Adapter<'_> {
+    fn add(&mut self, time: f64, force: f64, snapshot: &Snapshot) -> ControlFlow<()> {
+        let point = CurvePoint {
+            time,
+            strain: self.pulled.value_at(time) / self.length,
+            force,
+            stress: force / self.area,
+        };
+        self.curve.points.push(point);
+        self.watcher.point(&point, snapshot)
+    }
+}
+
+impl Observer<HistoryRow> for Adapter<'_> {
+    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
+        if row.time > self.hold && row.internal_energy > 0.0 {
+            self.kinetic_to_internal = self
+                .kinetic_to_internal
+                .max(row.kinetic_energy / row.internal_energy);
+        }
+        self.add(row.time, row.reactions[0], snapshot)
+    }
+
+    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        if steps.is_multiple_of(500) {
+            self.watcher.progress(time)
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+impl Observer<ImplicitHistoryRow> for Adapter<'_> {
+    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.add(row.time, row.reactions[0], snapshot)?;
+        self.watcher.progress(row.time)
+    }
+}

@@ -1,0 +1,173 @@
+//! What an elongation test hands the solvers: the specimen mesh, the Hill muscle part,
+//! the grips as prescribed displacements, and the solver settings.
+
+use std::collections::BTreeMap;
+
+use anyhow::{Context, Result, bail};
+
+use musclefem_core::element::Technology;
+use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::implicit::ImplicitSettings;
+use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
+use musclefem_io::scene::small_strain_shear_modulus;
+use musclefem_materials::{Amplitude, Material, MaterialLibrary};
+
+use super::protocol::{Grips, Mode};
+use super::specimen::{Shape, SpecimenMesh, specimen_mesh};
+use super::{ElementChoice, ElongationTest, Solver};
+
+/// Density of muscle [kg/m³].
+pub const MUSCLE_DENSITY: f64 = 1060.0;
+
+/// Everything one run needs.
+pub struct Setup {
+    pub specimen: SpecimenMesh,
+    pub parts: Vec<Part>,
+    /// The pulled end's axial condition comes first: its reaction is the test's force.
+    pub loads: Loads,
+    pub material: std::sync::Arc<dyn Material>,
+}
+
+/// The Hill muscle of `test`: its parameters, then the mode's activation.
+pub fn muscle_material(test: &ElongationTest) -> Result<std::sync::Arc<dyn Material>> {
+    let mut given: BTreeMap<String, f64> = test.parameters.clone();
+    for (name, value) in test.mode.activation_parameters() {
+        given.insert(name.to_string(), value);
+    }
+    MaterialLibrary::with_builtins()
+        .create("hill", &given)
+        .context("the Hill muscle's parameters")
+}
+
+/// Build the mesh, part and loads of `test`.
+pub fn setup(test: &ElongationTest) -> Result<Setup> {
+    if !(test.mesh_size.is_finite() && test.mesh_size > 0.0) {
+        bail!("--mesh-size {} mm must be positive", 1e3 * test.mesh_size);
+    }
+    let specimen = specimen_mesh(test.shape, test.element, test.mesh_size)?;
+    let material = muscle_material(test)?;
+    let technology = match test.element {
+        ElementChoice::Hex8Fbar => Technology::Hex8FBar,
+        ElementChoice::Hex8Full => Technology::Hex8Full,
+        ElementChoice::Hex8OnePoint => {
+            let mu = small_strain_shear_modulus(material.as_ref())
+                .context("the Hill muscle has no small-strain shear modulus")?;
+            Technology::hex8_one_point(mu)
+        }
+        ElementChoice::Tet4 => Technology::Tet4,
+        ElementChoice::Tet4NodalAverage => Technology::Tet4NodalAverage,
+        ElementChoice::Tet10 => Technology::Tet10,
+    };
+    let parts = vec![Part {
+        block: 0,
+        technology,
+        material: material.clone(),
+        density: MUSCLE_DENSITY,
+    }];
+    let loads = grips(&specimen.mesh, test.mode, test.grips)?;
+    Ok(Setup {
+        specimen,
+        parts,
+        loads,
+        material,
+    })
+}
+
+/// The end conditions: node set `insertion` pulled along z by the protocol, `origin` held.
+/// Fixed grips hold every other component of both ends; sliding grips only the axial ones,
+/// plus the lateral rigid-body motions: x and y of the origin node nearest the axis, and y
+/// of the origin node farthest along +x (no rotation about the axis).
+fn grips(mesh: &Mesh, mode: Mode, grips: Grips) -> Result<Loads> {
+    let set = |name: &str| -> Result<Vec<u32>> {
+        Ok(mesh
+            .node_set(name)
+            .with_context(|| format!("the specimen mesh has no node set '{name}'"))?
+            .to_vec())
+    };
+    let held = || Amplitude::new(vec![(0.0, 0.0)]).expect("one knot");
+    let condition = |nodes: Vec<u32>, dof: usize, amplitude: Amplitude| PrescribedDisplacement {
+        nodes,
+        dof,
+        amplitude,
+    };
+    let (origin, insertion) = (set("origin")?, set("insertion")?);
+    let mut conditions = vec![
+        condition(insertion.clone(), 2, mode.pulled_end()),
+        condition(origin.clone(), 2, held()),
+    ];
+    match grips {
+        Grips::Fixed => {
+            for dof in 0..2 {
+                conditions.push(condition(origin.clone(), dof, held()));
+                conditions.push(condition(insertion.clone(), dof, held()));
+            }
+        }
+        Grips::Sliding => {
+            let radius = |n: &u32| {
+                let p = mesh.nodes.position(*n as usize);
+                (p.x * p.x + p.y * p.y).sqrt()
+            };
+            let centre = *origin
+                .iter()
+                .min_by(|a, b| radius(a).total_cmp(&radius(b)))
+                .context("the origin set is empty")?;
+            let on_x = *origin
+                .iter()
+                .max_by(|a, b| {
+                    let key = |n: &u32| {
+                        let p = mesh.nodes.position(*n as usize);
+                        p.x - p.y.abs()
+                    };
+                    key(a).total_cmp(&key(b))
+                })
+                .context("the origin set is empty")?;
+            conditions.push(condition(vec![centre], 0, held()));
+            conditions.push(condition(vec![centre], 1, held()));
+            conditions.push(condition(vec![on_x], 1, held()));
+        }
+    }
+    Ok(Loads::from(conditions))
+}
+
+/// Default implicit increment [s]: resolves the activation rise (time constant 1/S =
+/// 20 ms) during the hold and the pull's strain rate.
+pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.025;
+
+/// Default target step of the explicit solver's mass scaling [s].
+pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
+
+/// Quasi-static implicit settings for `test`, with automatic step cutting.
+pub fn implicit_settings(test: &ElongationTest) -> ImplicitSettings {
+    let duration = test.mode.duration();
+    let increment = test.time_step.unwrap_or(DEFAULT_IMPLICIT_INCREMENT);
+    let increments = (duration / increment).round().max(1.0) as usize;
+    ImplicitSettings::new(duration, increments).with_cutting()
+}
+
+/// Explicit settings for `test`: mass scaling to the target step, a curve point every
+/// `output_interval`.
+pub fn explicit_settings(test: &ElongationTest) -> ExplicitSettings {
+    let mut settings = ExplicitSettings::new(test.mode.duration());
+    settings.mass_scaling_time_step = Some(test.time_step.unwrap_or(DEFAULT_MASS_SCALING_STEP));
+    settings.history_interval = test.output_interval;
+    settings
+}
+
+impl Solver {
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Explicit => "explicit",
+            Solver::Implicit => "implicit",
+        }
+    }
+}
+
+impl Shape {
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Fusiform => "fusiform",
+            Shape::Cylinder => "cylinder",
+        }
+    }
+}

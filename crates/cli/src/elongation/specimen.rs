@@ -1,0 +1,65 @@
+//! The specimen of the test: the paper's fusiform muscle or a cylinder of its mid-belly
+//! radius, meshed by `musclefem_core::mesh::generate::fusiform_mesh` (radius profile
+//! r(z) = r_end + (r_mid − r_end) sin²(π z / L), L = 50 mm, r_end = 4.5 mm,
+//! r_mid = 8.75 mm), with its reference length and mid-belly cross-section area.
+
+use anyhow::{Context, Result};
+
+use musclefem_core::mesh::generate::{
+    PAPER_MID_RADIUS, SpecimenShape, SpecimenSpec, fusiform_mesh,
+};
+use musclefem_core::mesh::{ElementShape, Mesh};
+
+use super::ElementChoice;
+
+/// Which solid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Shape {
+    /// The paper's fusiform muscle.
+    Fusiform,
+    /// A cylinder of the mid-belly radius 8.75 mm, 50 mm long.
+    Cylinder,
+}
+
+/// A meshed specimen: one block `muscle`, node sets `origin` (z = 0, held) and
+/// `insertion` (z = L, pulled), fibers along the axis z.
+pub struct SpecimenMesh {
+    pub mesh: Mesh,
+    /// Reference length L [m].
+    pub length: f64,
+    /// Reference mid-belly cross-section area π r_mid² [m²] (the engineering stress's
+    /// denominator).
+    pub reference_area: f64,
+}
+
+/// Mesh `shape` with `element`s of target size `mesh_size` [m].
+pub fn specimen_mesh(shape: Shape, element: ElementChoice, mesh_size: f64) -> Result<SpecimenMesh> {
+    let solid = match shape {
+        Shape::Fusiform => SpecimenShape::paper_fusiform(),
+        Shape::Cylinder => SpecimenShape::cylinder(PAPER_MID_RADIUS),
+    };
+    let element_shape = match element {
+        ElementChoice::Hex8Fbar | ElementChoice::Hex8Full | ElementChoice::Hex8OnePoint => {
+            ElementShape::Hex8
+        }
+        ElementChoice::Tet4 | ElementChoice::Tet4NodalAverage => ElementShape::Tet4,
+        ElementChoice::Tet10 => ElementShape::Tet10,
+    };
+    let spec = SpecimenSpec {
+        shape: solid,
+        element: element_shape,
+        mesh_size,
+    };
+    let mesh = fusiform_mesh(&spec).with_context(|| {
+        format!(
+            "meshing the {} with {} mm elements",
+            shape.name(),
+            1e3 * mesh_size
+        )
+    })?;
+    Ok(SpecimenMesh {
+        mesh,
+        length: solid.length(),
+        reference_area: solid.mid_belly_area(),
+    })
+}
