@@ -31,8 +31,8 @@ pub enum ModeChoice {
 
 #[derive(Debug, Args)]
 pub struct ElongateArgs {
-    /// Passive (pulled at 5 mm/s for 2 s), active (held 0.5 s while fully activating,
-    /// then pulled at 5 mm/s for 2 s) or both.
+    /// Passive (pulled at 5 mm/s to 10 mm, 20 % strain), active (held 0.5 s while fully
+    /// activating, then pulled the same way) or both.
     #[arg(long, value_enum, default_value = "both")]
     pub mode: ModeChoice,
     /// Solver: implicit (quasi-static Newton, recommended for this slow motion) or
@@ -53,7 +53,7 @@ pub struct ElongateArgs {
     #[arg(long, value_enum, default_value = "fixed")]
     pub grips: Grips,
     /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.025 s
-    /// implicit, 2e-5 s explicit).
+    /// implicit, 1e-5 s explicit).
     #[arg(long, value_name = "SECONDS")]
     pub time_step: Option<f64>,
     /// Hill parameter overriding Table 1, e.g. --param sigma0=3e5 (units as in
@@ -134,6 +134,7 @@ fn run_one(test: &ElongationTest, directory: &Path, args: &ElongateArgs) -> Resu
         directory: &mut output,
         interval: args.frame_interval,
         next: 0.0,
+        end_time: test.mode.duration(),
         mesh: &setup.specimen.mesh,
         error: None,
         bar: progress_bar(test.mode.duration()),
@@ -189,6 +190,8 @@ struct FrameWriter<'a> {
     directory: &'a mut RunDirectory,
     interval: f64,
     next: f64,
+    /// The last point always gets a frame [s].
+    end_time: f64,
     mesh: &'a musclefem_core::mesh::Mesh,
     error: Option<anyhow::Error>,
     bar: ProgressBar,
@@ -197,7 +200,8 @@ struct FrameWriter<'a> {
 impl ElongationWatcher for FrameWriter<'_> {
     fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()> {
         self.bar.set_position((1e3 * point.time) as u64);
-        if self.interval <= 0.0 || point.time < self.next - 1e-12 {
+        let at_end = point.time >= self.end_time - 1e-9;
+        if self.interval <= 0.0 || (point.time < self.next - 1e-12 && !at_end) {
             return ControlFlow::Continue(());
         }
         self.next = point.time + self.interval;

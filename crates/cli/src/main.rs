@@ -51,7 +51,7 @@ enum Command {
     /// Read and check a scene file (TOML) without running it; print what it holds.
     Check(CheckArgs),
     /// The paper's single-muscle tests: uniaxial elongation of the 50 mm fusiform muscle,
-    /// passive and/or active after a 0.5 s isometric hold, pulled at 5 mm/s for 2 s;
+    /// passive and/or active after a 0.5 s isometric hold, pulled at 5 mm/s to 20 % strain;
     /// writes curve.csv (engineering stress vs strain), curve.png and VTU/PVD frames.
     Elongate(elongate_command::ElongateArgs),
     /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the

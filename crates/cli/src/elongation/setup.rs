@@ -134,8 +134,11 @@ fn grips(mesh: &Mesh, mode: Mode, grips: Grips) -> Result<Loads> {
 /// 20 ms) during the hold and the pull's strain rate.
 pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.025;
 
-/// Default target step of the explicit solver's mass scaling [s].
-pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
+/// Default target step of the explicit solver's mass scaling [s]. On the 4 mm fusiform it
+/// adds 26 times the mass (the physical stable step is ≈ 2 µs), and the passive curve stays
+/// within 0.7 % of the peak stress of the quasi-static implicit one; at 2e-5 s (107 times
+/// the mass) the soft passive muscle rings by ±3 kPa (4 %).
+pub const DEFAULT_MASS_SCALING_STEP: f64 = 1e-5;
 
 /// Quasi-static implicit settings for `test`, with automatic step cutting.
 pub fn implicit_settings(test: &ElongationTest) -> ImplicitSettings {

@@ -30,6 +30,9 @@ pub struct SpecimenMesh {
     /// Reference mid-belly cross-section area π r_mid² [m²] (the engineering stress's
     /// denominator).
     pub reference_area: f64,
+    /// Area of the mesh's mid-belly cross-section [m²]: a polygon, smaller than π r_mid²
+    /// (by 2.5 % with 16 edges around, 0.6 % with 32).
+    pub mesh_area: f64,
 }
 
 /// Mesh `shape` with `element`s of target size `mesh_size` [m].
@@ -61,5 +64,6 @@ pub fn specimen_mesh(shape: Shape, element: ElementChoice, mesh_size: f64) -> Re
         mesh,
         length: solid.length(),
         reference_area: solid.mid_belly_area(),
+        mesh_area: spec.mesh_mid_belly_area()?,
     })
 }
