@@ -33,8 +33,10 @@
 //!    boundary faces, and the check that every connected part of the mesh has both ends;
 //! 3. [`discretisation`]: over-relaxed face fluxes with an explicit non-orthogonal
 //!    correction from weighted least-squares cell gradients;
-//! 4. [`solve`]: deferred correction sweeps around Jacobi-preconditioned CG (sprs matrix,
-//!    parallel kernels, [`linear`]) to a relative residual of 1e-10 by default;
+//! 4. [`solve`]: deferred correction sweeps (Anderson-mixed) around preconditioned CG on
+//!    the symmetric orthogonal part ([`linear`]: sprs matrix, parallel allocation-free
+//!    kernels, aggregation multigrid or Jacobi preconditioner), until the corrected
+//!    system's relative residual is 1e-10 (default);
 //! 5. [`field`]: the directions and the inlet and outlet fluxes.
 //!
 //! A linear potential with its gradient along the walls (a straight tube) is reproduced to
@@ -57,7 +59,7 @@ use musclefem_core::mesh::Mesh;
 pub use boundary::{BoundaryRegion, FlowBoundary};
 pub use error::{FaceLabel, FiberError, MissingEnd, Side};
 pub use field::FiberField;
-pub use settings::FlowSettings;
+pub use settings::{FlowSettings, Preconditioner};
 
 /// Solves the potential flow through `mesh` from `boundary.inlet` to `boundary.outlet`
 /// and returns the fiber direction of every element.

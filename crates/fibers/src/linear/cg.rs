@@ -1,9 +1,12 @@
-//! Preconditioned conjugate gradients with a Jacobi (diagonal) preconditioner.
+//! Preconditioned conjugate gradients, with a Jacobi (diagonal) or an aggregation
+//! multigrid preconditioner.
 
 use rayon::prelude::*;
 
-use super::kernels::{CHUNK, chunk_count, multiply_and_dot, residual};
+use super::amg::AggregationMultigrid;
+use super::kernels::{CHUNK, chunk_count, dot, multiply_and_dot, residual};
 use crate::discretisation::matrix::SparseMatrix;
+use crate::settings::Preconditioner;
 
 /// How one CG solve ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,43 +19,47 @@ pub(crate) struct CgOutcome {
     pub converged: bool,
 }
 
-/// Jacobi-preconditioned CG for one symmetric positive definite matrix, with its work
-/// vectors allocated once: the iterations allocate nothing.
+/// The preconditioner M⁻¹ ≈ A⁻¹, built once per matrix.
+enum Operator {
+    /// z = D⁻¹ r, with the inverse diagonal.
+    Jacobi(Vec<f64>),
+    /// z = one multigrid V-cycle applied to r.
+    Multigrid(Box<AggregationMultigrid>),
+}
+
+/// Preconditioned CG for one symmetric positive definite matrix, with its work vectors
+/// allocated once: the iterations allocate nothing.
 pub(crate) struct ConjugateGradient {
-    /// 1/A_ii.
-    inverse_diagonal: Vec<f64>,
+    preconditioner: Operator,
     /// r = b − A x.
     residual: Vec<f64>,
+    /// z = M⁻¹ r.
+    preconditioned: Vec<f64>,
     /// p, the search direction.
     direction: Vec<f64>,
     /// q = A p.
     product: Vec<f64>,
-    /// Per-chunk sums of the two reductions of an update.
+    /// Per-chunk sums of the reductions.
     partials: Vec<f64>,
-    partials_second: Vec<f64>,
 }
 
 impl ConjugateGradient {
-    /// Work space for `matrix`, whose diagonal must be positive.
-    pub fn new(matrix: &SparseMatrix) -> Self {
+    /// The preconditioner of `matrix` (positive diagonal) and the work space.
+    pub fn new(matrix: &SparseMatrix, preconditioner: Preconditioner) -> Self {
         let n = matrix.rows();
-        let indptr = matrix.indptr();
-        let indptr = indptr.raw_storage();
-        let mut inverse_diagonal = vec![0.0; n];
-        for (row, inverse) in inverse_diagonal.iter_mut().enumerate() {
-            for k in indptr[row]..indptr[row + 1] {
-                if matrix.indices()[k] as usize == row {
-                    *inverse = 1.0 / matrix.data()[k];
-                }
+        let preconditioner = match preconditioner {
+            Preconditioner::Jacobi => Operator::Jacobi(inverse_diagonal(matrix)),
+            Preconditioner::AggregationMultigrid => {
+                Operator::Multigrid(Box::new(AggregationMultigrid::new(matrix)))
             }
-        }
+        };
         Self {
-            inverse_diagonal,
+            preconditioner,
             residual: vec![0.0; n],
+            preconditioned: vec![0.0; n],
             direction: vec![0.0; n],
             product: vec![0.0; n],
             partials: vec![0.0; chunk_count(n)],
-            partials_second: vec![0.0; chunk_count(n)],
         }
     }
 
@@ -64,7 +71,7 @@ impl ConjugateGradient {
     /// Improves `x` towards the solution of A x = b until ‖b − A x‖₂ ≤ `target` or
     /// `max_iterations` iterations, starting from the given `x`:
     ///
-    /// z = D⁻¹ r, p = z; then α = r·z / p·Ap, x += α p, r −= α Ap, z = D⁻¹ r,
+    /// z = M⁻¹ r, p = z; then α = r·z / p·Ap, x += α p, r −= α Ap, z = M⁻¹ r,
     /// β = r·z (new) / r·z (old), p = z + β p.
     pub fn solve(
         &mut self,
@@ -75,8 +82,8 @@ impl ConjugateGradient {
         max_iterations: usize,
     ) -> CgOutcome {
         let mut rr = residual(matrix, b, x, &mut self.residual, &mut self.partials);
-        // p = z = D⁻¹ r.
-        let mut rz = self.precondition_into_direction();
+        let mut rz = self.precondition();
+        self.direction.copy_from_slice(&self.preconditioned);
         let mut iterations = 0;
         while rr.sqrt() > target && iterations < max_iterations {
             let p_ap = multiply_and_dot(
@@ -90,9 +97,10 @@ impl ConjugateGradient {
                 break;
             }
             let alpha = rz / p_ap;
-            let (rz_new, rr_new) = self.update(x, alpha);
+            rr = self.update(x, alpha);
+            let rz_new = self.precondition();
             let beta = rz_new / rz;
-            (rz, rr) = (rz_new, rr_new);
+            rz = rz_new;
             self.next_direction(beta);
             iterations += 1;
         }
@@ -103,76 +111,79 @@ impl ConjugateGradient {
         }
     }
 
-    /// p = D⁻¹ r; returns r·p.
-    fn precondition_into_direction(&mut self) -> f64 {
-        let inverse_diagonal = &self.inverse_diagonal;
-        self.partials
-            .par_iter_mut()
-            .zip(self.direction.par_chunks_mut(CHUNK))
-            .zip(
-                self.residual
-                    .par_chunks(CHUNK)
-                    .zip(inverse_diagonal.par_chunks(CHUNK)),
-            )
-            .for_each(|((partial, p), (r, d))| {
-                let mut rz = 0.0;
-                for ((p, r), d) in p.iter_mut().zip(r).zip(d) {
-                    *p = d * r;
-                    rz += r * *p;
-                }
-                *partial = rz;
-            });
-        self.partials.iter().sum()
+    /// z = M⁻¹ r; returns r·z.
+    fn precondition(&mut self) -> f64 {
+        match &mut self.preconditioner {
+            Operator::Jacobi(inverse_diagonal) => {
+                self.preconditioned
+                    .par_chunks_mut(CHUNK)
+                    .zip(
+                        self.residual
+                            .par_chunks(CHUNK)
+                            .zip(inverse_diagonal.par_chunks(CHUNK)),
+                    )
+                    .for_each(|(z, (r, d))| {
+                        for ((z, r), d) in z.iter_mut().zip(r).zip(d) {
+                            *z = d * r;
+                        }
+                    });
+            }
+            Operator::Multigrid(amg) => amg.apply(&self.residual, &mut self.preconditioned),
+        }
+        dot(&self.residual, &self.preconditioned, &mut self.partials)
     }
 
-    /// x += α p, r −= α q; returns (r·D⁻¹r, r·r) of the new residual.
-    fn update(&mut self, x: &mut [f64], alpha: f64) -> (f64, f64) {
-        let inverse_diagonal = &self.inverse_diagonal;
+    /// x += α p, r −= α q; returns r·r of the new residual.
+    fn update(&mut self, x: &mut [f64], alpha: f64) -> f64 {
         let direction = &self.direction;
         let product = &self.product;
         self.partials
             .par_iter_mut()
-            .zip(self.partials_second.par_iter_mut())
             .zip(
                 x.par_chunks_mut(CHUNK)
                     .zip(self.residual.par_chunks_mut(CHUNK)),
             )
             .enumerate()
-            .for_each(|(chunk, ((rz_partial, rr_partial), (x, r)))| {
+            .for_each(|(chunk, (partial, (x, r)))| {
                 let first = chunk * CHUNK;
-                let (mut rz, mut rr) = (0.0, 0.0);
+                let mut rr = 0.0;
                 for (i, (x, r)) in x.iter_mut().zip(r.iter_mut()).enumerate() {
                     let row = first + i;
                     *x += alpha * direction[row];
                     *r -= alpha * product[row];
-                    rz += *r * inverse_diagonal[row] * *r;
                     rr += *r * *r;
                 }
-                *rz_partial = rz;
-                *rr_partial = rr;
+                *partial = rr;
             });
-        (
-            self.partials.iter().sum(),
-            self.partials_second.iter().sum(),
-        )
+        self.partials.iter().sum()
     }
 
-    /// p = D⁻¹ r + β p.
+    /// p = z + β p.
     fn next_direction(&mut self, beta: f64) {
-        let inverse_diagonal = &self.inverse_diagonal;
         self.direction
             .par_chunks_mut(CHUNK)
-            .zip(
-                self.residual
-                    .par_chunks(CHUNK)
-                    .zip(inverse_diagonal.par_chunks(CHUNK)),
-            )
-            .for_each(|(p, (r, d))| {
-                for ((p, r), d) in p.iter_mut().zip(r).zip(d) {
-                    *p = d * r + beta * *p;
+            .zip(self.preconditioned.par_chunks(CHUNK))
+            .for_each(|(p, z)| {
+                for (p, z) in p.iter_mut().zip(z) {
+                    *p = z + beta * *p;
                 }
             });
     }
+}
+
+/// 1/A_ii of every row (0 for a row without positive diagonal).
+fn inverse_diagonal(matrix: &SparseMatrix) -> Vec<f64> {
+    let indptr = matrix.indptr();
+    let indptr = indptr.raw_storage();
+    let mut inverse = vec![0.0; matrix.rows()];
+    for (row, inverse) in inverse.iter_mut().enumerate() {
+        for k in indptr[row]..indptr[row + 1] {
+            if matrix.indices()[k] as usize == row && matrix.data()[k] > 0.0 {
+                *inverse = 1.0 / matrix.data()[k];
+            }
+        }
+    }
+    inverse
 }
 
 #[cfg(test)]
@@ -211,18 +222,23 @@ mod tests {
             indptr.push(indices.len());
         }
         let matrix = SparseMatrix::new((n, n), indptr, indices, data);
-        let mut cg = ConjugateGradient::new(&matrix);
-        let mut x = vec![0.0; n];
-        let outcome = cg.solve(&matrix, &b, &mut x, 1e-12 * 2.0, 100 * n);
-        assert!(outcome.converged, "{outcome:?}");
-        let true_residual = cg.residual_norm(&matrix, &b, &x);
-        assert!(true_residual < 1e-11, "{true_residual}");
-        for (i, u) in x.iter().enumerate() {
-            let exact = 1.0 - (i as f64 + 0.5) / n as f64;
-            assert!((u - exact).abs() < 1e-4, "{i}: {u} vs {exact}");
+        for preconditioner in [Preconditioner::Jacobi, Preconditioner::AggregationMultigrid] {
+            let mut cg = ConjugateGradient::new(&matrix, preconditioner);
+            let mut x = vec![0.0; n];
+            let outcome = cg.solve(&matrix, &b, &mut x, 1e-12 * 2.0, 100 * n);
+            assert!(outcome.converged, "{preconditioner:?}: {outcome:?}");
+            let true_residual = cg.residual_norm(&matrix, &b, &x);
+            assert!(true_residual < 1e-11, "{preconditioner:?}: {true_residual}");
+            for (i, u) in x.iter().enumerate() {
+                let exact = 1.0 - (i as f64 + 0.5) / n as f64;
+                assert!(
+                    (u - exact).abs() < 1e-4,
+                    "{preconditioner:?} {i}: {u} vs {exact}"
+                );
+            }
+            // A second solve from the solution does nothing.
+            let again = cg.solve(&matrix, &b, &mut x, 1e-6, 10);
+            assert_eq!(again.iterations, 0);
         }
-        // A second solve from the solution does nothing.
-        let again = cg.solve(&matrix, &b, &mut x, 1e-6, 10);
-        assert_eq!(again.iterations, 0);
     }
 }

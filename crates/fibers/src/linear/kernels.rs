@@ -43,6 +43,24 @@ pub(crate) fn multiply_and_dot(
     partials.iter().sum()
 }
 
+/// y = A x.
+pub(crate) fn multiply(matrix: &SparseMatrix, x: &[f64], y: &mut [f64]) {
+    let indptr = matrix.indptr();
+    let indptr = indptr.raw_storage();
+    let (indices, data) = (matrix.indices(), matrix.data());
+    y.par_chunks_mut(CHUNK).enumerate().for_each(|(chunk, y)| {
+        let first = chunk * CHUNK;
+        for (i, y) in y.iter_mut().enumerate() {
+            let row = first + i;
+            let mut sum = 0.0;
+            for k in indptr[row]..indptr[row + 1] {
+                sum += data[k] * x[indices[k] as usize];
+            }
+            *y = sum;
+        }
+    });
+}
+
 /// r = b − A x, and returns r·r.
 pub(crate) fn residual(
     matrix: &SparseMatrix,

@@ -64,7 +64,7 @@ pub(crate) fn solve_potential(
     let n = fv.cell_count();
     let matrix = orthogonal_matrix(fv, coefficients, kinds);
     let fixed = fixed_potential_rhs(fv, coefficients, kinds);
-    let mut cg = ConjugateGradient::new(&matrix);
+    let mut cg = ConjugateGradient::new(&matrix, settings.preconditioner);
     let mut partials = vec![0.0; chunk_count(n)];
     // ‖b‖ > 0: every part of the mesh has an inlet face, where φ = 1.
     let fixed_norm = dot(&fixed, &fixed, &mut partials).sqrt();
