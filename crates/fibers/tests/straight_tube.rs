@@ -1,0 +1,86 @@
+//! A straight tube (a box) with the inlet and outlet at its two ends: the exact potential
+//! is linear, φ = 1 − x/L, and every fiber is axial. The scheme is exact for this field
+//! on any mesh, so every direction must be e_x to round-off and solver tolerance.
+
+mod common;
+
+use common::{Cells, angle_degrees, box_mesh};
+use musclefem_core::ElementBlock;
+use musclefem_core::mesh::generate::distort;
+use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
+use nalgebra::Vector3;
+
+/// Largest angle between a fiber and e_x allowed [rad].
+const AXIAL: f64 = 1e-8;
+
+fn max_angle_from_axis(field: &musclefem_fibers::FiberField) -> f64 {
+    field
+        .direction
+        .iter()
+        .map(|d| angle_degrees(*d, Vector3::x()).to_radians())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn every_fiber_is_axial_on_regular_and_distorted_meshes() {
+    for cells in Cells::ALL {
+        for distorted in [false, true] {
+            let mut mesh = box_mesh(cells, [0.1, 0.03, 0.02], [10, 4, 3]);
+            if distorted {
+                distort(&mut mesh, 0.3, 11).unwrap();
+            }
+            let boundary = FlowBoundary::from_names(&mesh, &["x0"], &["x1"]).unwrap();
+            let field = compute_fibers(&mesh, &boundary, &FlowSettings::default()).unwrap();
+            let angle = max_angle_from_axis(&field);
+            println!(
+                "{cells:?} distorted {distorted}: max angle {angle:.2e} rad, {} solves, {} CG iterations, residual {:.1e}, flux in {:.6e} out {:.6e}",
+                field.linear_solves,
+                field.linear_iterations,
+                field.residual,
+                field.inlet_flux,
+                field.outlet_flux
+            );
+            assert!(
+                angle < AXIAL,
+                "{cells:?} distorted {distorted}: {angle:e} rad"
+            );
+            // Flux = area / length for φ dropping by 1 over L: 0.03 · 0.02 / 0.1 m.
+            let exact_flux = 0.03 * 0.02 / 0.1;
+            assert!((field.inlet_flux - exact_flux).abs() < 1e-8 * exact_flux);
+            assert!((field.outlet_flux - exact_flux).abs() < 1e-8 * exact_flux);
+            // φ = 1 − x/L at the centroids.
+            assert_eq!(field.potential.len(), mesh.element_count());
+        }
+    }
+}
+
+#[test]
+fn blocks_of_different_shapes_form_one_tube() {
+    // A hex box and a tet box are not conforming (quads against triangles), so two tet
+    // blocks and one hex tube: split the tet box's elements into two blocks by x.
+    let mut mesh = box_mesh(Cells::Tet4, [0.1, 0.03, 0.02], [10, 4, 3]);
+    let block = mesh.blocks.remove(0);
+    let (mut left, mut right) = (Vec::new(), Vec::new());
+    for ids in block.elements() {
+        let x: f64 = ids.iter().map(|&i| mesh.nodes.x[i as usize]).sum::<f64>() / 4.0;
+        if x < 0.05 { &mut left } else { &mut right }.extend_from_slice(ids);
+    }
+    mesh.blocks = vec![
+        ElementBlock::new("right", block.shape, right).unwrap(),
+        ElementBlock::new("left", block.shape, left).unwrap(),
+    ];
+    mesh.surfaces.clear();
+    let boundary = FlowBoundary::from_names(&mesh, &["x0"], &["x1"]).unwrap();
+    let field = compute_fibers(&mesh, &boundary, &FlowSettings::default()).unwrap();
+    assert!(max_angle_from_axis(&field) < AXIAL);
+    assert_eq!(
+        field.block_offsets,
+        vec![0, mesh.blocks[0].len(), mesh.element_count()]
+    );
+    field.assign_to(&mut mesh).unwrap();
+    for block in &mesh.blocks {
+        for d in &block.fiber_direction {
+            assert!((d - Vector3::x()).norm() < 1e-8);
+        }
+    }
+}
