@@ -7,6 +7,7 @@
 //!   default protocol;
 //! - `musclefem check SCENE.toml`: read and check a scene file without running it;
 //! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log;
+//! - `musclefem fibers`: fiber directions from a flow through a mesh file;
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
 //!   fusiform muscle (see the library's `elongation` module).
 
@@ -14,12 +15,12 @@
 // linker may drop its registrations (see DESIGN.md, "Two traps").
 use musclefem_contact as _;
 use musclefem_core as _;
-use musclefem_fibers as _;
 use musclefem_io as _;
 use musclefem_materials as _;
 
 mod commands;
 mod elongate_command;
+mod fibers_command;
 mod scene_run;
 mod summary;
 
@@ -54,6 +55,10 @@ enum Command {
     /// passive and/or active after a 0.5 s isometric hold, pulled at 5 mm/s to 20 % strain;
     /// writes curve.csv (engineering stress vs strain), curve.png and VTU/PVD frames.
     Elongate(elongate_command::ElongateArgs),
+    /// Fiber directions of a muscle mesh from a potential flow between its origin (inlet)
+    /// and insertion (outlet): writes fibers.csv (element,cx,cy,cz,fx,fy,fz) and
+    /// fibers.vtu.
+    Fibers(fibers_command::FibersArgs),
     /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the
     /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last
     /// complete frame.
@@ -140,6 +145,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => scene_run::check(&args),
         Some(Command::Run(args)) => scene_run::run(&args),
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
+        Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

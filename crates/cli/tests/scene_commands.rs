@@ -248,3 +248,44 @@ fn ctrl_c_stops_a_run_cleanly() {
     assert!(root.join("run.log").is_file());
     assert!(root.join("history.csv").is_file());
 }
+
+/// `musclefem fibers` on a two-hex Abaqus mesh: flow from node set `left` (x = 0) to
+/// surface `right` (x = 2): both elements' fibers along +x, labelled as in the file; an
+/// unknown set is named with the valid ones.
+#[test]
+fn fibers_writes_csv_and_vtu_and_names_unknown_sets() {
+    let dir = test_dir("fibers");
+    let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../io/tests/meshes/part_instance.inp");
+    let mesh = mesh.to_string_lossy();
+    let out = musclefem(
+        &dir,
+        &[
+            "fibers", "--mesh", &mesh, "--inlet", "left", "--outlet", "right", "--out", "f",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let rows = read_table(&dir.join("f/fibers.csv"), "element,cx,cy,cz,fx,fy,fz").unwrap();
+    assert_eq!(rows.len(), 2);
+    for (row, label) in rows.iter().zip([11.0, 12.0]) {
+        assert_eq!(row[0], label);
+        assert!((row[4] - 1.0).abs() < 1e-12 && row[5].abs() < 1e-12 && row[6].abs() < 1e-12);
+    }
+    let vtu = std::fs::read_to_string(dir.join("f/fibers.vtu")).unwrap();
+    assert!(
+        vtu.contains("Name=\"fiber_direction_reference\"") && vtu.contains("Name=\"potential\"")
+    );
+
+    let bad = musclefem(
+        &dir,
+        &[
+            "fibers", "--mesh", &mesh, "--inlet", "lft", "--outlet", "right", "--out", "g",
+        ],
+    );
+    assert!(!bad.status.success());
+    let stderr = text(&bad.stderr);
+    assert!(
+        stderr.contains("'lft'") && stderr.contains("'left'"),
+        "{stderr}"
+    );
+    assert!(!dir.join("g/fibers.csv").exists());
+}

@@ -398,3 +398,32 @@ fn fibers_per_element_come_from_a_file() {
     let message = build(&both, header).unwrap_err().to_string();
     assert!(message.contains("either as direction"), "{message}");
 }
+
+/// Fibers from a potential flow between two surfaces of the part (here the box faces
+/// y0 → y1: every fiber along +y); a missing surface and a lone inlet are named.
+#[test]
+fn fibers_from_a_flow_between_surfaces() {
+    let with = |fibers: &str| {
+        VALID.replace(
+            "divisions = [2, 2, 2] }",
+            &format!("divisions = [2, 2, 2] }}\nfibers = {fibers}"),
+        )
+    };
+    let scene_path = Path::new("s.toml");
+    let build = |text: &str| {
+        let (scene, locator) = parse_scene(text, scene_path)?;
+        musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+    };
+    let model =
+        build(&with("{ inlet = \"y0\", outlet = [\"y1\"] }")).unwrap_or_else(|e| panic!("{e}"));
+    for fiber in &model.mesh.blocks[0].fiber_direction {
+        assert!((fiber - nalgebra::Vector3::y()).norm() < 1e-9, "{fiber:?}");
+    }
+    let message = error_of(&with("{ inlet = \"y9\", outlet = \"y1\" }"));
+    assert!(
+        message.contains("s.toml:") && message.contains("'y9'"),
+        "{message}"
+    );
+    let message = error_of(&with("{ inlet = \"y0\" }"));
+    assert!(message.contains("both an inlet and an outlet"), "{message}");
+}

@@ -89,8 +89,9 @@ pub struct MeshEntry {
     pub block: Option<Spanned<String>>,
 }
 
-/// `[parts.fibers]`: a constant fiber direction (normalised when read), or one per element
-/// from a fibers CSV file (`element,cx,cy,cz,fx,fy,fz`, as `musclefem fibers` writes).
+/// `[parts.fibers]`: a constant fiber direction (normalised when read), one per element
+/// from a fibers CSV file (`element,cx,cy,cz,fx,fy,fz`, as `musclefem fibers` writes), or
+/// computed from a potential flow from `inlet` (origin) to `outlet` (insertion).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FiberEntry {
@@ -98,6 +99,28 @@ pub struct FiberEntry {
     /// Relative to the scene file; element ids are the mesh file's labels, or 0-based
     /// indices for a generated mesh.
     pub file: Option<Spanned<String>>,
+    /// Surfaces or node sets of the part where the flow enters (origin).
+    pub inlet: Option<Spanned<OneOrMany>>,
+    /// Surfaces or node sets of the part where the flow leaves (insertion).
+    pub outlet: Option<Spanned<OneOrMany>>,
+}
+
+/// One name, or a list of names.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum OneOrMany {
+    One(String),
+    Many(Vec<String>),
+}
+
+impl OneOrMany {
+    /// The names.
+    pub fn names(&self) -> Vec<String> {
+        match self {
+            OneOrMany::One(name) => vec![name.clone()],
+            OneOrMany::Many(names) => names.clone(),
+        }
+    }
 }
 
 /// `[[amplitudes]]`: a piecewise-linear function of time, constant outside its knots.

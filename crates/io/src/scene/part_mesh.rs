@@ -13,9 +13,10 @@ use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 use musclefem_core::mesh::{ElementRef, ElementShape, Face, Mesh};
 
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{FiberEntry, PartEntry};
+use super::format::{FiberEntry, OneOrMany, PartEntry};
 use crate::fiber_csv::read_fibers_csv;
 use crate::mesh_import::read_mesh;
+use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
 
 /// The mesh of a part (generated, or one block of a file), with its fibers.
 pub(super) fn part_mesh(
@@ -69,7 +70,23 @@ fn fiber_directions(
     locator: &Locator,
 ) -> Result<Vec<Vector3<f64>>, SceneError> {
     let elements = mesh.blocks[0].len();
-    match (&fibers.get_ref().direction, &fibers.get_ref().file) {
+    let entry = fibers.get_ref();
+    if let (Some(inlet), Some(outlet)) = (&entry.inlet, &entry.outlet) {
+        if entry.direction.is_some() || entry.file.is_some() {
+            return Err(locator.error(
+                fibers.span(),
+                "give the fibers one way: direction, file, or inlet and outlet".to_string(),
+            ));
+        }
+        return flow_directions(mesh, inlet, outlet, locator);
+    }
+    if entry.inlet.is_some() != entry.outlet.is_some() {
+        return Err(locator.error(
+            fibers.span(),
+            "fibers from a flow need both an inlet and an outlet".to_string(),
+        ));
+    }
+    match (&entry.direction, &entry.file) {
         (Some(direction), None) => {
             let value = Vector3::from(*direction.get_ref());
             if !(value.norm() > 0.0 && value.iter().all(|x| x.is_finite())) {
@@ -120,10 +137,27 @@ fn fiber_directions(
         }
         _ => Err(locator.error(
             fibers.span(),
-            "give the fibers either as direction = [x, y, z] or as file = \"fibers.csv\""
+            "give the fibers either as direction = [x, y, z], as file = \"fibers.csv\" or as \
+             inlet = \"SURFACE\" and outlet = \"SURFACE\""
                 .to_string(),
         )),
     }
+}
+
+/// Fibers along the potential flow from `inlet` to `outlet` (surfaces or node sets of the
+/// part, by their names in the part's mesh file or generator).
+fn flow_directions(
+    mesh: &Mesh,
+    inlet: &Spanned<OneOrMany>,
+    outlet: &Spanned<OneOrMany>,
+    locator: &Locator,
+) -> Result<Vec<Vector3<f64>>, SceneError> {
+    let boundary =
+        FlowBoundary::from_names(mesh, &inlet.get_ref().names(), &outlet.get_ref().names())
+            .map_err(|e| locator.error(inlet.span(), format!("fibers: {e}")))?;
+    let field = compute_fibers(mesh, &boundary, &FlowSettings::default())
+        .map_err(|e| locator.error(inlet.span(), format!("fibers from the flow: {e}")))?;
+    Ok(field.direction)
 }
 
 /// A generated box of hexes, or of tets (linear or quadratic) for tet elements.
