@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use musclefem_core::mesh::{ElementShape, MeshError};
+use musclefem_core::mesh::{ElementShape, MeshError, quoted_list};
 
 /// Which end of the flow a boundary region belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -80,8 +80,8 @@ pub enum FiberError {
     /// A name that is neither a surface nor a node set of the mesh.
     #[error(
         "the mesh has no surface or node set named '{name}'; surfaces: {}; node sets: {}",
-        list(surfaces),
-        list(node_sets)
+        quoted_list(surfaces),
+        quoted_list(node_sets)
     )]
     UnknownRegion {
         name: String,
@@ -184,18 +184,6 @@ fn join(faces: &[FaceLabel]) -> String {
         .map(FaceLabel::to_string)
         .collect::<Vec<_>>()
         .join("; ")
-}
-
-fn list(items: &[String]) -> String {
-    if items.is_empty() {
-        "none".to_string()
-    } else {
-        items
-            .iter()
-            .map(|n| format!("'{n}'"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
 }
 
 #[cfg(test)]

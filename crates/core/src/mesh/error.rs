@@ -136,7 +136,7 @@ pub enum MeshError {
     #[error("there is no node {node}: the mesh has {node_count} nodes")]
     UnknownNode { node: u32, node_count: usize },
     /// A name looked up in the mesh that it does not hold.
-    #[error("the mesh has no {kind} named '{name}'; known: {}", list(known))]
+    #[error("the mesh has no {kind} named '{name}'; known: {}", quoted_list(known))]
     UnknownName {
         kind: NameKind,
         name: String,
@@ -157,7 +157,8 @@ pub enum MeshError {
     },
 }
 
-fn list(names: &[String]) -> String {
+/// The names quoted and joined by commas (`'a', 'b'`), or `none`, for error messages.
+pub fn quoted_list(names: &[String]) -> String {
     if names.is_empty() {
         "none".to_string()
     } else {

@@ -30,7 +30,7 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 pub use block::ElementBlock;
-pub use error::{MeshError, NameKind};
+pub use error::{MeshError, NameKind, quoted_list};
 pub use nodes::Nodes;
 pub use refs::{ElementRef, Face, FaceNodes};
 pub use shape::{ElementShape, FaceShape, MAX_FACE_NODES, MAX_NODES_PER_ELEMENT};
