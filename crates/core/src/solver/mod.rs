@@ -19,6 +19,7 @@ pub mod implicit;
 mod implicit_chunk;
 mod implicit_dynamics;
 mod implicit_model;
+mod implicit_settings;
 mod loads;
 mod nodal;
 mod nodal_average;
