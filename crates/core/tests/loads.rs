@@ -14,7 +14,7 @@ use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit};
 use musclefem_core::solver::implicit::{ImplicitSettings, run_quasi_static};
 use musclefem_core::solver::{
-    Loads, NodalForce, Part, PrescribedDisplacement, RigidRotation, RigidTie,
+    Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
 use musclefem_materials::driver::{StretchHistory, run_uniaxial_stress};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
@@ -154,16 +154,18 @@ fn rigid_motion(end_time: f64) -> RigidTie {
     RigidTie {
         name: "carrier".into(),
         nodes: vec![],
-        translation: [
-            Some(Amplitude::ramp(end_time, 0.2 * SIDE).unwrap()),
-            None,
-            Some(Amplitude::ramp(end_time, -0.1 * SIDE).unwrap()),
-        ],
-        rotation: Some(RigidRotation {
-            center: Vector3::repeat(SIDE / 2.0),
-            axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 2.0)),
-            angle: Amplitude::ramp(end_time, PI / 3.0).unwrap(),
-        }),
+        motion: RigidMotion {
+            translation: [
+                Some(Amplitude::ramp(end_time, 0.2 * SIDE).unwrap()),
+                None,
+                Some(Amplitude::ramp(end_time, -0.1 * SIDE).unwrap()),
+            ],
+            rotation: Some(RigidRotation {
+                center: Vector3::repeat(SIDE / 2.0),
+                axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 2.0)),
+                angle: Amplitude::ramp(end_time, PI / 3.0).unwrap(),
+            }),
+        },
     }
 }
 
@@ -191,7 +193,7 @@ fn implicit_a_body_carried_by_a_rigid_tie_moves_rigidly_and_stays_stress_free() 
         .zip(reference_positions(&mesh))
         .enumerate()
     {
-        let rigid = tie.displacement_at(&x, 1.0);
+        let rigid = tie.motion.displacement_at(&x, 1.0);
         assert!(
             (u - rigid).norm() < 1e-9 * SIDE,
             "node {n}: {u:?} instead of {rigid:?}"
@@ -214,10 +216,10 @@ fn explicit_a_body_carried_by_a_slow_rigid_tie_moves_rigidly() {
     let positions = reference_positions(&mesh);
     let largest = positions
         .iter()
-        .map(|x| tie.displacement_at(x, end_time).norm())
+        .map(|x| tie.motion.displacement_at(x, end_time).norm())
         .fold(0.0, f64::max);
     for (n, (u, x)) in result.displacement.iter().zip(&positions).enumerate() {
-        let rigid = tie.displacement_at(x, end_time);
+        let rigid = tie.motion.displacement_at(x, end_time);
         assert!(
             (u - rigid).norm() < 1e-3 * largest,
             "node {n}: {u:?} instead of {rigid:?}"
@@ -236,12 +238,14 @@ fn two_ties_twisting_a_bar_balance_and_match_prescribed_components() {
     let twist = RigidTie {
         name: "twist".into(),
         nodes: mesh.node_set("x1").unwrap().to_vec(),
-        translation: [None, None, None],
-        rotation: Some(RigidRotation {
-            center: Vector3::new(2.0 * SIDE, SIDE / 2.0, SIDE / 2.0),
-            axis: Vector3::x_axis(),
-            angle: Amplitude::ramp(1.0, angle).unwrap(),
-        }),
+        motion: RigidMotion {
+            translation: [None, None, None],
+            rotation: Some(RigidRotation {
+                center: Vector3::new(2.0 * SIDE, SIDE / 2.0, SIDE / 2.0),
+                axis: Vector3::x_axis(),
+                angle: Amplitude::ramp(1.0, angle).unwrap(),
+            }),
+        },
     };
     let settings = ImplicitSettings::new(1.0, 4);
     let by_ties = Loads {
@@ -274,7 +278,7 @@ fn two_ties_twisting_a_bar_balance_and_match_prescribed_components() {
             let knots = (0..=40)
                 .map(|i| {
                     let t = i as f64 / 40.0;
-                    (t, twist.displacement_at(&x, t)[k])
+                    (t, twist.motion.displacement_at(&x, t)[k])
                 })
                 .collect();
             displacements.push(PrescribedDisplacement {

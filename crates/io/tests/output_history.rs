@@ -40,6 +40,8 @@ fn explicit_rows() -> Vec<HistoryRow> {
                 viscous_energy: 0.01 * t,
                 kinetic_energy: 2.0 / 3.0 * t,
                 external_work: 10.5 * t,
+                interaction_work: 0.0,
+                interactions: vec![],
             }
         })
         .collect()
@@ -138,6 +140,7 @@ fn implicit_history_csv() {
                 internal_work: 2.0 / 3.0 * i as f64,
                 external_work: 0.7 * i as f64,
             },
+            interactions: vec![],
         })
         .collect();
     write_implicit_history(&path, &columns, &rows).unwrap();

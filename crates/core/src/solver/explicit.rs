@@ -57,6 +57,7 @@ use super::element_fields::PartFields;
 use super::explicit_parts::{
     PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
 };
+use super::interaction::{Interaction, InteractionReport, NodalField};
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
 use super::observer::{NoObserver, Observer, Snapshot};
 use super::{Loads, Part, RigidReaction, SolverError};
@@ -119,6 +120,11 @@ pub struct HistoryRow {
     pub kinetic_energy: f64,
     /// External work W_ext [J].
     pub external_work: f64,
+    /// Work of the interaction forces W_c = Σ ½(f_c^{n−1} + f_c^n)·Δu [J] (see
+    /// [`super::interaction`]).
+    pub interaction_work: f64,
+    /// Totals of each interaction, in the order given.
+    pub interactions: Vec<InteractionReport>,
 }
 
 /// What an explicit run returns.
@@ -157,6 +163,19 @@ pub fn run_explicit_observed(
     settings: &ExplicitSettings,
     observer: &mut dyn Observer<HistoryRow>,
 ) -> Result<ExplicitResult, SolverError> {
+    run_explicit_with(mesh, parts, loads, &mut [], settings, observer)
+}
+
+/// [`run_explicit_observed`] with `interactions` (contact, cohesion) adding their forces:
+/// searched, evaluated and committed once per step.
+pub fn run_explicit_with(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    interactions: &mut [Box<dyn Interaction>],
+    settings: &ExplicitSettings,
+    observer: &mut dyn Observer<HistoryRow>,
+) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
     let node_count = mesh.nodes.len();
     let mut runs = Vec::with_capacity(parts.len());
@@ -186,6 +205,8 @@ pub fn run_explicit_observed(
     let mut previous_force = vec![Vector3::zeros(); node_count];
     let mut viscous_force = vec![Vector3::zeros(); node_count];
     let mut previous_viscous_force = vec![Vector3::zeros(); node_count];
+    let mut interaction_force = vec![Vector3::zeros(); node_count];
+    let mut previous_interaction_force = vec![Vector3::zeros(); node_count];
     let step_factor = settings.safety_factor
         * settings
             .bulk_viscosity
@@ -208,6 +229,7 @@ pub fn run_explicit_observed(
     let mut time = 0.0;
     let (mut stable_step, mut critical) =
         internal_forces(mesh, &mut runs, &positions, time, 0.0, true, &mut force)?;
+    interaction_forces(interactions, time, &positions, &mut interaction_force)?;
     let physical_mass: f64 = mass.iter().sum();
     let mut added_mass = 0.0;
     if let Some(target) = settings.mass_scaling_time_step {
@@ -216,6 +238,7 @@ pub fn run_explicit_observed(
     }
     let mut half_step = 0.0;
     let (mut internal_energy, mut external_work, mut viscous_energy) = (0.0, 0.0, 0.0);
+    let mut interaction_work = 0.0;
     let mut initial_balance = None;
     let mut startup_energy = None;
     let mut largest_energy: f64 = 0.0;
@@ -251,7 +274,7 @@ pub fn run_explicit_observed(
         update_velocities(
             &mut velocity,
             &mut old_velocity,
-            [&force, &viscous_force, &external],
+            [&force, &viscous_force, &interaction_force, &external],
             &mass,
             average_step,
         );
@@ -264,7 +287,7 @@ pub fn run_explicit_observed(
                 (target[d] - displacement[n][k]) / dt
             };
         }
-        // Reactions at n: R = f + f_visc − f_ext + m a on the prescribed components.
+        // Reactions at n: R = f + f_visc + f_c − f_ext + m a on the prescribed components.
         for &d in &held {
             let (n, k) = (d / 3, d % 3);
             let acceleration = if average_step > 0.0 {
@@ -272,8 +295,9 @@ pub fn run_explicit_observed(
             } else {
                 0.0
             };
-            reaction[n][k] =
-                force[n][k] + viscous_force[n][k] - external[n][k] + mass[n] * acceleration;
+            reaction[n][k] = force[n][k] + viscous_force[n][k] + interaction_force[n][k]
+                - external[n][k]
+                + mass[n] * acceleration;
         }
         // Energies at n.
         internal_energy += deterministic_sum(node_count, |i| {
@@ -285,6 +309,12 @@ pub fn run_explicit_observed(
                     .dot(&(displacement[i] - previous_displacement[i]))
             });
         }
+        if !interactions.is_empty() {
+            interaction_work += deterministic_sum(node_count, |i| {
+                0.5 * (previous_interaction_force[i] + interaction_force[i])
+                    .dot(&(displacement[i] - previous_displacement[i]))
+            });
+        }
         external_work += deterministic_sum(node_count, |i| {
             0.5 * (previous_reaction[i] + reaction[i] + previous_external[i] + external[i])
                 .dot(&(displacement[i] - previous_displacement[i]))
@@ -292,10 +322,12 @@ pub fn run_explicit_observed(
         let kinetic_energy = deterministic_sum(node_count, |i| {
             0.5 * mass[i] * (0.5 * (old_velocity[i] + velocity[i])).norm_squared()
         });
-        let total = internal_energy + viscous_energy + kinetic_energy - external_work;
+        let total =
+            internal_energy + viscous_energy + interaction_work + kinetic_energy - external_work;
         let drift = total - *initial_balance.get_or_insert(total);
         largest_energy = largest_energy
             .max(internal_energy.abs())
+            .max(interaction_work.abs())
             .max(kinetic_energy)
             .max(external_work.abs());
         // The start-up error is measured over the first steps (a load ramped from zero
@@ -323,10 +355,13 @@ pub fn run_explicit_observed(
                 viscous_energy,
                 kinetic_energy,
                 external_work,
+                interaction_work,
+                interactions: interactions.iter().map(|i| i.report()).collect(),
             });
             next_record += settings.history_interval;
             let fields = || all_fields(mesh, &runs, time);
-            let snapshot = Snapshot::new(time, &displacement, &fields);
+            let nodal = || all_nodal_fields(interactions, node_count);
+            let snapshot = Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
             if let (Some(row), false) = (history.last(), closing)
                 && observer.record(row, &snapshot).is_break()
             {
@@ -345,7 +380,10 @@ pub fn run_explicit_observed(
             if let Some(row) = history.last() {
                 // The run is over: a request to stop changes nothing.
                 let fields = || all_fields(mesh, &runs, time);
-                let _ = observer.record(row, &Snapshot::new(time, &displacement, &fields));
+                let nodal = || all_nodal_fields(interactions, node_count);
+                let snapshot =
+                    Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
+                let _ = observer.record(row, &snapshot);
             }
             break;
         }
@@ -354,6 +392,7 @@ pub fn run_explicit_observed(
         // where it is not zero before it is read again.
         std::mem::swap(&mut previous_force, &mut force);
         std::mem::swap(&mut previous_viscous_force, &mut viscous_force);
+        std::mem::swap(&mut previous_interaction_force, &mut interaction_force);
         std::mem::swap(&mut previous_reaction, &mut reaction);
         std::mem::swap(&mut previous_external, &mut external);
         advance_positions(
@@ -386,7 +425,9 @@ pub fn run_explicit_observed(
                 &mut viscous_force,
             );
         }
+        interaction_forces(interactions, time, &positions, &mut interaction_force)?;
         runs.iter_mut().for_each(PartRun::commit);
+        interactions.iter_mut().for_each(|i| i.commit());
     }
     Ok(ExplicitResult {
         history,
@@ -394,6 +435,36 @@ pub fn run_explicit_observed(
         steps,
         added_mass_fraction: added_mass / physical_mass,
     })
+}
+
+/// f_c of every interaction at `positions` and `time`, each searched first, into `force`
+/// (overwritten).
+fn interaction_forces(
+    interactions: &mut [Box<dyn Interaction>],
+    time: f64,
+    positions: &[Vector3<f64>],
+    force: &mut [Vector3<f64>],
+) -> Result<(), SolverError> {
+    if interactions.is_empty() {
+        return Ok(());
+    }
+    force.fill(Vector3::zeros());
+    for interaction in interactions.iter_mut() {
+        interaction.search(time, positions)?;
+        interaction.forces(time, positions, false, force)?;
+    }
+    Ok(())
+}
+
+/// The per-node fields of every interaction.
+pub(super) fn all_nodal_fields(
+    interactions: &[Box<dyn Interaction>],
+    node_count: usize,
+) -> Vec<NodalField> {
+    interactions
+        .iter()
+        .flat_map(|i| i.nodal_fields(node_count))
+        .collect()
 }
 
 /// The output fields of every part at the last accepted step, ending at `time`.

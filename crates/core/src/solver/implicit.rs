@@ -39,7 +39,9 @@
 //! nodally averaged tet4 is refused ([`SolverError::NoConsistentTangent`]): its tangent
 //! couples the 2-ring of elements around a node, a wider sparsity pattern not built yet.
 //! Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes tied to
-//! a rigid body are prescribed in every component. Not built yet: contact.
+//! a rigid body are prescribed in every component. Interactions (contact, cohesion) add
+//! their forces and stiffness blocks (`implicit_interactions.rs`), are searched once per
+//! Newton iteration and committed with the materials.
 //!
 //! Memory besides the factor: every element keeps its dense stiffness between the parallel
 //! update and the serial scatter (24² values, 4.6 kB, per hex8) and a scatter map (192
@@ -47,8 +49,10 @@
 
 use nalgebra::Vector3;
 
+use super::explicit::all_nodal_fields;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
+use super::interaction::{Interaction, InteractionReport};
 use super::observer::{NoObserver, Observer, Snapshot};
 use super::sparse::PRESCRIBED;
 use super::{Loads, Part, RigidReaction, SolverError};
@@ -76,6 +80,8 @@ pub struct ImplicitHistoryRow {
     pub rigid_reactions: Vec<RigidReaction>,
     /// Kinetic energy and works at the end of the step (dynamics; zero when quasi-static).
     pub energy: EnergyBalance,
+    /// Totals of each interaction at the end of the step, in the order given.
+    pub interactions: Vec<InteractionReport>,
 }
 
 /// How one converged step went.
@@ -142,8 +148,27 @@ pub fn run_implicit_observed(
     settings: &ImplicitSettings,
     observer: &mut dyn Observer<ImplicitHistoryRow>,
 ) -> Result<ImplicitResult, SolverError> {
+    run_implicit_with(mesh, parts, loads, &mut [], settings, observer)
+}
+
+/// [`run_implicit_observed`] with `interactions` (contact, cohesion) adding their forces
+/// and stiffness.
+pub fn run_implicit_with(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    interactions: &mut [Box<dyn Interaction>],
+    settings: &ImplicitSettings,
+    observer: &mut dyn Observer<ImplicitHistoryRow>,
+) -> Result<ImplicitResult, SolverError> {
     check_settings(settings)?;
-    let mut model = Model::new(mesh, parts, loads, settings.parallel_factorization_unknowns)?;
+    let mut model = Model::new(
+        mesh,
+        parts,
+        loads,
+        interactions,
+        settings.parallel_factorization_unknowns,
+    )?;
     let node_count = mesh.nodes.len();
     let reference: Vec<Vector3<f64>> = (0..node_count).map(|i| mesh.nodes.position(i)).collect();
     let mut displacement = vec![Vector3::zeros(); node_count];
@@ -201,6 +226,7 @@ pub fn run_implicit_observed(
                 for run in &mut model.runs {
                     run.chunks.iter_mut().for_each(ImplicitChunk::commit);
                 }
+                model.interactions.iter_mut().for_each(|i| i.commit());
                 time = if end - (time + step) < 1e-9 * step {
                     end
                 } else {
@@ -238,9 +264,12 @@ pub fn run_implicit_observed(
                     reactions,
                     rigid_reactions,
                     energy,
+                    interactions: model.interactions.iter().map(|i| i.report()).collect(),
                 });
                 let fields = || model.fields(time);
-                let snapshot = Snapshot::new(time, &displacement, &fields);
+                let nodal = || all_nodal_fields(model.interactions, node_count);
+                let snapshot =
+                    Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
                 if let Some(row) = history.last()
                     && (observer.record(row, &snapshot).is_break()
                         || observer.progress(time, history.len()).is_break())

@@ -15,6 +15,7 @@ use super::chunk::chunk_ranges;
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_dynamics::Inertia;
+use super::interaction::Interaction;
 use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
@@ -62,6 +63,13 @@ pub(super) struct Model<'a> {
     pub inertial: Vec<Vector3<f64>>,
     /// Reference positions of the nodes [m].
     pub reference: Vec<Vector3<f64>>,
+    /// Contact and cohesion, evaluated with the elements (`implicit_interactions.rs`).
+    pub interactions: &'a mut [Box<dyn Interaction>],
+    /// Node pairs coupled by interactions beyond the elements, all in the pattern
+    /// (sorted; the pattern only grows).
+    pub coupled_pairs: Vec<(u32, u32)>,
+    /// Threshold of parallel factorizations [unknowns] (kept for rebuilding the system).
+    pub parallel_factorization_unknowns: usize,
 }
 
 /// Counts and wall-clock times [s] of a run's evaluations.
@@ -131,6 +139,7 @@ impl<'a> Model<'a> {
         mesh: &'a Mesh,
         parts: &'a [Part],
         loads: &Loads,
+        interactions: &'a mut [Box<dyn Interaction>],
         parallel_factorization_unknowns: usize,
     ) -> Result<Self, SolverError> {
         let node_count = mesh.nodes.len();
@@ -196,44 +205,63 @@ impl<'a> Model<'a> {
         let free = free as usize;
         let reference: Vec<Vector3<f64>> =
             (0..node_count).map(|n| mesh.nodes.position(n)).collect();
-        let system = SparseSystem::new(
-            &reference,
-            &equation,
-            free,
-            runs.iter().map(|r| &mesh.blocks[r.block]),
-            parallel_factorization_unknowns,
-        );
-        if system.entries() >= PRESCRIBED as usize {
-            return Err(SolverError::InvalidPart {
-                block: parts.first().map_or(0, |p| p.block),
-                reason: format!(
-                    "the stiffness would have {} entries, more than 2^32 - 1",
-                    system.entries()
-                ),
-            });
-        }
-        for run in &mut runs {
-            run.scatter = scatter_map(&mesh.blocks[run.block], &equation, &system);
-        }
-        let diagonal = (0..free).map(|i| system.position(i, i)).collect();
-        Ok(Model {
+        let mut model = Model {
             mesh,
             runs,
             equation,
-            system,
+            system: SparseSystem::new(&[], &[], 0, std::iter::empty(), &[], usize::MAX),
             force: vec![Vector3::zeros(); node_count],
             external: vec![Vector3::zeros(); node_count],
             residual: vec![0.0; free],
             lift: vec![0.0; free],
             symmetric: true,
-            diagonal,
+            diagonal: Vec::new(),
             stiffness_scale: 0.0,
             position_scale: 0.0,
             times: EvaluationTimes::default(),
             inertia: None,
             inertial: vec![Vector3::zeros(); node_count],
             reference,
-        })
+            interactions,
+            coupled_pairs: Vec::new(),
+            parallel_factorization_unknowns,
+        };
+        model
+            .build_system()
+            .map_err(|reason| SolverError::InvalidPart {
+                block: parts.first().map_or(0, |p| p.block),
+                reason,
+            })?;
+        Ok(model)
+    }
+
+    /// (Re)builds the sparse pattern from the elements and [`Self::coupled_pairs`], with
+    /// the scatter maps and diagonal positions; carries the solve statistics over.
+    pub fn build_system(&mut self) -> Result<(), String> {
+        let mesh = self.mesh;
+        let mut system = SparseSystem::new(
+            &self.reference,
+            &self.equation,
+            self.residual.len(),
+            self.runs.iter().map(|r| &mesh.blocks[r.block]),
+            &self.coupled_pairs,
+            self.parallel_factorization_unknowns,
+        );
+        if system.entries() >= PRESCRIBED as usize {
+            return Err(format!(
+                "the stiffness would have {} entries, more than 2^32 - 1",
+                system.entries()
+            ));
+        }
+        system.continue_statistics(&self.system);
+        for run in &mut self.runs {
+            run.scatter = scatter_map(&mesh.blocks[run.block], &self.equation, &system);
+        }
+        self.diagonal = (0..self.residual.len())
+            .map(|i| system.position(i, i))
+            .collect();
+        self.system = system;
+        Ok(())
     }
 
     /// Internal forces (and with `with_stiffness` the stiffness of the free degrees of
@@ -314,6 +342,12 @@ impl<'a> Model<'a> {
                 }
                 self.symmetric &= !with_stiffness || chunk.symmetric;
             }
+        }
+        if !self.interactions.is_empty()
+            && !self.add_interactions(positions, time, with_stiffness, delta)?
+        {
+            // New node pairs were coupled: evaluate again on the grown pattern.
+            return self.evaluate(positions, time, dt, with_stiffness, delta);
         }
         if let Some(inertia) = &self.inertia {
             for (node, (f, (x, x0))) in self

@@ -6,11 +6,12 @@
 //! when several conditions name the same component the last one wins, in the order
 //! displacements, then rigid ties (each list in its order).
 
-use nalgebra::{Rotation3, Unit, Vector3};
+use nalgebra::Vector3;
 
 use musclefem_materials::Amplitude;
 
 use super::SolverError;
+use super::rigid_motion::RigidMotion;
 
 /// Displacement component `dof` (0 = x, 1 = y, 2 = z) of `nodes` follows `amplitude`
 /// (displacement [m] against time [s]).
@@ -30,27 +31,14 @@ pub struct NodalForce {
     pub amplitude: Amplitude,
 }
 
-/// Rotation by `angle(t)` [rad] about the axis through `center` [m] along `axis`
-/// (right-hand rule).
-#[derive(Debug, Clone)]
-pub struct RigidRotation {
-    pub center: Vector3<f64>,
-    pub axis: Unit<Vector3<f64>>,
-    pub angle: Amplitude,
-}
-
-/// Nodes that move with a rigid body: a point at reference position X goes to
-/// x(t) = c + R(t)(X − c) + T(t), with R the rotation about the axis through c and T the
-/// translation, so its displacement is u = x − X. Every component of the nodes is held.
+/// Nodes that move with a rigid body: each node follows `motion`, x(t) = c + R(t)(X − c)
+/// + T(t), so its displacement is u = x − X. Every component of the nodes is held.
 #[derive(Debug, Clone)]
 pub struct RigidTie {
     /// Name used in messages and histories.
     pub name: String,
     pub nodes: Vec<u32>,
-    /// Translation T(t) of each component [m]; `None` = 0.
-    pub translation: [Option<Amplitude>; 3],
-    /// Rotation; `None` = no rotation.
-    pub rotation: Option<RigidRotation>,
+    pub motion: RigidMotion,
 }
 
 impl RigidTie {
@@ -59,39 +47,8 @@ impl RigidTie {
         RigidTie {
             name: name.to_string(),
             nodes,
-            translation: [None, None, None],
-            rotation: None,
+            motion: RigidMotion::fixed(),
         }
-    }
-
-    /// The translation T(t) [m].
-    pub fn translation_at(&self, time: f64) -> Vector3<f64> {
-        Vector3::from_fn(|i, _| {
-            self.translation[i]
-                .as_ref()
-                .map_or(0.0, |a| a.value_at(time))
-        })
-    }
-
-    /// The current position of the body's reference point c: c + T(t) [m] (the centre of
-    /// rotation, or the origin without rotation).
-    pub fn reference_point_at(&self, time: f64) -> Vector3<f64> {
-        self.rotation
-            .as_ref()
-            .map_or(Vector3::zeros(), |r| r.center)
-            + self.translation_at(time)
-    }
-
-    /// Displacement u(X, t) = c + R(t)(X − c) + T(t) − X [m] of the point at `reference`.
-    pub fn displacement_at(&self, reference: &Vector3<f64>, time: f64) -> Vector3<f64> {
-        let rotated = match &self.rotation {
-            Some(r) => {
-                let rotation = Rotation3::from_axis_angle(&r.axis, r.angle.value_at(time));
-                r.center + rotation * (reference - r.center)
-            }
-            None => *reference,
-        };
-        rotated + self.translation_at(time) - reference
     }
 }
 
@@ -152,9 +109,7 @@ impl Loads {
         }
         for tie in &self.rigid_ties {
             check_nodes(&format!("rigid tie '{}'", tie.name), &tie.nodes)?;
-            if let Some(r) = &tie.rotation
-                && !(r.axis.iter().all(|x| x.is_finite()) && r.center.iter().all(|x| x.is_finite()))
-            {
+            if !tie.motion.is_finite() {
                 return bad(format!(
                     "rigid tie '{}': the rotation axis and centre must be finite",
                     tie.name
@@ -197,7 +152,7 @@ impl Loads {
         }
         for tie in &self.rigid_ties {
             for &n in &tie.nodes {
-                let u = tie.displacement_at(&reference[n as usize], time);
+                let u = tie.motion.displacement_at(&reference[n as usize], time);
                 target[3 * n as usize..3 * n as usize + 3].copy_from_slice(u.as_slice());
             }
         }
@@ -239,7 +194,7 @@ impl Loads {
         self.rigid_ties
             .iter()
             .map(|tie| {
-                let point = tie.reference_point_at(time);
+                let point = tie.motion.reference_point_at(time);
                 let mut resultant = RigidReaction {
                     force: Vector3::zeros(),
                     moment: Vector3::zeros(),
@@ -261,30 +216,6 @@ mod tests {
 
     fn ramp(value: f64) -> Amplitude {
         Amplitude::ramp(1.0, value).unwrap()
-    }
-
-    #[test]
-    fn a_rigid_rotation_keeps_distances_and_turns_by_the_angle() {
-        let tie = RigidTie {
-            name: "bone".into(),
-            nodes: vec![0],
-            translation: [Some(ramp(0.1)), None, None],
-            rotation: Some(RigidRotation {
-                center: Vector3::new(1.0, 0.0, 0.0),
-                axis: Vector3::z_axis(),
-                angle: ramp(std::f64::consts::FRAC_PI_2),
-            }),
-        };
-        let x = Vector3::new(2.0, 0.0, 0.5);
-        // Quarter turn about z through (1, 0, 0): (2, 0, .5) → (1, 1, .5), then +0.1 x.
-        let moved = x + tie.displacement_at(&x, 1.0);
-        assert!((moved - Vector3::new(1.1, 1.0, 0.5)).norm() < 1e-14);
-        let y = Vector3::new(0.3, -0.7, 2.0);
-        let distance = (y - x).norm();
-        let moved_y = y + tie.displacement_at(&y, 0.37);
-        let moved_x = x + tie.displacement_at(&x, 0.37);
-        assert!(((moved_y - moved_x).norm() - distance).abs() < 1e-14);
-        assert!((tie.reference_point_at(1.0) - Vector3::new(1.1, 0.0, 0.0)).norm() < 1e-15);
     }
 
     #[test]
@@ -334,8 +265,10 @@ mod tests {
         let tie = RigidTie {
             name: "b".into(),
             nodes: vec![0, 1],
-            translation: [None, Some(ramp(1.0)), None],
-            rotation: None,
+            motion: RigidMotion {
+                translation: [None, Some(ramp(1.0)), None],
+                rotation: None,
+            },
         };
         let loads = Loads {
             rigid_ties: vec![tie],

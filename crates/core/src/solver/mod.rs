@@ -18,20 +18,23 @@ mod hex8_one_point_chunk;
 pub mod implicit;
 mod implicit_chunk;
 mod implicit_dynamics;
+mod implicit_interactions;
 mod implicit_model;
 mod implicit_settings;
+pub mod interaction;
 mod loads;
 mod nodal;
 mod nodal_average;
 pub mod observer;
 mod ordering;
 mod part;
+mod rigid_motion;
 mod sparse;
 
-pub use loads::{
-    Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidRotation, RigidTie,
-};
+pub use interaction::{Interaction, InteractionReport, NodalField};
+pub use loads::{Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidTie};
 pub use part::Part;
+pub use rigid_motion::{RigidMotion, RigidRotation};
 
 use thiserror::Error;
 

@@ -25,30 +25,33 @@ pub(crate) fn deterministic_sum(count: usize, term: impl Fn(usize) -> f64 + Sync
     partial[..tasks].iter().sum()
 }
 
-/// v^{n+½} = v^{n−½} + Δt^n (f_ext − f − f_visc)/m for every node (prescribed components
-/// are set after), keeping v^{n−½} in `old_velocity`; `forces` holds the internal force f,
-/// the bulk-viscosity force f_visc and the external force f_ext [N], `mass` m [kg],
+/// v^{n+½} = v^{n−½} + Δt^n (f_ext − f − f_visc − f_c)/m for every node (prescribed
+/// components are set after), keeping v^{n−½} in `old_velocity`; `forces` holds the
+/// internal force f, the bulk-viscosity force f_visc, the interaction force f_c and the
+/// external force f_ext [N], `mass` m [kg],
 /// `average_step` Δt^n [s].
 pub(crate) fn update_velocities(
     velocity: &mut [Vector3<f64>],
     old_velocity: &mut [Vector3<f64>],
-    forces: [&[Vector3<f64>]; 3],
+    forces: [&[Vector3<f64>]; 4],
     mass: &[f64],
     average_step: f64,
 ) {
-    let [internal, viscous, external] = forces;
+    let [internal, viscous, interaction, external] = forces;
     velocity
         .par_chunks_mut(NODES_PER_TASK)
         .zip(old_velocity.par_chunks_mut(NODES_PER_TASK))
         .zip(internal.par_chunks(NODES_PER_TASK))
         .zip(viscous.par_chunks(NODES_PER_TASK))
+        .zip(interaction.par_chunks(NODES_PER_TASK))
         .zip(external.par_chunks(NODES_PER_TASK))
         .zip(mass.par_chunks(NODES_PER_TASK))
-        .for_each(|(((((v, old), f), f_visc), f_ext), m)| {
+        .for_each(|((((((v, old), f), f_visc), f_c), f_ext), m)| {
             old.copy_from_slice(v);
-            for ((((v, f), f_visc), f_ext), m) in v.iter_mut().zip(f).zip(f_visc).zip(f_ext).zip(m)
+            for (((((v, f), f_visc), f_c), f_ext), m) in
+                v.iter_mut().zip(f).zip(f_visc).zip(f_c).zip(f_ext).zip(m)
             {
-                *v += (f_ext - f - f_visc) * (average_step / m);
+                *v += (f_ext - f - f_visc - f_c) * (average_step / m);
             }
         });
 }

@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 
 use super::SolverError;
 use super::element_fields::PartFields;
+use super::interaction::NodalField;
 
 /// The state of a run at a recorded instant.
 pub struct Snapshot<'a> {
@@ -18,6 +19,7 @@ pub struct Snapshot<'a> {
     /// Displacement of every node [m].
     pub displacement: &'a [Vector3<f64>],
     fields: &'a dyn Fn() -> Result<Vec<PartFields>, SolverError>,
+    nodal_fields: Option<&'a dyn Fn() -> Vec<NodalField>>,
 }
 
 impl<'a> Snapshot<'a> {
@@ -31,7 +33,20 @@ impl<'a> Snapshot<'a> {
             time,
             displacement,
             fields,
+            nodal_fields: None,
         }
+    }
+
+    /// The snapshot with per-node fields of the interactions, evaluated when asked.
+    pub fn with_nodal_fields(mut self, nodal_fields: &'a dyn Fn() -> Vec<NodalField>) -> Self {
+        self.nodal_fields = Some(nodal_fields);
+        self
+    }
+
+    /// Per-node fields of the interactions (contact pressure, cohesive traction, …); empty
+    /// without interactions.
+    pub fn nodal_fields(&self) -> Vec<NodalField> {
+        self.nodal_fields.map_or_else(Vec::new, |f| f())
     }
 
     /// Per-element fields of every part (stress, fiber direction, state, activation), in

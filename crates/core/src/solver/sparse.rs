@@ -127,14 +127,18 @@ impl SparseSystem {
     /// freedom: `equation[3 node + dof]` is the equation number or [`PRESCRIBED`], numbered
     /// node after node, so each column's rows come out sorted. Factorizations run on
     /// rayon's threads from `parallel_unknowns` unknowns on, serially below.
+    ///
+    /// `coupled_pairs` are node pairs (a, b) coupled beyond the elements (interactions);
+    /// each couples both ways.
     pub fn new<'a>(
         positions: &[Vector3<f64>],
         equation: &[u32],
         free: usize,
         blocks: impl Iterator<Item = &'a ElementBlock>,
+        coupled_pairs: &[(u32, u32)],
         parallel_unknowns: usize,
     ) -> Self {
-        let graph = node_graph(positions.len(), blocks);
+        let graph = node_graph(positions.len(), blocks, coupled_pairs);
         let mut col_ptr = Vec::with_capacity(free + 1);
         col_ptr.push(0usize);
         let mut row_idx = Vec::new();
@@ -212,6 +216,19 @@ impl SparseSystem {
             Ok(offset) => start + offset,
             Err(_) => unreachable!("({row}, {column}) is coupled by an element"),
         }
+    }
+
+    /// Where entry (`row`, `column`) is stored, `None` if it is not in the pattern.
+    pub fn find(&self, row: usize, column: usize) -> Option<usize> {
+        let symbolic = self.matrix.symbolic();
+        let start = symbolic.col_ptr()[column];
+        let rows = &symbolic.row_idx()[start..symbolic.col_ptr()[column + 1]];
+        rows.binary_search(&row).ok().map(|offset| start + offset)
+    }
+
+    /// Carries the solve counts and times of `earlier` (a system this one replaces).
+    pub fn continue_statistics(&mut self, earlier: &SparseSystem) {
+        self.statistics = earlier.statistics.clone();
     }
 
     pub fn values_mut(&mut self) -> &mut [f64] {
@@ -406,7 +423,11 @@ impl SparseSystem {
 }
 
 /// The node graph of the elements of `blocks` over `node_count` nodes.
-fn node_graph<'a>(node_count: usize, blocks: impl Iterator<Item = &'a ElementBlock>) -> NodeGraph {
+fn node_graph<'a>(
+    node_count: usize,
+    blocks: impl Iterator<Item = &'a ElementBlock>,
+    coupled_pairs: &[(u32, u32)],
+) -> NodeGraph {
     let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); node_count];
     for block in blocks {
         for ids in block.elements() {
@@ -414,6 +435,10 @@ fn node_graph<'a>(node_count: usize, blocks: impl Iterator<Item = &'a ElementBlo
                 neighbours[a as usize].extend_from_slice(ids);
             }
         }
+    }
+    for &(a, b) in coupled_pairs {
+        neighbours[a as usize].extend([a, b]);
+        neighbours[b as usize].extend([a, b]);
     }
     let mut offsets = Vec::with_capacity(node_count + 1);
     offsets.push(0);
@@ -483,8 +508,14 @@ mod tests {
         let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
         let equation: Vec<u32> = (0..24).collect();
         let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
-        let mut system =
-            SparseSystem::new(&positions, &equation, 24, mesh.blocks.iter(), usize::MAX);
+        let mut system = SparseSystem::new(
+            &positions,
+            &equation,
+            24,
+            mesh.blocks.iter(),
+            &[],
+            usize::MAX,
+        );
         assert_eq!(system.entries(), 24 * 24);
         for row in 0..24 {
             for column in 0..24 {
@@ -522,8 +553,14 @@ mod tests {
         let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
         let equation: Vec<u32> = (0..24).collect();
         let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
-        let mut system =
-            SparseSystem::new(&positions, &equation, 24, mesh.blocks.iter(), usize::MAX);
+        let mut system = SparseSystem::new(
+            &positions,
+            &equation,
+            24,
+            mesh.blocks.iter(),
+            &[],
+            usize::MAX,
+        );
         let fill = |system: &mut SparseSystem, scale: f64| -> Vec<f64> {
             let entry = |r: usize, c: usize| {
                 if r == c { 4.0 } else { scale * coupling(r, c) }

@@ -16,7 +16,7 @@ use musclefem_core::solver::bulk_viscosity::BulkViscosity;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 use musclefem_core::solver::{
-    Loads, NodalForce, Part, PrescribedDisplacement, RigidRotation, RigidTie,
+    Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
@@ -293,8 +293,10 @@ pub fn build_model(
         loads.rigid_ties.push(RigidTie {
             name: entry.name.get_ref().clone(),
             nodes,
-            translation,
-            rotation,
+            motion: RigidMotion {
+                translation,
+                rotation,
+            },
         });
     }
 

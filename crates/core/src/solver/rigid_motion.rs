@@ -1,0 +1,142 @@
+//! The prescribed motion of a rigid body (a bone): translation and rotation about an axis,
+//! shared by nodes tied to the body ([`super::RigidTie`]) and by rigid contact surfaces.
+
+use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
+
+use musclefem_materials::Amplitude;
+
+/// Rotation by `angle(t)` [rad] about the axis through `center` [m] along `axis`
+/// (right-hand rule).
+#[derive(Debug, Clone)]
+pub struct RigidRotation {
+    pub center: Vector3<f64>,
+    pub axis: Unit<Vector3<f64>>,
+    pub angle: Amplitude,
+}
+
+/// A point at reference position X goes to x(t) = c + R(t)(X − c) + T(t), with R the
+/// rotation about the axis through c and T the translation.
+#[derive(Debug, Clone, Default)]
+pub struct RigidMotion {
+    /// Translation T(t) of each component [m]; `None` = 0.
+    pub translation: [Option<Amplitude>; 3],
+    /// Rotation; `None` = no rotation.
+    pub rotation: Option<RigidRotation>,
+}
+
+impl RigidMotion {
+    /// No motion at all.
+    pub fn fixed() -> Self {
+        Self::default()
+    }
+
+    /// The translation T(t) [m].
+    pub fn translation_at(&self, time: f64) -> Vector3<f64> {
+        Vector3::from_fn(|i, _| {
+            self.translation[i]
+                .as_ref()
+                .map_or(0.0, |a| a.value_at(time))
+        })
+    }
+
+    /// The rotation R(t).
+    pub fn rotation_at(&self, time: f64) -> Rotation3<f64> {
+        self.rotation
+            .as_ref()
+            .map_or_else(Rotation3::identity, |r| {
+                Rotation3::from_axis_angle(&r.axis, r.angle.value_at(time))
+            })
+    }
+
+    /// The current position of the body's reference point c: c + T(t) [m] (the centre of
+    /// rotation, or the origin without rotation).
+    pub fn reference_point_at(&self, time: f64) -> Vector3<f64> {
+        self.rotation
+            .as_ref()
+            .map_or(Vector3::zeros(), |r| r.center)
+            + self.translation_at(time)
+    }
+
+    /// The motion at `time` as one isometry: x = iso · X.
+    pub fn isometry_at(&self, time: f64) -> Isometry3<f64> {
+        let rotation = self.rotation_at(time);
+        let center = self
+            .rotation
+            .as_ref()
+            .map_or(Vector3::zeros(), |r| r.center);
+        let shift = center - rotation * center + self.translation_at(time);
+        Isometry3::from_parts(
+            Translation3::from(shift),
+            UnitQuaternion::from_rotation_matrix(&rotation),
+        )
+    }
+
+    /// Position x(X, t) = c + R(t)(X − c) + T(t) [m] of the point at `reference`.
+    pub fn position_at(&self, reference: &Vector3<f64>, time: f64) -> Vector3<f64> {
+        let rotated = match &self.rotation {
+            Some(r) => r.center + self.rotation_at(time) * (reference - r.center),
+            None => *reference,
+        };
+        rotated + self.translation_at(time)
+    }
+
+    /// Displacement u(X, t) = x(X, t) − X [m] of the point at `reference`.
+    pub fn displacement_at(&self, reference: &Vector3<f64>, time: f64) -> Vector3<f64> {
+        self.position_at(reference, time) - reference
+    }
+
+    /// Whether the rotation axis and centre are finite.
+    pub fn is_finite(&self) -> bool {
+        self.rotation.as_ref().is_none_or(|r| {
+            r.axis.iter().all(|x| x.is_finite()) && r.center.iter().all(|x| x.is_finite())
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(value: f64) -> Amplitude {
+        Amplitude::ramp(1.0, value).unwrap()
+    }
+
+    #[test]
+    fn a_rigid_rotation_keeps_distances_and_turns_by_the_angle() {
+        let motion = RigidMotion {
+            translation: [Some(ramp(0.1)), None, None],
+            rotation: Some(RigidRotation {
+                center: Vector3::new(1.0, 0.0, 0.0),
+                axis: Vector3::z_axis(),
+                angle: ramp(std::f64::consts::FRAC_PI_2),
+            }),
+        };
+        let x = Vector3::new(2.0, 0.0, 0.5);
+        // Quarter turn about z through (1, 0, 0): (2, 0, .5) → (1, 1, .5), then +0.1 x.
+        let moved = x + motion.displacement_at(&x, 1.0);
+        assert!((moved - Vector3::new(1.1, 1.0, 0.5)).norm() < 1e-14);
+        let y = Vector3::new(0.3, -0.7, 2.0);
+        let distance = (y - x).norm();
+        let moved_y = y + motion.displacement_at(&y, 0.37);
+        let moved_x = x + motion.displacement_at(&x, 0.37);
+        assert!(((moved_y - moved_x).norm() - distance).abs() < 1e-14);
+        assert!((motion.reference_point_at(1.0) - Vector3::new(1.1, 0.0, 0.0)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn the_isometry_is_the_motion() {
+        let motion = RigidMotion {
+            translation: [Some(ramp(0.1)), None, Some(ramp(-0.3))],
+            rotation: Some(RigidRotation {
+                center: Vector3::new(1.0, 0.5, 0.0),
+                axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 2.0)),
+                angle: ramp(1.2),
+            }),
+        };
+        let x = Vector3::new(0.3, -0.7, 2.0);
+        for time in [0.0, 0.37, 1.0] {
+            let by_isometry = motion.isometry_at(time) * nalgebra::Point3::from(x);
+            assert!((by_isometry.coords - motion.position_at(&x, time)).norm() < 1e-14);
+        }
+    }
+}
