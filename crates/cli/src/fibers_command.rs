@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use nalgebra::Vector3;
 
-use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
+use musclefem_fibers::{FlowBoundary, FlowSettings, Side, compute_fibers};
 use musclefem_io::PendingFile;
 use musclefem_io::fiber_csv::{FiberRow, format_fibers_csv};
 use musclefem_io::mesh_import::read_mesh;
@@ -91,6 +91,21 @@ pub fn fibers(args: &FibersArgs) -> Result<()> {
         field.residual,
         field.setup_time + field.solve_time
     );
+    for region in &field.region_fluxes {
+        let total = match region.side {
+            Side::Inlet => field.inlet_flux,
+            Side::Outlet => field.outlet_flux,
+        };
+        println!(
+            "  {} '{}': {} faces, flux {:.6e} m ({:.2} % of the {} flux)",
+            region.side,
+            region.name,
+            region.faces,
+            region.flux,
+            100.0 * region.flux / total,
+            region.side
+        );
+    }
     println!(
         "wrote {} and {} (cell vector fiber_direction_reference)",
         csv_path.display(),
