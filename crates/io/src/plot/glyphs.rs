@@ -86,10 +86,10 @@ impl PrincipalAxes {
         let mut order = [0, 1, 2];
         order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
         let oriented = |v: Vector3<f64>| {
-            let largest =
-                v.iter()
-                    .copied()
-                    .fold(0.0, |m: f64, c| if c.abs() > m.abs() { c } else { m });
+            let largest = v
+                .iter()
+                .copied()
+                .fold(0.0, |m: f64, c| if c.abs() > m.abs() { c } else { m });
             if largest < 0.0 { -v } else { v }
         };
         let first = oriented(eigen.eigenvectors.column(order[0]).into_owned());
