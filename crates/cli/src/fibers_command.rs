@@ -1,6 +1,7 @@
 //! `musclefem fibers`: fiber directions of a muscle mesh from a potential flow between its
 //! origin (inlet) and insertion (outlet) surfaces (seed §2.3), written as fibers.csv
-//! (element, centroid, unit direction) and fibers.vtu (cell vectors for ParaView).
+//! (element, centroid, unit direction), fibers.vtu (cell vectors for ParaView) and
+//! fibers.png (arrows at the centroids, in the plane of their two principal axes).
 
 use std::path::PathBuf;
 
@@ -8,11 +9,19 @@ use anyhow::{Context, Result};
 use clap::Args;
 use nalgebra::Vector3;
 
-use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
+use musclefem_fibers::{FlowBoundary, FlowSettings, Side, compute_fibers};
 use musclefem_io::PendingFile;
 use musclefem_io::fiber_csv::{FiberRow, format_fibers_csv};
 use musclefem_io::mesh_import::read_mesh;
 use musclefem_io::output::{Frame, stage_vtu};
+use musclefem_io::plot::{GlyphView, stage_glyph_png};
+
+/// Length of the arrows in fibers.png as a fraction of the mean element size, the cube
+/// root of the mean element volume.
+const ARROW_LENGTH_PER_ELEMENT_SIZE: f64 = 0.6;
+
+/// Most arrows in fibers.png (a larger mesh shows every k-th element).
+const MAX_ARROWS: usize = 3000;
 
 #[derive(Debug, Args)]
 pub struct FibersArgs {
@@ -67,12 +76,27 @@ pub fn fibers(args: &FibersArgs) -> Result<()> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let csv_path = args.out.join("fibers.csv");
     let vtu_path = args.out.join("fibers.vtu");
+    let png_path = args.out.join("fibers.png");
     let displacement = vec![Vector3::zeros(); mesh.node_count()];
     let frame =
         Frame::new(0.0, &mesh, &displacement).with_cell_scalar("potential", &field.potential);
+    let element_size = (mesh.total_volume()? / mesh.element_count() as f64).cbrt();
+    let centroids: Vec<Vector3<f64>> = rows.iter().map(|r| r.centroid).collect();
+    let directions: Vec<Vector3<f64>> = rows.iter().map(|r| r.direction).collect();
+    let mesh_name = args.mesh.file_name().unwrap_or(args.mesh.as_os_str());
+    let view = GlyphView {
+        title: format!("Fiber directions of {}", mesh_name.to_string_lossy()),
+        points: &centroids,
+        directions: &directions,
+        colour_values: &field.potential,
+        colour_label: "potential φ [1]".to_string(),
+        arrow_length: ARROW_LENGTH_PER_ELEMENT_SIZE * element_size,
+        max_glyphs: MAX_ARROWS,
+    };
     let staged = [
         PendingFile::stage_bytes(&csv_path, format_fibers_csv(&rows).as_bytes())?,
         stage_vtu(&vtu_path, &frame)?,
+        stage_glyph_png(&png_path, &view)?,
     ];
     for file in staged {
         file.commit()?;
@@ -91,10 +115,27 @@ pub fn fibers(args: &FibersArgs) -> Result<()> {
         field.residual,
         field.setup_time + field.solve_time
     );
+    for region in &field.region_fluxes {
+        let total = match region.side {
+            Side::Inlet => field.inlet_flux,
+            Side::Outlet => field.outlet_flux,
+        };
+        println!(
+            "  {} '{}': {} faces, flux {:.6e} m ({:.2} % of the {} flux)",
+            region.side,
+            region.name,
+            region.faces,
+            region.flux,
+            100.0 * region.flux / total,
+            region.side
+        );
+    }
     println!(
-        "wrote {} and {} (cell vector fiber_direction_reference)",
+        "wrote {}, {} (cell vector fiber_direction_reference) and {} (arrows coloured by \
+         the potential: 1 at the inlet, 0 at the outlet)",
         csv_path.display(),
-        vtu_path.display()
+        vtu_path.display(),
+        png_path.display()
     );
     Ok(())
 }

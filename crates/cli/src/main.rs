@@ -56,8 +56,9 @@ enum Command {
     /// writes curve.csv (engineering stress vs strain), curve.png and VTU/PVD frames.
     Elongate(elongate_command::ElongateArgs),
     /// Fiber directions of a muscle mesh from a potential flow between its origin (inlet)
-    /// and insertion (outlet): writes fibers.csv (element,cx,cy,cz,fx,fy,fz) and
-    /// fibers.vtu.
+    /// and insertion (outlet): writes fibers.csv (element,cx,cy,cz,fx,fy,fz), fibers.vtu
+    /// and fibers.png (arrows in the plane of the centroids' two principal axes); prints
+    /// the flux through each inlet and outlet.
     Fibers(fibers_command::FibersArgs),
     /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the
     /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last

@@ -7,12 +7,29 @@ use musclefem_core::mesh::{ElementRef, Mesh, MeshError};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::boundary::BoundaryKind;
+use crate::boundary::{BoundaryKind, ClassifiedBoundary};
 use crate::discretisation::coefficients::Coefficients;
 use crate::discretisation::correction::boundary_flux;
-use crate::error::FiberError;
+use crate::error::{FiberError, Side};
 use crate::fv_mesh::FvMesh;
 use crate::solve::FlowSolution;
+
+/// The flow through one named inlet or outlet region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RegionFlux {
+    /// The region's name (the surface or node set of the mesh).
+    pub name: String,
+    /// The end it belongs to.
+    pub side: Side,
+    /// Number of boundary faces of the region. A face selected by several regions of the
+    /// same end counts for the first of them only, so the faces and fluxes of an end's
+    /// regions add up to the end's.
+    pub faces: usize,
+    /// Flow through the region in the direction of the flow [m] (φ is dimensionless):
+    /// in through an inlet region, ∫ ∇φ·n dA, and out through an outlet region,
+    /// −∫ ∇φ·n dA, with n out of the mesh. Positive for a flow from inlet to outlet.
+    pub flux: f64,
+}
 
 /// The potential flow through a muscle and the fiber direction it gives each element.
 ///
@@ -36,6 +53,10 @@ pub struct FiberField {
     pub inlet_faces: usize,
     /// Number of boundary faces with φ = 0.
     pub outlet_faces: usize,
+    /// The flux through each inlet region (in the order given), then through each outlet
+    /// region. The inlet regions' fluxes add up to `inlet_flux`, the outlet regions' to
+    /// `outlet_flux`.
+    pub region_fluxes: Vec<RegionFlux>,
     /// CG solves: the orthogonal one, then one per non-orthogonal correction sweep.
     pub linear_solves: usize,
     /// CG iterations over all solves.
@@ -55,7 +76,7 @@ impl FiberField {
         mesh: &Mesh,
         fv: &FvMesh,
         coefficients: &Coefficients,
-        kinds: &[BoundaryKind],
+        boundary: &ClassifiedBoundary,
         solution: FlowSolution,
     ) -> Result<Self, FiberError> {
         let direction: Vec<Vector3<f64>> = solution
@@ -75,27 +96,44 @@ impl FiberField {
                 gradient: [g.x, g.y, g.z],
             });
         }
+        let mut region_fluxes: Vec<RegionFlux> = boundary
+            .regions
+            .iter()
+            .map(|(side, name)| RegionFlux {
+                name: name.clone(),
+                side: *side,
+                faces: 0,
+                flux: 0.0,
+            })
+            .collect();
         let (mut inlet_flux, mut outlet_flux) = (0.0, 0.0);
         let (mut inlet_faces, mut outlet_faces) = (0, 0);
-        for (b, kind) in kinds.iter().enumerate() {
-            let flux = boundary_flux(
+        for (b, kind) in boundary.kinds.iter().enumerate() {
+            // ∫ ∇φ·n dA over the face, n out of the mesh.
+            let outward = boundary_flux(
                 fv,
                 coefficients,
-                kinds,
+                &boundary.kinds,
                 &solution.potential,
                 &solution.gradient,
                 b,
             );
-            match kind {
+            let along_flow = match kind {
                 BoundaryKind::Inlet => {
-                    inlet_flux += flux;
+                    inlet_flux += outward;
                     inlet_faces += 1;
+                    outward
                 }
                 BoundaryKind::Outlet => {
-                    outlet_flux -= flux;
+                    outlet_flux -= outward;
                     outlet_faces += 1;
+                    -outward
                 }
-                BoundaryKind::Wall => {}
+                BoundaryKind::Wall => continue,
+            };
+            if let Some(region) = boundary.region_of_face[b] {
+                region_fluxes[region].faces += 1;
+                region_fluxes[region].flux += along_flow;
             }
         }
         Ok(Self {
@@ -106,6 +144,7 @@ impl FiberField {
             outlet_flux,
             inlet_faces,
             outlet_faces,
+            region_fluxes,
             linear_solves: solution.linear_solves,
             linear_iterations: solution.linear_iterations,
             residual: solution.residual,

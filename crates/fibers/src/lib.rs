@@ -37,7 +37,7 @@
 //!    the symmetric orthogonal part ([`linear`]: sprs matrix, parallel allocation-free
 //!    kernels, aggregation multigrid or Jacobi preconditioner), until the corrected
 //!    system's relative residual is 1e-10 (default);
-//! 5. [`field`]: the directions and the inlet and outlet fluxes.
+//! 5. [`field`]: the directions and the inlet and outlet fluxes, in total and per region.
 //!
 //! A linear potential with its gradient along the walls (a straight tube) is reproduced to
 //! the solver tolerance on any mesh; on curved domains the direction error falls with the
@@ -58,7 +58,7 @@ use musclefem_core::mesh::Mesh;
 
 pub use boundary::{BoundaryRegion, FlowBoundary};
 pub use error::{FaceLabel, FiberError, MissingEnd, Side};
-pub use field::FiberField;
+pub use field::{FiberField, RegionFlux};
 pub use settings::{FlowSettings, Preconditioner};
 
 /// Solves the potential flow through `mesh` from `boundary.inlet` to `boundary.outlet`
@@ -76,13 +76,14 @@ pub fn compute_fibers(
     let start = Instant::now();
     settings.check()?;
     let fv = fv_mesh::FvMesh::new(mesh)?;
-    let kinds = boundary::classify_boundary(mesh, &fv, boundary)?;
+    let classified = boundary::classify_boundary(mesh, &fv, boundary)?;
+    let kinds = &classified.kinds;
     let coefficients = discretisation::coefficients::Coefficients::new(mesh, &fv)?;
-    let least_squares = discretisation::gradient::LeastSquaresGradient::new(mesh, &fv, &kinds)?;
+    let least_squares = discretisation::gradient::LeastSquaresGradient::new(mesh, &fv, kinds)?;
     let setup_time = start.elapsed();
 
-    let solution = solve::solve_potential(&fv, &coefficients, &kinds, &least_squares, settings)?;
-    let mut field = FiberField::new(mesh, &fv, &coefficients, &kinds, solution)?;
+    let solution = solve::solve_potential(&fv, &coefficients, kinds, &least_squares, settings)?;
+    let mut field = FiberField::new(mesh, &fv, &coefficients, &classified, solution)?;
     field.setup_time = setup_time;
     field.solve_time = start.elapsed() - setup_time;
     Ok(field)

@@ -6,8 +6,9 @@ mod common;
 
 use common::{Cells, angle_degrees, box_mesh};
 use musclefem_core::ElementBlock;
+use musclefem_core::mesh::Face;
 use musclefem_core::mesh::generate::distort;
-use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
+use musclefem_fibers::{BoundaryRegion, FlowBoundary, FlowSettings, Side, compute_fibers};
 use nalgebra::Vector3;
 
 /// Largest angle between a fiber and e_x allowed [rad].
@@ -83,4 +84,52 @@ fn blocks_of_different_shapes_form_one_tube() {
             assert!((d - Vector3::x()).norm() < 1e-8);
         }
     }
+}
+
+/// The inlet given as its two halves (y below and above the middle), then once more as a
+/// whole: each half carries half the exact flux, and the whole, whose faces the halves
+/// already claimed, none. The outlet is one region with the whole outlet flux.
+#[test]
+fn region_fluxes_split_the_inlet_by_area() {
+    let mesh = box_mesh(Cells::Hex8, [0.1, 0.03, 0.02], [10, 4, 3]);
+    let inlet = mesh.surface("x0").unwrap();
+    let (low, high): (Vec<Face>, Vec<Face>) = inlet.iter().partition(|&&face| {
+        let nodes = mesh.face_nodes(face).unwrap();
+        let y: f64 = nodes.iter().map(|&n| mesh.nodes.y[n as usize]).sum::<f64>();
+        y / (nodes.len() as f64) < 0.015
+    });
+    let halves = |name: &str, faces: Vec<Face>| BoundaryRegion::Faces {
+        name: name.to_string(),
+        faces,
+    };
+    let boundary = FlowBoundary {
+        inlet: vec![
+            halves("low", low),
+            halves("high", high),
+            BoundaryRegion::surface(&mesh, "x0").unwrap(),
+        ],
+        outlet: vec![BoundaryRegion::node_set(&mesh, "x1").unwrap()],
+    };
+    let field = compute_fibers(&mesh, &boundary, &FlowSettings::default()).unwrap();
+    let exact_flux = 0.03 * 0.02 / 0.1;
+    let expected = [
+        ("low", Side::Inlet, 6, exact_flux / 2.0),
+        ("high", Side::Inlet, 6, exact_flux / 2.0),
+        ("x0", Side::Inlet, 0, 0.0),
+        ("x1", Side::Outlet, 12, exact_flux),
+    ];
+    assert_eq!(field.region_fluxes.len(), expected.len());
+    for (region, (name, side, faces, flux)) in field.region_fluxes.iter().zip(expected) {
+        assert_eq!(
+            (region.name.as_str(), region.side, region.faces),
+            (name, side, faces)
+        );
+        assert!(
+            (region.flux - flux).abs() < 1e-8 * exact_flux,
+            "{name}: {} vs {flux}",
+            region.flux
+        );
+    }
+    let inlet_sum: f64 = field.region_fluxes[..3].iter().map(|r| r.flux).sum();
+    assert!((inlet_sum - field.inlet_flux).abs() < 1e-14 * exact_flux);
 }

@@ -1,5 +1,6 @@
 //! PNG charts: one or more panels (side by side, or in a grid), each with any number of
-//! named line series, a title, axis labels with units and a legend.
+//! named line series, a title, axis labels with units and a legend; and pictures of
+//! direction fields in 3-D as arrows ([`glyphs`]).
 //!
 //! Text is drawn with DejaVu Sans, bundled in the crate (`assets/DejaVuSans.ttf`, licence
 //! in `assets/DejaVuSans-LICENSE.txt`) and registered with plotters' `ab_glyph` backend
@@ -16,6 +17,10 @@ use plotters::style::{FontStyle, register_font};
 
 use crate::OutputError;
 use crate::atomic::PendingFile;
+
+pub mod glyphs;
+
+pub use glyphs::{GlyphView, PrincipalAxes, stage_glyph_png};
 
 /// Font family under which the bundled font is registered (plotters' default family, so
 /// text styles that name no family use it too).
@@ -188,12 +193,7 @@ pub fn stage_png(path: &Path, figure: &Figure) -> Result<PendingFile, OutputErro
         path: path.to_path_buf(),
         message,
     };
-    let is_png = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !is_png {
-        return Err(plot_error("the file name must end in .png".to_string()));
-    }
+    check_png_path(path)?;
     if figure.panels.is_empty() {
         return Err(plot_error("the figure has no panel".to_string()));
     }
@@ -205,6 +205,21 @@ pub fn stage_png(path: &Path, figure: &Figure) -> Result<PendingFile, OutputErro
     }
     ensure_font().map_err(plot_error)?;
     PendingFile::stage(path, |temp| render(temp, figure).map_err(plot_error))
+}
+
+/// Errors unless the file name of `path` ends in .png (any letter case).
+fn check_png_path(path: &Path) -> Result<(), OutputError> {
+    let is_png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if is_png {
+        Ok(())
+    } else {
+        Err(OutputError::Plot {
+            path: path.to_path_buf(),
+            message: "the file name must end in .png".to_string(),
+        })
+    }
 }
 
 /// Write `figure` as a PNG to `path` atomically.

@@ -36,8 +36,22 @@ impl BoundaryKind {
     }
 }
 
-/// The kind of every boundary face of `fv`, in the order of [`FvMesh::boundary`]. Then
-/// checks that every part of the mesh has both an inlet and an outlet face.
+/// The boundary faces of a flow problem: what each one is, and which named region it
+/// came from.
+#[derive(Clone, Debug)]
+pub(crate) struct ClassifiedBoundary {
+    /// The kind of every boundary face, in the order of [`FvMesh::boundary`].
+    pub kinds: Vec<BoundaryKind>,
+    /// The regions: the inlet regions in the order given, then the outlet regions.
+    pub regions: Vec<(Side, String)>,
+    /// For every boundary face, its index in `regions` (`None` on walls). A face
+    /// selected by several regions of the same end belongs to the first of them.
+    pub region_of_face: Vec<Option<usize>>,
+}
+
+/// Classifies every boundary face of `fv` as inlet, outlet or wall and records the
+/// region it belongs to. Then checks that every part of the mesh has both an inlet and an
+/// outlet face.
 ///
 /// Errors (naming the region, face or element): an end without region, an empty region,
 /// a region face or node that the mesh does not have, a surface face inside the mesh, a
@@ -47,39 +61,44 @@ pub(crate) fn classify_boundary(
     mesh: &Mesh,
     fv: &FvMesh,
     boundary: &FlowBoundary,
-) -> Result<Vec<BoundaryKind>, FiberError> {
+) -> Result<ClassifiedBoundary, FiberError> {
     let mut kinds = vec![BoundaryKind::Wall; fv.boundary.len()];
-    // Index of the inlet region that claimed each face, to name it on overlap.
-    let mut inlet_region = vec![usize::MAX; fv.boundary.len()];
-    for (side, regions) in [
+    let mut region_of_face: Vec<Option<usize>> = vec![None; fv.boundary.len()];
+    let mut regions = Vec::with_capacity(boundary.inlet.len() + boundary.outlet.len());
+    for (side, side_regions) in [
         (Side::Inlet, &boundary.inlet),
         (Side::Outlet, &boundary.outlet),
     ] {
-        if regions.is_empty() {
+        if side_regions.is_empty() {
             return Err(FiberError::NoRegion { side });
         }
-        for (r, region) in regions.iter().enumerate() {
+        for region in side_regions {
+            let index = regions.len();
+            regions.push((side, region.name().to_string()));
             for face in region_faces(mesh, fv, side, region)? {
-                match side {
-                    Side::Inlet => {
-                        kinds[face] = BoundaryKind::Inlet;
-                        inlet_region[face] = r;
-                    }
-                    Side::Outlet if kinds[face] == BoundaryKind::Inlet => {
+                match (side, kinds[face]) {
+                    (Side::Outlet, BoundaryKind::Inlet) => {
                         let b = &fv.boundary[face];
+                        let inlet = region_of_face[face].map_or("", |r| regions[r].1.as_str());
                         return Err(FiberError::InletOutletOverlap {
-                            inlet: boundary.inlet[inlet_region[face]].name().to_string(),
+                            inlet: inlet.to_string(),
                             outlet: region.name().to_string(),
                             face: fv.face_label(mesh, b.cell as usize, b.local_face),
                         });
                     }
-                    Side::Outlet => kinds[face] = BoundaryKind::Outlet,
+                    (Side::Inlet, _) => kinds[face] = BoundaryKind::Inlet,
+                    (Side::Outlet, _) => kinds[face] = BoundaryKind::Outlet,
                 }
+                region_of_face[face].get_or_insert(index);
             }
         }
     }
     check_components(mesh, fv, &kinds)?;
-    Ok(kinds)
+    Ok(ClassifiedBoundary {
+        kinds,
+        regions,
+        region_of_face,
+    })
 }
 
 /// Indices in [`FvMesh::boundary`] of the faces of one region (possibly repeated).

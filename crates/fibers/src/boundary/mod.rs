@@ -4,13 +4,13 @@
 //! outlet (its insertion, φ = 0); every other boundary face is an impermeable wall
 //! (∇φ·n = 0). Each end is a union of [`BoundaryRegion`]s — surfaces (lists of element
 //! faces) and node sets — so a branched muscle with several heads is just several
-//! regions. [`classify`] turns them into a [`BoundaryKind`] per boundary face.
+//! regions. [`classify`] turns them into a [`BoundaryKind`] and a region per boundary face.
 
 mod classify;
 
 use musclefem_core::mesh::{Face, Mesh};
 
-pub(crate) use classify::{BoundaryKind, classify_boundary};
+pub(crate) use classify::{BoundaryKind, ClassifiedBoundary, classify_boundary};
 
 use crate::error::FiberError;
 

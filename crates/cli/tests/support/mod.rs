@@ -1,0 +1,3 @@
+//! Helpers shared by the CLI tests (a folder, so cargo does not take it for a test).
+
+pub mod mesh_files;
