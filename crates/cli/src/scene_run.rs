@@ -307,7 +307,11 @@ impl Watcher<'_> {
                     return ControlFlow::Break(());
                 }
             };
-            let frame = Frame::new(snapshot.time, &self.model.mesh, snapshot.displacement);
+            let nodal = snapshot.nodal_fields();
+            let mut frame = Frame::new(snapshot.time, &self.model.mesh, snapshot.displacement);
+            for field in &nodal {
+                frame = frame.with_point_components(&field.name, field.components, &field.values);
+            }
             if let Err(e) = self.directory.write_frame(&fields.attach(frame)) {
                 self.error = Some(e);
                 return ControlFlow::Break(());

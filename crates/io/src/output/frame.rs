@@ -187,6 +187,18 @@ impl<'a> Frame<'a> {
         self
     }
 
+    /// With `components` values per node, node after node.
+    pub fn with_point_components(
+        mut self,
+        name: &str,
+        components: usize,
+        values: &'a [f64],
+    ) -> Self {
+        let values = FieldValues::Components { components, values };
+        self.point_fields.push(field(name, values));
+        self
+    }
+
     /// Check that every array fits the mesh and every name is valid and unique; `path`
     /// is the file the frame is for (errors name it).
     pub fn check(&self, path: &Path) -> Result<(), OutputError> {

@@ -21,6 +21,12 @@
 //! internal_energy_j,kinetic_energy_j,external_work_j
 //! ```
 //!
+//! With interactions (contact, cohesion), each adds, after the reactions,
+//! `<i>_force_x_n,<i>_force_y_n,<i>_force_z_n,<i>_active_area_m2,<i>_bonded_area_m2,
+//! <i>_stored_energy_j` (the resultant of the forces on the nodes, the area carrying a
+//! traction, the area still bonded, the elastic energy of the law), and the explicit
+//! history ends with `interaction_work_j` (W_c, part of the energy balance).
+//!
 //! Units: time [s], force [N], moment [N m] (about the tie's current reference point),
 //! energy [J]; `time_step_s` is the explicit step taken / the implicit increment.
 //! Numbers are written at full precision ([`crate::csv::format_number`]); read them back
@@ -33,6 +39,7 @@
 use std::path::{Path, PathBuf};
 
 use musclefem_core::solver::explicit::HistoryRow;
+use musclefem_core::solver::InteractionReport;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
 
 use crate::OutputError;
@@ -55,6 +62,8 @@ pub struct HistoryColumns {
     pub reactions: Vec<String>,
     /// One name per rigid tie (same characters).
     pub rigid_ties: Vec<String>,
+    /// One name per interaction (same characters), in the order given to the solver.
+    pub interactions: Vec<String>,
 }
 
 impl HistoryColumns {
@@ -63,7 +72,26 @@ impl HistoryColumns {
         Self {
             reactions,
             rigid_ties,
+            interactions: Vec::new(),
         }
+    }
+
+    /// The columns with those of `interactions` (names in solver order).
+    pub fn with_interactions(mut self, interactions: Vec<String>) -> Self {
+        self.interactions = interactions;
+        self
+    }
+
+    /// The interaction columns (see the module documentation).
+    fn interaction_columns(&self) -> Vec<String> {
+        let mut columns = Vec::new();
+        for name in &self.interactions {
+            columns.extend(["x", "y", "z"].map(|c| format!("{name}_force_{c}_n")));
+            columns.push(format!("{name}_active_area_m2"));
+            columns.push(format!("{name}_bonded_area_m2"));
+            columns.push(format!("{name}_stored_energy_j"));
+        }
+        columns
     }
 
     /// The reaction columns (displacements, then rigid-tie forces and moments).
@@ -84,7 +112,11 @@ impl HistoryColumns {
     pub fn explicit_header(&self) -> String {
         let mut columns = vec!["time_s".to_string(), "time_step_s".to_string()];
         columns.extend(self.reaction_columns());
+        columns.extend(self.interaction_columns());
         columns.extend(ENERGY_COLUMNS.map(String::from));
+        if !self.interactions.is_empty() {
+            columns.push("interaction_work_j".to_string());
+        }
         columns.join(",")
     }
 
@@ -96,6 +128,7 @@ impl HistoryColumns {
             "newton_iterations".to_string(),
         ];
         columns.extend(self.reaction_columns());
+        columns.extend(self.interaction_columns());
         columns.extend(ENERGY_COLUMNS[..3].iter().map(|c| c.to_string()));
         columns.join(",")
     }
@@ -103,7 +136,12 @@ impl HistoryColumns {
     /// Check the names (valid, unique); `path` is the file they are for.
     pub fn check(&self, path: &Path) -> Result<(), OutputError> {
         let mut seen: Vec<&str> = Vec::new();
-        for name in self.reactions.iter().chain(&self.rigid_ties) {
+        for name in self
+            .reactions
+            .iter()
+            .chain(&self.rigid_ties)
+            .chain(&self.interactions)
+        {
             let valid = !name.is_empty()
                 && name
                     .chars()
@@ -133,6 +171,7 @@ impl HistoryColumns {
             row.time,
             path,
         )?;
+        self.push_interactions(&mut values, &row.interactions, row.time, path)?;
         values.extend([
             row.internal_energy,
             row.kinetic_energy,
@@ -140,6 +179,9 @@ impl HistoryColumns {
             row.viscous_energy,
             row.hourglass_energy,
         ]);
+        if !self.interactions.is_empty() {
+            values.push(row.interaction_work);
+        }
         Ok(values)
     }
 
@@ -158,6 +200,7 @@ impl HistoryColumns {
             row.time,
             path,
         )?;
+        self.push_interactions(&mut values, &row.interactions, row.time, path)?;
         values.extend([
             row.energy.internal_work,
             row.energy.kinetic,
@@ -191,6 +234,32 @@ impl HistoryColumns {
         for r in rigid {
             values.extend([r.force.x, r.force.y, r.force.z]);
             values.extend([r.moment.x, r.moment.y, r.moment.z]);
+        }
+        Ok(())
+    }
+}
+
+impl HistoryColumns {
+    fn push_interactions(
+        &self,
+        values: &mut Vec<f64>,
+        reports: &[InteractionReport],
+        time: f64,
+        path: &Path,
+    ) -> Result<(), OutputError> {
+        if reports.len() != self.interactions.len() {
+            return Err(data(
+                path,
+                format!(
+                    "the row at t = {time} s has {} interactions, the header names {}",
+                    reports.len(),
+                    self.interactions.len()
+                ),
+            ));
+        }
+        for r in reports {
+            values.extend([r.force.x, r.force.y, r.force.z]);
+            values.extend([r.active_area, r.bonded_area, r.stored_energy]);
         }
         Ok(())
     }
