@@ -12,9 +12,9 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem_core::solver::SolverError;
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_observed};
+use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
 use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, run_implicit_observed,
+    ImplicitHistoryRow, ImplicitSettings, run_implicit_with,
 };
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_io::OutputError;
@@ -110,7 +110,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .iter()
             .map(|t| t.name.clone())
             .collect(),
+    )
+    .with_interactions(
+        model
+            .interactions
+            .iter()
+            .map(|i| i.name().to_string())
+            .collect(),
     );
+    let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
     let interrupted = Arc::new(AtomicBool::new(false));
     {
         let flag = interrupted.clone();
@@ -145,10 +153,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let (outcome, steps) = match &model.analysis {
         Analysis::Explicit(settings) => {
             watcher.history = Some(directory_history(&watcher, &columns, true)?);
-            let result = run_explicit_observed(
+            let result = run_explicit_with(
                 &model.mesh,
                 &model.parts,
                 &model.loads,
+                &mut interactions,
                 settings,
                 &mut watcher,
             );
@@ -157,10 +166,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         Analysis::Implicit(settings) => {
             watcher.history = Some(directory_history(&watcher, &columns, false)?);
-            let result = run_implicit_observed(
+            let result = run_implicit_with(
                 &model.mesh,
                 &model.parts,
                 &model.loads,
+                &mut interactions,
                 settings,
                 &mut watcher,
             );

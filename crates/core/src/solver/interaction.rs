@@ -70,7 +70,8 @@ pub trait Interaction: Send {
 pub struct InteractionReport {
     /// Name of the interaction.
     pub name: String,
-    /// Resultant of the forces the interaction puts on the nodes, Σ −f_c [N].
+    /// Resultant of the forces the interaction puts on the secondary surface's nodes,
+    /// Σ −f_c over those nodes [N] (the main side takes the opposite force).
     pub force: Vector3<f64>,
     /// Pairs (contact points) carrying a nonzero traction.
     pub active_points: usize,

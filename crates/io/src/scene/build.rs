@@ -21,7 +21,8 @@ use musclefem_core::solver::{
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{AmplitudeEntry, PartEntry, SceneFile};
+use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
+use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
 
 /// Element technologies by scene name.
@@ -56,6 +57,8 @@ pub struct Model {
     /// Time between output rows and frames [s].
     pub output_interval: f64,
     pub write_frames: bool,
+    /// Contact and cohesion between surfaces, in the order of the scene file.
+    pub interactions: Vec<InteractionModel>,
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
@@ -267,38 +270,39 @@ pub fn build_model(
     }
     for entry in &scene.rigid_ties {
         let nodes = node_set(&entry.part, &entry.nodes)?;
-        let mut translation = [None, None, None];
-        for (k, value) in entry.translation.iter().enumerate() {
-            if *value != 0.0 || entry.translation_amplitude.is_some() {
-                translation[k] = Some(scaled(&entry.translation_amplitude, *value)?);
-            }
-        }
-        let rotation = match &entry.rotation {
-            None => None,
-            Some(r) => {
-                let axis = Vector3::from(*r.axis.get_ref());
-                if !(axis.norm() > 0.0 && axis.iter().all(|x| x.is_finite())) {
-                    return Err(at(
-                        r.axis.span(),
-                        "the rotation axis must be non-zero".into(),
-                    ));
-                }
-                Some(RigidRotation {
-                    center: Vector3::from(r.center),
-                    axis: Unit::new_normalize(axis),
-                    angle: scaled(&r.amplitude, r.angle_degrees.to_radians())?,
-                })
-            }
-        };
         loads.rigid_ties.push(RigidTie {
             name: entry.name.get_ref().clone(),
             nodes,
-            motion: RigidMotion {
-                translation,
-                rotation,
-            },
+            motion: rigid_motion(
+                &entry.translation,
+                &entry.translation_amplitude,
+                &entry.rotation,
+                &scaled,
+                locator,
+            )?,
         });
     }
+
+    // Rigid bodies and interactions.
+    let mut rigid_bodies = Vec::with_capacity(scene.rigid_bodies.len());
+    for entry in &scene.rigid_bodies {
+        let motion = rigid_motion(
+            &entry.translation,
+            &entry.translation_amplitude,
+            &entry.rotation,
+            &scaled,
+            locator,
+        )?;
+        rigid_bodies.push(rigid_body(entry, motion, directory, locator)?);
+    }
+    let interactions = build_interactions(
+        &scene.interactions,
+        &rigid_bodies,
+        &mesh,
+        &parts,
+        &part_names,
+        locator,
+    )?;
 
     // Step.
     let step = &scene.step;
@@ -377,6 +381,42 @@ pub fn build_model(
         analysis,
         output_interval,
         write_frames: scene.output.frames.unwrap_or(true),
+        interactions,
+    })
+}
+
+/// The motion of a rigid tie or body: `translation` [m] times its amplitude, and a
+/// rotation about an axis.
+fn rigid_motion(
+    translation: &[f64; 3],
+    translation_amplitude: &Option<Spanned<String>>,
+    rotation: &Option<RotationEntry>,
+    scaled: &dyn Fn(&Option<Spanned<String>>, f64) -> Result<Amplitude, SceneError>,
+    locator: &Locator,
+) -> Result<RigidMotion, SceneError> {
+    let mut amplitudes = [None, None, None];
+    for (k, value) in translation.iter().enumerate() {
+        if *value != 0.0 || translation_amplitude.is_some() {
+            amplitudes[k] = Some(scaled(translation_amplitude, *value)?);
+        }
+    }
+    let rotation = match rotation {
+        None => None,
+        Some(r) => {
+            let axis = Vector3::from(*r.axis.get_ref());
+            if !(axis.norm() > 0.0 && axis.iter().all(|x| x.is_finite())) {
+                return Err(locator.error(r.axis.span(), "the rotation axis must be non-zero"));
+            }
+            Some(RigidRotation {
+                center: Vector3::from(r.center),
+                axis: Unit::new_normalize(axis),
+                angle: scaled(&r.amplitude, r.angle_degrees.to_radians())?,
+            })
+        }
+    };
+    Ok(RigidMotion {
+        translation: amplitudes,
+        rotation,
     })
 }
 

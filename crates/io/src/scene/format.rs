@@ -36,6 +36,12 @@ pub struct SceneFile {
     /// Nodes moving with a rigid body.
     #[serde(default)]
     pub rigid_ties: Vec<RigidTieEntry>,
+    /// Rigid surfaces (bones) with a prescribed motion, for interactions.
+    #[serde(default)]
+    pub rigid_bodies: Vec<RigidBodyEntry>,
+    /// Contact and cohesion between surfaces.
+    #[serde(default)]
+    pub interactions: Vec<InteractionEntry>,
     pub step: StepEntry,
     #[serde(default)]
     pub output: OutputEntry,
@@ -83,6 +89,8 @@ pub struct MeshEntry {
     pub size: Option<Spanned<[f64; 3]>>,
     /// Elements along x, y, z (boxes of tets have 6 tets per cell).
     pub divisions: Option<Spanned<[usize; 3]>>,
+    /// Corner of the box with the smallest coordinates [m]; default the origin.
+    pub origin: Option<[f64; 3]>,
     /// Abaqus `.inp` or Gmsh `.msh` file, relative to the scene file; coordinates in m.
     pub file: Option<Spanned<String>>,
     /// The element block of the file to use (by name); needed when it has several.
@@ -187,6 +195,81 @@ pub struct RotationEntry {
     /// Angle [degrees] (times the amplitude), right-hand rule about the axis.
     pub angle_degrees: f64,
     pub amplitude: Option<Spanned<String>>,
+}
+
+/// `[[rigid_bodies]]`: a rigid triangle surface moving with a prescribed motion
+/// x = c + R(t)(X − c) + T(t), like a rigid tie.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBodyEntry {
+    pub name: Spanned<String>,
+    /// The surface: a generated shape or a file.
+    pub surface: Spanned<RigidSurfaceEntry>,
+    /// Translation [m] (times `translation_amplitude`); default none.
+    #[serde(default)]
+    pub translation: [f64; 3],
+    pub translation_amplitude: Option<Spanned<String>>,
+    /// Rotation about an axis; default none.
+    pub rotation: Option<RotationEntry>,
+}
+
+/// `[rigid_bodies.surface]`: `shape = "plane"` (`point`, `normal`, `half_size`),
+/// `"sphere"` (`center`, `radius`), `"cylinder"` (`center`, `axis`, `radius`,
+/// `half_length`), or `file = "bone.stl"` (STL or OBJ, in m, relative to the scene).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidSurfaceEntry {
+    pub shape: Option<Spanned<String>>,
+    pub file: Option<Spanned<String>>,
+    /// A point of the plane [m].
+    pub point: Option<[f64; 3]>,
+    /// Outward normal of the plane (the side the bodies are on).
+    pub normal: Option<[f64; 3]>,
+    /// Half the side of the square plane patch [m].
+    pub half_size: Option<f64>,
+    /// Centre of the sphere or of the cylinder's axis [m].
+    pub center: Option<[f64; 3]>,
+    /// Axis direction of the cylinder.
+    pub axis: Option<[f64; 3]>,
+    /// Radius of the sphere or cylinder [m].
+    pub radius: Option<f64>,
+    /// Half the length of the cylinder [m].
+    pub half_length: Option<f64>,
+    /// Triangle subdivisions (refinement of the generated shape); default 16.
+    pub divisions: Option<usize>,
+}
+
+/// `[[interactions]]`: contact (`kind = "contact"`, penalty, optional friction) or
+/// cohesion (`kind = "cohesive"`, traction–separation with damage) of the `secondary`
+/// surface's nodes against the `main` surface.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InteractionEntry {
+    pub name: Spanned<String>,
+    /// "contact" or "cohesive".
+    pub kind: Spanned<String>,
+    /// A surface of a part, "PART.SURFACE" (boxes have x0 … z1 and outer).
+    pub secondary: Spanned<String>,
+    /// A rigid body's name, or a surface of a part "PART.SURFACE".
+    pub main: Spanned<String>,
+    /// Contact: penalty stiffness [N/m³] (pressure per penetration); default from the
+    /// parts' stiffness and element size.
+    pub penalty_stiffness: Option<Spanned<f64>>,
+    /// Contact: Coulomb friction coefficient [1]; default 0 (frictionless).
+    pub friction: Option<Spanned<f64>>,
+    /// Cohesive: K_nn [N/m³]; default 5e7 (0.05 N/mm³, the paper).
+    pub normal_stiffness: Option<Spanned<f64>>,
+    /// Cohesive: K_ss = K_tt [N/m³]; default 5e7.
+    pub shear_stiffness: Option<Spanned<f64>>,
+    /// Cohesive: separation at damage initiation [m]; default 0.03 (the paper's 30 mm).
+    pub initiation_separation: Option<Spanned<f64>>,
+    /// Cohesive: separation at failure [m] (linear damage evolution).
+    pub failure_separation: Option<Spanned<f64>>,
+    /// Cohesive: "elastic" (shear resisted by K_ss, the paper) or "free-slide" (normal
+    /// cohesion only); default "elastic".
+    pub tangential: Option<Spanned<String>>,
+    /// Cohesive: bonds form where the surfaces are within this distance at the start [m].
+    pub bond_tolerance: Option<Spanned<f64>>,
 }
 
 /// `[step]`: the analysis.

@@ -6,6 +6,7 @@
 mod build;
 mod error;
 mod format;
+mod interactions;
 mod parse;
 mod part_mesh;
 
@@ -16,6 +17,7 @@ use musclefem_materials::MaterialLibrary;
 pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, small_strain_shear_modulus};
 pub use error::{Locator, SceneError};
 pub use format::{SCHEMA_VERSION, SceneFile};
+pub use interactions::InteractionModel;
 pub use parse::{parse_scene, read_scene_file};
 
 /// Read the scene at `path` and build its model (plugins loaded into `library`).

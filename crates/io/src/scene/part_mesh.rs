@@ -189,7 +189,15 @@ fn generate_box(
         "tet10" => box_of_tets(size_value, divisions_value, TetOrder::Quadratic),
         _ => box_of_hexes(size_value, divisions_value),
     };
-    generated.map_err(|e| locator.error(size.span(), e.to_string()))
+    let mut mesh = generated.map_err(|e| locator.error(size.span(), e.to_string()))?;
+    if let Some(origin) = spec.origin {
+        let shift = nalgebra::Vector3::from(origin);
+        for n in 0..mesh.node_count() {
+            let moved = mesh.nodes.position(n) + shift;
+            mesh.nodes.set_position(n, moved);
+        }
+    }
+    Ok(mesh)
 }
 
 /// One block of a mesh file, with only its nodes (renumbered), the node sets, element sets

@@ -1,0 +1,353 @@
+//! `[[rigid_bodies]]` and `[[interactions]]` of a scene: rigid triangle surfaces with a
+//! prescribed motion, and contact or cohesion of a part's surface against a rigid body or
+//! another part's surface (built by `musclefem-contact`).
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+use toml::Spanned;
+
+use musclefem_contact::{
+    CohesiveInterface, CohesiveSettings, ContactTarget, DeformableSurface, PenaltyContact,
+    RigidSurface, TangentialMode, default_penalty,
+};
+use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::{Interaction, Part, RigidMotion};
+
+use super::build::small_strain_shear_modulus;
+use super::error::{Locator, SceneError, suggestion};
+use super::format::{InteractionEntry, RigidBodyEntry};
+
+/// Subdivisions of a generated rigid surface by default.
+const DEFAULT_DIVISIONS: usize = 16;
+
+/// One interaction of a scene, ready to hand to a solver.
+#[derive(Debug, Clone)]
+pub enum InteractionModel {
+    /// Penalty contact.
+    Contact(PenaltyContact),
+    /// Cohesive traction–separation with damage.
+    Cohesive(CohesiveInterface),
+}
+
+impl InteractionModel {
+    /// A fresh copy for a solver (each run starts from the undamaged state).
+    pub fn boxed(&self) -> Box<dyn Interaction> {
+        match self {
+            InteractionModel::Contact(c) => Box::new(c.clone()),
+            InteractionModel::Cohesive(c) => Box::new(c.clone()),
+        }
+    }
+
+    /// The interaction's name.
+    pub fn name(&self) -> &str {
+        match self {
+            InteractionModel::Contact(c) => c.name(),
+            InteractionModel::Cohesive(c) => c.name(),
+        }
+    }
+}
+
+/// The rigid surface of `entry`, moving with `motion`.
+pub(super) fn rigid_body(
+    entry: &RigidBodyEntry,
+    motion: RigidMotion,
+    directory: &Path,
+    locator: &Locator,
+) -> Result<RigidSurface, SceneError> {
+    let name = entry.name.get_ref();
+    let surface = entry.surface.get_ref();
+    let span = entry.surface.span();
+    let at = |message: String| locator.error(span.clone(), format!("rigid body '{name}': {message}"));
+    let need = |value: Option<f64>, key: &str| {
+        value.ok_or_else(|| at(format!("this shape needs `{key}`")))
+    };
+    let need3 = |value: Option<[f64; 3]>, key: &str| {
+        value
+            .map(Vector3::from)
+            .ok_or_else(|| at(format!("this shape needs `{key}`")))
+    };
+    let divisions = surface.divisions.unwrap_or(DEFAULT_DIVISIONS);
+    let built = match (&surface.file, &surface.shape) {
+        (Some(file), None) => {
+            let path = directory.join(file.get_ref());
+            let lower = file.get_ref().to_ascii_lowercase();
+            if lower.ends_with(".stl") {
+                RigidSurface::from_stl(&path)
+            } else if lower.ends_with(".obj") {
+                RigidSurface::from_obj(&path)
+            } else {
+                return Err(locator.error(
+                    file.span(),
+                    format!("rigid body '{name}': '{}' is neither .stl nor .obj", file.get_ref()),
+                ));
+            }
+            .map(|s| s.renamed(name))
+        }
+        (None, Some(shape)) => match shape.get_ref().as_str() {
+            "plane" => RigidSurface::plane(
+                name,
+                need3(surface.point, "point")?,
+                need3(surface.normal, "normal")?,
+                need(surface.half_size, "half_size")?,
+                divisions,
+            ),
+            "sphere" => RigidSurface::sphere(
+                name,
+                need3(surface.center, "center")?,
+                need(surface.radius, "radius")?,
+                (divisions as f64).log2().ceil().max(1.0) as u32,
+            ),
+            "cylinder" => RigidSurface::cylinder(
+                name,
+                need3(surface.center, "center")?,
+                need3(surface.axis, "axis")?,
+                need(surface.radius, "radius")?,
+                2.0 * need(surface.half_length, "half_length")?,
+                [4 * divisions, divisions],
+            ),
+            other => {
+                return Err(locator.error(
+                    shape.span(),
+                    format!(
+                        "rigid body '{name}': unknown shape '{other}'{}; use plane, sphere or \
+                         cylinder",
+                        suggestion(other, ["plane", "sphere", "cylinder"])
+                    ),
+                ));
+            }
+        },
+        _ => return Err(at("give either `shape` or `file`".to_string())),
+    };
+    built.map(|s| s.with_motion(motion)).map_err(|e| at(e.to_string()))
+}
+
+/// The interactions of the scene, with their surfaces taken from `mesh` (part surfaces
+/// are named "PART.SURFACE") and `rigid_bodies`.
+pub(super) fn build_interactions(
+    entries: &[InteractionEntry],
+    rigid_bodies: &[RigidSurface],
+    mesh: &Mesh,
+    parts: &[Part],
+    part_names: &[String],
+    locator: &Locator,
+) -> Result<Vec<InteractionModel>, SceneError> {
+    let mut built: Vec<InteractionModel> = Vec::with_capacity(entries.len());
+    for entry in entries {
+        let name = entry.name.get_ref();
+        if built.iter().any(|b| b.name() == name) {
+            return Err(locator.error(
+                entry.name.span(),
+                format!("interaction '{name}' is defined twice"),
+            ));
+        }
+        let at = |span: std::ops::Range<usize>, message: String| {
+            locator.error(span, format!("interaction '{name}': {message}"))
+        };
+        let (part, secondary) = part_surface(&entry.secondary, mesh, part_names, locator)?;
+        let main = match rigid_bodies.iter().find(|b| b.name == *entry.main.get_ref()) {
+            Some(body) => ContactTarget::Rigid(body.clone()),
+            None if entry.main.get_ref().contains('.') => ContactTarget::Deformable(
+                part_surface(&entry.main, mesh, part_names, locator)?.1,
+            ),
+            None => {
+                let known: Vec<&str> = rigid_bodies.iter().map(|b| b.name.as_str()).collect();
+                return Err(at(
+                    entry.main.span(),
+                    format!(
+                        "main '{}' is neither a rigid body{} nor a part surface \
+                         \"PART.SURFACE\"",
+                        entry.main.get_ref(),
+                        suggestion(entry.main.get_ref(), known.iter().copied())
+                    ),
+                ));
+            }
+        };
+        let model = match entry.kind.get_ref().as_str() {
+            "contact" => {
+                refuse(entry, &COHESIVE_KEYS, "contact", locator)?;
+                let penalty = match &entry.penalty_stiffness {
+                    Some(p) => *p.get_ref(),
+                    None => {
+                        let shear = small_strain_shear_modulus(parts[part].material.as_ref())
+                            .ok_or_else(|| {
+                                at(
+                                    entry.secondary.span(),
+                                    "the secondary part's material gives no shear modulus \
+                                     for the default penalty; give penalty_stiffness"
+                                        .to_string(),
+                                )
+                            })?;
+                        // Nearly incompressible: E = 2 μ (1 + ν) ≈ 3 μ.
+                        default_penalty(3.0 * shear, secondary.element_size())
+                            .map_err(|e| at(entry.secondary.span(), e.to_string()))?
+                    }
+                };
+                if let Some(friction) = &entry.friction
+                    && *friction.get_ref() != 0.0
+                {
+                    return Err(at(
+                        friction.span(),
+                        "friction is not built yet: contact is frictionless".to_string(),
+                    ));
+                }
+                PenaltyContact::new(name, secondary, main, penalty)
+                    .map(InteractionModel::Contact)
+                    .map_err(|e| at(entry.kind.span(), e.to_string()))?
+            }
+            "cohesive" => {
+                refuse(entry, &CONTACT_KEYS, "cohesive", locator)?;
+                let settings = cohesive_settings(entry, locator)?;
+                let positions: Vec<Vector3<f64>> =
+                    (0..mesh.node_count()).map(|n| mesh.nodes.position(n)).collect();
+                CohesiveInterface::new(name, &secondary, &main, &positions, &settings)
+                    .map(InteractionModel::Cohesive)
+                    .map_err(|e| at(entry.kind.span(), e.to_string()))?
+            }
+            other => {
+                return Err(at(
+                    entry.kind.span(),
+                    format!(
+                        "unknown kind '{other}'{}; use contact or cohesive",
+                        suggestion(other, ["contact", "cohesive"])
+                    ),
+                ));
+            }
+        };
+        built.push(model);
+    }
+    Ok(built)
+}
+
+/// Keys that only a contact takes.
+const CONTACT_KEYS: [&str; 2] = ["penalty_stiffness", "friction"];
+/// Keys that only a cohesive interface takes.
+const COHESIVE_KEYS: [&str; 6] = [
+    "normal_stiffness",
+    "shear_stiffness",
+    "initiation_separation",
+    "failure_separation",
+    "tangential",
+    "bond_tolerance",
+];
+
+/// Errors if `entry` sets one of `keys`, which a `kind` interaction does not take.
+fn refuse(
+    entry: &InteractionEntry,
+    keys: &[&str],
+    kind: &str,
+    locator: &Locator,
+) -> Result<(), SceneError> {
+    let given: [(&str, Option<std::ops::Range<usize>>); 8] = [
+        ("penalty_stiffness", entry.penalty_stiffness.as_ref().map(Spanned::span)),
+        ("friction", entry.friction.as_ref().map(Spanned::span)),
+        ("normal_stiffness", entry.normal_stiffness.as_ref().map(Spanned::span)),
+        ("shear_stiffness", entry.shear_stiffness.as_ref().map(Spanned::span)),
+        (
+            "initiation_separation",
+            entry.initiation_separation.as_ref().map(Spanned::span),
+        ),
+        (
+            "failure_separation",
+            entry.failure_separation.as_ref().map(Spanned::span),
+        ),
+        ("tangential", entry.tangential.as_ref().map(Spanned::span)),
+        ("bond_tolerance", entry.bond_tolerance.as_ref().map(Spanned::span)),
+    ];
+    for (key, span) in given {
+        if let (true, Some(span)) = (keys.contains(&key), span) {
+            return Err(locator.error(
+                span,
+                format!(
+                    "interaction '{}': `{key}` does not apply to kind = \"{kind}\"",
+                    entry.name.get_ref()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The cohesive settings of `entry`: the paper's defaults with the keys it gives.
+fn cohesive_settings(
+    entry: &InteractionEntry,
+    locator: &Locator,
+) -> Result<CohesiveSettings, SceneError> {
+    let mut settings = CohesiveSettings::default();
+    let value = |v: &Option<Spanned<f64>>, default: f64| v.as_ref().map_or(default, |v| *v.get_ref());
+    settings.normal_stiffness = value(&entry.normal_stiffness, settings.normal_stiffness);
+    settings.shear_stiffness = value(&entry.shear_stiffness, settings.shear_stiffness);
+    settings.tangential_stiffness = settings.shear_stiffness;
+    settings.initiation_separation =
+        value(&entry.initiation_separation, settings.initiation_separation);
+    settings.failure_separation = value(
+        &entry.failure_separation,
+        2.0 * settings.initiation_separation,
+    );
+    settings.bond_tolerance = value(&entry.bond_tolerance, settings.bond_tolerance);
+    if let Some(mode) = &entry.tangential {
+        settings.tangential = match mode.get_ref().as_str() {
+            "elastic" => TangentialMode::Elastic,
+            "free-slide" => TangentialMode::FreeSlide,
+            other => {
+                return Err(locator.error(
+                    mode.span(),
+                    format!(
+                        "interaction '{}': unknown tangential mode '{other}'{}; use elastic \
+                         or free-slide",
+                        entry.name.get_ref(),
+                        suggestion(other, ["elastic", "free-slide"])
+                    ),
+                ));
+            }
+        };
+    }
+    settings
+        .validate(entry.name.get_ref())
+        .map_err(|e| locator.error(entry.kind.span(), e.to_string()))?;
+    Ok(settings)
+}
+
+/// The part index and the surface of "PART.SURFACE".
+fn part_surface(
+    name: &Spanned<String>,
+    mesh: &Mesh,
+    part_names: &[String],
+    locator: &Locator,
+) -> Result<(usize, DeformableSurface), SceneError> {
+    let full = name.get_ref();
+    let Some((part, surface)) = full.split_once('.') else {
+        return Err(locator.error(
+            name.span(),
+            format!("'{full}' is not a part surface \"PART.SURFACE\""),
+        ));
+    };
+    let Some(index) = part_names.iter().position(|p| p == part) else {
+        return Err(locator.error(
+            name.span(),
+            format!(
+                "unknown part '{part}'{}",
+                suggestion(part, part_names.iter().map(String::as_str))
+            ),
+        ));
+    };
+    if mesh.surfaces.get(full).is_none() {
+        let prefix = format!("{part}.");
+        let known: Vec<&str> = mesh
+            .surfaces
+            .keys()
+            .filter_map(|k| k.strip_prefix(&prefix))
+            .collect();
+        return Err(locator.error(
+            name.span(),
+            format!(
+                "part '{part}' has no surface '{surface}'{}; it has: {}",
+                suggestion(surface, known.iter().copied()),
+                known.join(", ")
+            ),
+        ));
+    }
+    let built = DeformableSurface::from_mesh_surface(mesh, full)
+        .map_err(|e| locator.error(name.span(), e.to_string()))?;
+    Ok((index, built))
+}
