@@ -9,16 +9,19 @@
 //! - [`rigid_surface`]: [`RigidSurface`], triangles moving with a prescribed rigid motion
 //!   (generated planes, spheres, cylinders; STL and OBJ files);
 //! - [`broadphase`]: parry3d BVH of the main side, candidate triangles per node;
-//! - [`projection`]: closest point on a triangle, barycentric coordinates, signed gap.
+//! - [`projection`]: closest point on a triangle, barycentric coordinates, signed gap;
+//! - [`penalty`]: [`PenaltyContact`], frictionless node-to-surface penalty contact.
 
 pub mod broadphase;
 pub mod error;
+pub mod penalty;
 pub mod projection;
 pub mod rigid_surface;
 pub mod surface;
 
 pub use broadphase::Broadphase;
 pub use error::ContactError;
+pub use penalty::{PenaltyContact, default_penalty};
 pub use projection::{Feature, Projection, project_on_triangle};
 pub use rigid_surface::RigidSurface;
 pub use surface::{ContactTarget, DeformableSurface};

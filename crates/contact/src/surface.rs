@@ -187,6 +187,12 @@ impl DeformableSurface {
         self.triangle_area.iter().sum()
     }
 
+    /// A typical element size h = √(2 Ā) [m], Ā the mean reference triangle area: the side
+    /// of the squares (hex8 faces) the right triangles come from.
+    pub fn element_size(&self) -> f64 {
+        (2.0 * self.area() / self.triangles.len() as f64).sqrt()
+    }
+
     /// The current corners of triangle `t` at nodal `positions` [m].
     #[inline]
     pub fn corners(&self, t: usize, positions: &[Vector3<f64>]) -> [Vector3<f64>; 3] {
