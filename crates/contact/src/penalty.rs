@@ -17,7 +17,9 @@
 //! (`penalty/stiffness.rs`) is symmetric.
 //!
 //! A node whose closest point is on the rim of an open main surface (a boundary edge or a
-//! vertex of one) is beside the surface, not in it: it carries no force.
+//! vertex of one) and that is not over the face (x − x_m leaning out of the normal's line
+//! by more than [`RIM_TOLERANCE`]) is beside the surface, not in it: it carries no force.
+//! A node right over the rim (on a symmetry plane, say) is in contact.
 //!
 //! Default penalty ([`default_penalty`]): ε = 10 E / h with E the Young's modulus of the
 //! softer body [Pa] and h its element size [m]. A pressure p then penetrates by
@@ -63,6 +65,10 @@ pub fn default_penalty(modulus: f64, element_size: f64) -> Result<f64, ContactEr
     }
     Ok(DEFAULT_PENALTY_FACTOR * modulus / element_size)
 }
+
+/// A node whose closest point is on the rim of an open main surface is beside it when
+/// x − x_m leans out of the face normal's line by more than this (as a sine).
+pub const RIM_TOLERANCE: f64 = 0.01;
 
 /// The state of one secondary node at the last force evaluation.
 #[derive(Debug, Clone, Copy)]
@@ -307,16 +313,20 @@ fn closest(
     let Some((_, t, p, c)) = best else {
         return NodeContact::default();
     };
-    let on_rim = match p.feature {
+    let rim_feature = match p.feature {
         Feature::Face => false,
         Feature::Edge(e) => rim_edges[t as usize] & (1 << e) != 0,
         Feature::Vertex(v) => rim_vertices[t as usize] & (1 << v) != 0,
     };
+    // Beside the rim: x − x_m leans out of the face's normal line by more than ~0.6°.
+    let offset = x - p.point;
+    let along = offset.dot(&p.normal);
+    let beside = rim_feature && (offset - p.normal * along).norm() > RIM_TOLERANCE * offset.norm();
     NodeContact {
         triangle: t,
         gap: p.gap,
-        active: p.gap < 0.0 && !on_rim,
-        offset: x - p.point,
+        active: p.gap < 0.0 && !beside,
+        offset,
         geometry: FeatureGeometry::new(p.feature, &p.barycentric, &c),
     }
 }
