@@ -24,16 +24,22 @@
 //! Default penalty ([`default_penalty`]): ε = 10 E / h with E the Young's modulus of the
 //! softer body [Pa] and h its element size [m]. A pressure p then penetrates by
 //! g = p/ε = h (p/E)/10: a tenth of the strain p/E, in units of the element size (a
-//! pressure that strains the body by 5 % penetrates by 0.5 % of h). The contact spring
-//! k = ε A_s ≈ 10 E h is stiffer than the node's elements (~E h): in an explicit run it
-//! shortens the stable step by about √(1 + 10 ε A_s/(E h))…; the explicit solver does not
-//! know about it, so choose ε (or the safety factor) accordingly: its energy balance fails
-//! loudly if the step is unstable.
+//! pressure that strains the body by 5 % penetrates by 0.5 % of h).
+//!
+//! Explicit runs: the contact spring k = ε A_s on a surface node of mass m ≈ ρ h A_s / 2
+//! adds k/m ≈ 20 E/(ρ h²) to the node's highest squared frequency, against
+//! 12 M/(ρ h²) from its elements (M the dilatational modulus, the solver's bound
+//! L = h/√3), so the stable step shrinks by about √(1 + 5E/(3M)). The solver does not know
+//! it: lower its safety factor by that much (0.9 → 0.7 for the tests' material, E/M =
+//! 0.26; nothing for nearly incompressible muscle, E/M ≈ 10⁻⁴), or lower ε. An unstable
+//! step breaks the energy balance, which stops the run.
 //!
 //! Forces do not depend on the number of threads: each node's pair is evaluated on its
 //! own (in parallel), then the forces are added to the nodes serially in node order.
 //! Limitations: no friction; a node must not penetrate deeper than the search distance
-//! (default: the secondary surface's element size) nor past the middle of a thin main body.
+//! (default [`DEFAULT_SEARCH_FACTOR`] × the secondary surface's element size h: penetrations
+//! stay ≪ h, and an explicit step or a Newton iteration moves a node by much less) nor past
+//! the middle of a thin main body.
 
 mod stiffness;
 
@@ -44,9 +50,12 @@ use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverE
 
 use crate::broadphase::{Broadphase, CHUNK};
 use crate::error::ContactError;
-use crate::projection::{Feature, project_on_triangle};
+use crate::projection::{Feature, closest_feature, project_on_triangle};
 use crate::surface::{ContactTarget, DeformableSurface};
 use stiffness::FeatureGeometry;
+
+/// The default search distance is this fraction of the secondary surface's element size.
+pub const DEFAULT_SEARCH_FACTOR: f64 = 0.5;
 
 /// Factor β of the default penalty ε = β E / h.
 pub const DEFAULT_PENALTY_FACTOR: f64 = 10.0;
@@ -118,7 +127,7 @@ pub struct PenaltyContact {
 
 impl PenaltyContact {
     /// Contact of the nodes of `secondary` on `target` with penalty `penalty` ε [N/m³],
-    /// searched within the secondary surface's element size.
+    /// searched within [`DEFAULT_SEARCH_FACTOR`] × the secondary surface's element size.
     pub fn new(
         name: &str,
         secondary: DeformableSurface,
@@ -154,7 +163,7 @@ impl PenaltyContact {
                     .fold(0u8, |b, i| b | (1 << i))
             })
             .collect();
-        let search_distance = secondary.element_size();
+        let search_distance = DEFAULT_SEARCH_FACTOR * secondary.element_size();
         Ok(PenaltyContact {
             name: name.to_string(),
             contacts: vec![NodeContact::default(); secondary.nodes.len()],
@@ -286,7 +295,7 @@ impl PenaltyContact {
 }
 
 /// The closest point of `x` over the `candidates` (skipping those `skip` says), the
-/// smallest |x − x_m| winning, ties to the lowest triangle index; active when g < 0 and
+/// smallest |x − x_m|² winning, ties to the lowest triangle index; active when g < 0 and
 /// the closest point is not on the rim.
 fn closest(
     x: &Vector3<f64>,
@@ -295,24 +304,34 @@ fn closest(
     skip: impl Fn(usize) -> bool,
     corners: impl Fn(usize) -> [Vector3<f64>; 3],
 ) -> NodeContact {
-    let mut best: Option<(f64, u32, crate::projection::Projection, [Vector3<f64>; 3])> = None;
+    // Squared distances: a triangle whose box is farther than the best so far is skipped;
+    // only the winner gets its normal and gap.
+    let mut best: Option<(f64, u32, [Vector3<f64>; 3])> = None;
     for &t in candidates {
         if skip(t as usize) {
             continue;
         }
         let c = corners(t as usize);
-        let p = project_on_triangle(x, &c);
-        let distance = p.gap.abs();
+        let low = c[0].inf(&c[1]).inf(&c[2]);
+        let high = c[0].sup(&c[1]).sup(&c[2]);
+        let bound = (x - x.sup(&low).inf(&high)).norm_squared();
+        if best.as_ref().is_some_and(|(d, _, _)| bound > *d) {
+            continue;
+        }
+        let (weights, _) = closest_feature(x, &c);
+        let distance =
+            (x - (c[0] * weights[0] + c[1] * weights[1] + c[2] * weights[2])).norm_squared();
         let better = best
             .as_ref()
-            .is_none_or(|(d, bt, _, _)| distance < *d || (distance == *d && t < *bt));
+            .is_none_or(|(d, bt, _)| distance < *d || (distance == *d && t < *bt));
         if better {
-            best = Some((distance, t, p, c));
+            best = Some((distance, t, c));
         }
     }
-    let Some((_, t, p, c)) = best else {
+    let Some((_, t, c)) = best else {
         return NodeContact::default();
     };
+    let p = project_on_triangle(x, &c);
     let rim_feature = match p.feature {
         Feature::Face => false,
         Feature::Edge(e) => rim_edges[t as usize] & (1 << e) != 0,

@@ -175,7 +175,7 @@ impl DeformableSurface {
             let [a, b, c] = tri.map(|n| mesh.nodes.position(n as usize));
             let area = 0.5 * (b - a).cross(&(c - a)).norm();
             let scale = (b - a).norm_squared().max((c - a).norm_squared());
-            if !(area > 1e-12 * scale) {
+            if area.is_nan() || area <= 1e-12 * scale {
                 return Err(ContactError::DegenerateTriangle {
                     surface: name.to_string(),
                     triangle: t,
