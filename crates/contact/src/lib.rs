@@ -15,7 +15,7 @@
 //! Use: build the secondary side from mesh faces, the main side from faces or a rigid
 //! shape, and hand the contact to `run_implicit_with` / `run_explicit_with`:
 //!
-//! ```ignore
+//! ```text
 //! let skin = DeformableSurface::from_mesh_surface(&mesh, "z0")?;
 //! let bone = RigidSurface::sphere("femur head", centre, 0.02, 5)?.with_motion(motion);
 //! let contact = PenaltyContact::with_default_penalty("skin on bone", skin, bone, youngs)?;
