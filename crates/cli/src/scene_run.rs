@@ -13,9 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem_core::solver::SolverError;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
-use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, run_implicit_with,
-};
+use musclefem_core::solver::implicit::{ImplicitHistoryRow, ImplicitSettings, run_implicit_with};
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_io::OutputError;
 use musclefem_io::output::{

@@ -40,7 +40,13 @@ fn text(bytes: &[u8]) -> String {
 fn history(root: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let path = root.join("history.csv");
     let csv = std::fs::read_to_string(&path).unwrap();
-    let header: Vec<String> = csv.lines().next().unwrap().split(',').map(String::from).collect();
+    let header: Vec<String> = csv
+        .lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(String::from)
+        .collect();
     let rows = read_table(&path, &header.join(",")).unwrap();
     (header, rows)
 }
@@ -60,7 +66,12 @@ fn a_block_pressed_on_a_rigid_sphere_balances_the_contact_force() {
     let dir = test_dir("sphere");
     let out = musclefem(
         &dir,
-        &["run", &example("block_on_rigid_sphere.toml"), "--out", "result"],
+        &[
+            "run",
+            &example("block_on_rigid_sphere.toml"),
+            "--out",
+            "result",
+        ],
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
     let root = dir.join("result");
@@ -90,7 +101,12 @@ fn bonded_blocks_follow_the_cohesive_law_and_separate() {
     let dir = test_dir("peel");
     let out = musclefem(
         &dir,
-        &["run", &example("bonded_blocks_peel.toml"), "--out", "result"],
+        &[
+            "run",
+            &example("bonded_blocks_peel.toml"),
+            "--out",
+            "result",
+        ],
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
     let root = dir.join("result");
@@ -134,7 +150,11 @@ fn bonded_blocks_follow_the_cohesive_law_and_separate() {
         (peak - strength).abs() <= 0.05 * strength,
         "peak {peak} N against K δ0 A = {strength} N"
     );
-    assert!(rows[0][bonded] > 0.99 * area, "bonded area {}", rows[0][bonded]);
+    assert!(
+        rows[0][bonded] > 0.99 * area,
+        "bonded area {}",
+        rows[0][bonded]
+    );
 }
 
 /// Mistakes in an interaction name the line: an unknown main surface (with a
@@ -147,14 +167,22 @@ fn a_bad_interaction_names_its_line() {
     std::fs::write(dir.join("bad.toml"), &bad).unwrap();
     let out = musclefem(&dir, &["check", "bad.toml"]);
     assert!(!out.status.success());
-    let line = bad.lines().position(|l| l.starts_with("main = \"bal\"")).unwrap() + 1;
+    let line = bad
+        .lines()
+        .position(|l| l.starts_with("main = \"bal\""))
+        .unwrap()
+        + 1;
     let stderr = text(&out.stderr);
     assert!(
         stderr.contains(&format!("bad.toml:{line}:")) && stderr.contains("ball"),
         "{stderr}"
     );
 
-    let bad = good.replacen("main = \"ball\"", "main = \"ball\"\nbond_tolerance = 1e-3", 1);
+    let bad = good.replacen(
+        "main = \"ball\"",
+        "main = \"ball\"\nbond_tolerance = 1e-3",
+        1,
+    );
     std::fs::write(dir.join("bad2.toml"), &bad).unwrap();
     let out = musclefem(&dir, &["check", "bad2.toml"]);
     assert!(!out.status.success());

@@ -369,14 +369,13 @@ impl Interaction for PenaltyContact {
         force: &mut [Vector3<f64>],
     ) -> Result<(), SolverError> {
         self.evaluate(time, positions);
+        self.for_each_force(|node, f| force[node as usize] += f);
+        // The resultant on the secondary nodes (the main side takes the opposite).
         let mut resultant = Vector3::zeros();
-        self.for_each_force(|node, f| {
-            force[node as usize] += f;
-            resultant -= f;
-        });
         let (mut active_points, mut active_area, mut stored_energy) = (0, 0.0, 0.0);
         for (c, area) in self.contacts.iter().zip(&self.secondary.node_area) {
             if c.active {
+                resultant -= c.offset * (self.penalty * area);
                 active_points += 1;
                 active_area += area;
                 stored_energy += 0.5 * self.penalty * c.gap * c.gap * area;

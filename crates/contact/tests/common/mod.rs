@@ -123,10 +123,13 @@ pub struct LastFields {
 }
 
 impl LastFields {
+    /// The field `name` of the (one) interaction: the solvers name it
+    /// `INTERACTION_name`.
     pub fn field(&self, name: &str) -> &NodalField {
+        let suffix = format!("_{name}");
         self.fields
             .iter()
-            .find(|f| f.name == name)
+            .find(|f| f.name.ends_with(&suffix))
             .unwrap_or_else(|| panic!("no nodal field '{name}'"))
     }
 }

@@ -38,8 +38,8 @@
 
 use std::path::{Path, PathBuf};
 
-use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::InteractionReport;
+use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
 
 use crate::OutputError;

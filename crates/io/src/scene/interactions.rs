@@ -58,7 +58,8 @@ pub(super) fn rigid_body(
     let name = entry.name.get_ref();
     let surface = entry.surface.get_ref();
     let span = entry.surface.span();
-    let at = |message: String| locator.error(span.clone(), format!("rigid body '{name}': {message}"));
+    let at =
+        |message: String| locator.error(span.clone(), format!("rigid body '{name}': {message}"));
     let need = |value: Option<f64>, key: &str| {
         value.ok_or_else(|| at(format!("this shape needs `{key}`")))
     };
@@ -79,7 +80,10 @@ pub(super) fn rigid_body(
             } else {
                 return Err(locator.error(
                     file.span(),
-                    format!("rigid body '{name}': '{}' is neither .stl nor .obj", file.get_ref()),
+                    format!(
+                        "rigid body '{name}': '{}' is neither .stl nor .obj",
+                        file.get_ref()
+                    ),
                 ));
             }
             .map(|s| s.renamed(name))
@@ -119,7 +123,9 @@ pub(super) fn rigid_body(
         },
         _ => return Err(at("give either `shape` or `file`".to_string())),
     };
-    built.map(|s| s.with_motion(motion)).map_err(|e| at(e.to_string()))
+    built
+        .map(|s| s.with_motion(motion))
+        .map_err(|e| at(e.to_string()))
 }
 
 /// The interactions of the scene, with their surfaces taken from `mesh` (part surfaces
@@ -145,11 +151,14 @@ pub(super) fn build_interactions(
             locator.error(span, format!("interaction '{name}': {message}"))
         };
         let (part, secondary) = part_surface(&entry.secondary, mesh, part_names, locator)?;
-        let main = match rigid_bodies.iter().find(|b| b.name == *entry.main.get_ref()) {
+        let main = match rigid_bodies
+            .iter()
+            .find(|b| b.name == *entry.main.get_ref())
+        {
             Some(body) => ContactTarget::Rigid(body.clone()),
-            None if entry.main.get_ref().contains('.') => ContactTarget::Deformable(
-                part_surface(&entry.main, mesh, part_names, locator)?.1,
-            ),
+            None if entry.main.get_ref().contains('.') => {
+                ContactTarget::Deformable(part_surface(&entry.main, mesh, part_names, locator)?.1)
+            }
             None => {
                 let known: Vec<&str> = rigid_bodies.iter().map(|b| b.name.as_str()).collect();
                 return Err(at(
@@ -198,8 +207,9 @@ pub(super) fn build_interactions(
             "cohesive" => {
                 refuse(entry, &CONTACT_KEYS, "cohesive", locator)?;
                 let settings = cohesive_settings(entry, locator)?;
-                let positions: Vec<Vector3<f64>> =
-                    (0..mesh.node_count()).map(|n| mesh.nodes.position(n)).collect();
+                let positions: Vec<Vector3<f64>> = (0..mesh.node_count())
+                    .map(|n| mesh.nodes.position(n))
+                    .collect();
                 CohesiveInterface::new(name, &secondary, &main, &positions, &settings)
                     .map(InteractionModel::Cohesive)
                     .map_err(|e| at(entry.kind.span(), e.to_string()))?
@@ -239,10 +249,19 @@ fn refuse(
     locator: &Locator,
 ) -> Result<(), SceneError> {
     let given: [(&str, Option<std::ops::Range<usize>>); 8] = [
-        ("penalty_stiffness", entry.penalty_stiffness.as_ref().map(Spanned::span)),
+        (
+            "penalty_stiffness",
+            entry.penalty_stiffness.as_ref().map(Spanned::span),
+        ),
         ("friction", entry.friction.as_ref().map(Spanned::span)),
-        ("normal_stiffness", entry.normal_stiffness.as_ref().map(Spanned::span)),
-        ("shear_stiffness", entry.shear_stiffness.as_ref().map(Spanned::span)),
+        (
+            "normal_stiffness",
+            entry.normal_stiffness.as_ref().map(Spanned::span),
+        ),
+        (
+            "shear_stiffness",
+            entry.shear_stiffness.as_ref().map(Spanned::span),
+        ),
         (
             "initiation_separation",
             entry.initiation_separation.as_ref().map(Spanned::span),
@@ -252,7 +271,10 @@ fn refuse(
             entry.failure_separation.as_ref().map(Spanned::span),
         ),
         ("tangential", entry.tangential.as_ref().map(Spanned::span)),
-        ("bond_tolerance", entry.bond_tolerance.as_ref().map(Spanned::span)),
+        (
+            "bond_tolerance",
+            entry.bond_tolerance.as_ref().map(Spanned::span),
+        ),
     ];
     for (key, span) in given {
         if let (true, Some(span)) = (keys.contains(&key), span) {
@@ -274,7 +296,8 @@ fn cohesive_settings(
     locator: &Locator,
 ) -> Result<CohesiveSettings, SceneError> {
     let mut settings = CohesiveSettings::default();
-    let value = |v: &Option<Spanned<f64>>, default: f64| v.as_ref().map_or(default, |v| *v.get_ref());
+    let value =
+        |v: &Option<Spanned<f64>>, default: f64| v.as_ref().map_or(default, |v| *v.get_ref());
     settings.normal_stiffness = value(&entry.normal_stiffness, settings.normal_stiffness);
     settings.shear_stiffness = value(&entry.shear_stiffness, settings.shear_stiffness);
     settings.tangential_stiffness = settings.shear_stiffness;
