@@ -54,6 +54,9 @@ fn describe(model: &Model) -> String {
         model.loads.forces.len(),
         model.loads.rigid_ties.len()
     );
+    for interaction in &model.interactions {
+        text += &format!("  interaction {}\n", interaction.describe());
+    }
     text += &match &model.analysis {
         Analysis::Explicit(s) => format!(
             "  explicit, {} s, safety factor {}, output every {} s\n",

@@ -1,36 +1,19 @@
 //! End-to-end tests of the `musclefem` binary.
 
+#[path = "support/run.rs"]
+mod run;
+
+use run::{musclefem, test_dir, text};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const HEADER: &str = "time_s,stretch,engineering_stress_pa,cauchy_stress_pa,jacobian";
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
 
-/// A fresh, empty directory for one test (per process, so concurrent runs do not clash).
-fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("musclefem-cli")
-        .join(format!("{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn musclefem_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the musclefem binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
 /// Run, expect failure, return stderr.
 fn fails(dir: &Path, args: &[&str]) -> String {
-    let out = musclefem_in(dir, args);
+    let out = musclefem(dir, args);
     let stderr = text(&out.stderr);
     assert!(
         !out.status.success(),
@@ -74,8 +57,8 @@ fn read_csv(path: &Path) -> Vec<Vec<f64>> {
 
 #[test]
 fn materials_lists_builtins_with_their_parameters() {
-    let dir = test_dir("materials");
-    let out = musclefem_in(&dir, &["materials"]);
+    let dir = test_dir("musclefem-cli", "materials");
+    let out = musclefem(&dir, &["materials"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     let neo = stdout
@@ -101,8 +84,8 @@ fn materials_lists_builtins_with_their_parameters() {
 
 #[test]
 fn point_writes_csv_with_exact_header_and_png() {
-    let dir = test_dir("point");
-    let out = musclefem_in(
+    let dir = test_dir("musclefem-cli", "point");
+    let out = musclefem(
         &dir,
         &[
             "point",
@@ -145,8 +128,8 @@ fn point_writes_csv_with_exact_header_and_png() {
 
 #[test]
 fn no_plot_writes_only_the_csv() {
-    let dir = test_dir("no-plot");
-    let out = musclefem_in(
+    let dir = test_dir("musclefem-cli", "no-plot");
+    let out = musclefem(
         &dir,
         &[
             "point",
@@ -165,7 +148,7 @@ fn no_plot_writes_only_the_csv() {
 
 #[test]
 fn bad_stretch_token_fails_and_writes_nothing() {
-    let dir = test_dir("bad-stretch");
+    let dir = test_dir("musclefem-cli", "bad-stretch");
     let stderr = fails(
         &dir,
         &[
@@ -184,7 +167,7 @@ fn bad_stretch_token_fails_and_writes_nothing() {
 
 #[test]
 fn unknown_parameter_is_named() {
-    let dir = test_dir("unknown-param");
+    let dir = test_dir("musclefem-cli", "unknown-param");
     let stderr = fails(
         &dir,
         &[
@@ -208,7 +191,7 @@ fn unknown_parameter_is_named() {
 
 #[test]
 fn malformed_param_token_is_quoted() {
-    let dir = test_dir("bad-param");
+    let dir = test_dir("musclefem-cli", "bad-param");
     for token in ["mu", "mu=soft"] {
         let stderr = fails(
             &dir,
@@ -231,7 +214,7 @@ fn malformed_param_token_is_quoted() {
 
 #[test]
 fn zero_time_step_fails() {
-    let dir = test_dir("zero-dt");
+    let dir = test_dir("musclefem-cli", "zero-dt");
     let stderr = fails(
         &dir,
         &[
@@ -252,7 +235,7 @@ fn zero_time_step_fails() {
 
 #[test]
 fn unknown_material_lists_the_known_ones() {
-    let dir = test_dir("unknown-material");
+    let dir = test_dir("musclefem-cli", "unknown-material");
     let stderr = fails(
         &dir,
         &[
@@ -273,7 +256,7 @@ fn unknown_material_lists_the_known_ones() {
 
 #[test]
 fn missing_plugin_is_named() {
-    let dir = test_dir("missing-plugin");
+    let dir = test_dir("musclefem-cli", "missing-plugin");
     let stderr = fails(&dir, &["materials", "--plugin", "no-such-plugin.so"]);
     assert!(stderr.contains("no-such-plugin.so"), "{stderr}");
 }
@@ -281,8 +264,8 @@ fn missing_plugin_is_named() {
 /// `musclefem` alone (the README's first command) runs the demo into out/demo.
 #[test]
 fn default_job_writes_the_demo_outputs() {
-    let dir = test_dir("demo");
-    let out = musclefem_in(&dir, &[]);
+    let dir = test_dir("musclefem-cli", "demo");
+    let out = musclefem(&dir, &[]);
     let stdout = text(&out.stdout);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let demo = dir.join("out/demo");
@@ -310,7 +293,7 @@ fn default_job_writes_the_demo_outputs() {
     );
 
     // `demo --out DIR` writes the same files elsewhere.
-    let out = musclefem_in(&dir, &["demo", "--out", "elsewhere"]);
+    let out = musclefem(&dir, &["demo", "--out", "elsewhere"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(entries(&dir.join("elsewhere")).len(), 4);
 }

@@ -4,6 +4,8 @@
 
 mod support;
 
+use support::run::{musclefem, test_dir, text};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -16,28 +18,6 @@ use support::mesh_files::{
 
 const FIBERS_HEADER: &str = "element,cx,cy,cz,fx,fy,fz";
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-
-/// A fresh, empty directory for one test (per process, so concurrent runs do not clash).
-fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("musclefem-fibers")
-        .join(format!("{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn musclefem(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the musclefem binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// Runs `musclefem fibers` from `inlet` to `outlet` into `out`, expects success and
 /// returns stdout.
@@ -112,7 +92,7 @@ fn reported_flux(stdout: &str, side: &str, name: &str, faces: usize, share: &str
 /// written.
 #[test]
 fn abaqus_part_instance_mesh_from_node_set_to_surface() {
-    let dir = test_dir("part-instance");
+    let dir = test_dir("musclefem-fibers", "part-instance");
     let mesh = Path::new(env!("CARGO_MANIFEST_DIR")).join("../io/tests/meshes/part_instance.inp");
     let mesh = mesh.to_string_lossy();
     let stdout = run_fibers(&dir, &mesh, "left", "right", "f");
@@ -159,7 +139,7 @@ const BOX: [f64; 3] = [0.03, 0.01, 0.01];
 /// surfaces there are, and writes nothing.
 #[test]
 fn box_from_msh_and_inp_has_axial_fibers_with_file_tags() {
-    let dir = test_dir("box");
+    let dir = test_dir("musclefem-fibers", "box");
     let mesh = box_of_tets(BOX, [6, 2, 2], TetOrder::Linear).unwrap();
     let ends = [("origin", "x0"), ("insertion", "x1")];
     std::fs::write(dir.join("box.msh"), gmsh_text(&mesh, &ends)).unwrap();
@@ -231,7 +211,7 @@ const TUBE_MEAN_ANGLE: f64 = 1.0;
 /// circles about the torus axis with a mean angle error below 1°.
 #[test]
 fn curved_tube_fibers_follow_the_circles_and_draw_a_png() {
-    let dir = test_dir("curved-tube");
+    let dir = test_dir("musclefem-fibers", "curved-tube");
     let mesh = curved_tube(CURVED_TUBE_DIVISIONS);
     let ends = [("origin", "y0"), ("insertion", "y1")];
     std::fs::write(dir.join("curved_tube.msh"), gmsh_text(&mesh, &ends)).unwrap();

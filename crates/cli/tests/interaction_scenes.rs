@@ -1,40 +1,16 @@
 //! `musclefem run` on scenes with rigid bodies and interactions: the contact force and
 //! the cohesive traction reach the history and the frames, and the force balance holds.
 
+#[path = "support/run.rs"]
+mod run;
+
+use run::{example, musclefem, test_dir, text};
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use musclefem_io::csv::read_table;
 use musclefem_io::output::read_pvd;
-
-fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("musclefem-interactions")
-        .join(format!("{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn musclefem(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the musclefem binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// The history as a header and rows of numbers.
 fn history(root: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -63,7 +39,7 @@ fn column(header: &[String], name: &str) -> usize {
 /// contact pressure.
 #[test]
 fn a_block_pressed_on_a_rigid_sphere_balances_the_contact_force() {
-    let dir = test_dir("sphere");
+    let dir = test_dir("musclefem-interactions", "sphere");
     let out = musclefem(
         &dir,
         &[
@@ -98,7 +74,7 @@ fn a_block_pressed_on_a_rigid_sphere_balances_the_contact_force() {
 /// initiation, softens, and the interface carries nothing after failure.
 #[test]
 fn bonded_blocks_follow_the_cohesive_law_and_separate() {
-    let dir = test_dir("peel");
+    let dir = test_dir("musclefem-interactions", "peel");
     let out = musclefem(
         &dir,
         &[
@@ -161,7 +137,7 @@ fn bonded_blocks_follow_the_cohesive_law_and_separate() {
 /// suggestion), and a cohesive key on a contact.
 #[test]
 fn a_bad_interaction_names_its_line() {
-    let dir = test_dir("bad");
+    let dir = test_dir("musclefem-interactions", "bad");
     let good = std::fs::read_to_string(example("block_on_rigid_sphere.toml")).unwrap();
     let bad = good.replacen("main = \"ball\"", "main = \"bal\"", 1);
     std::fs::write(dir.join("bad.toml"), &bad).unwrap();

@@ -1,5 +1,10 @@
 //! `musclefem check` and `musclefem run` on the examples and on broken scenes.
 
+#[path = "support/run.rs"]
+mod run;
+
+use run::{example, musclefem, test_dir, text};
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -8,38 +13,9 @@ use std::time::{Duration, Instant};
 use musclefem_io::csv::read_table;
 use musclefem_io::output::read_pvd;
 
-fn test_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("musclefem-scene")
-        .join(format!("{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn musclefem(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the musclefem binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
 #[test]
 fn check_describes_a_good_scene_and_names_the_line_of_a_bad_one() {
-    let dir = test_dir("check");
+    let dir = test_dir("musclefem-scene", "check");
     let out = musclefem(&dir, &["check", &example("hill_block_isometric.toml")]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
@@ -70,7 +46,7 @@ fn check_describes_a_good_scene_and_names_the_line_of_a_bad_one() {
 /// run into the same directory is refused unless --force.
 #[test]
 fn run_writes_frames_history_scene_and_log() {
-    let dir = test_dir("run");
+    let dir = test_dir("musclefem-scene", "run");
     let scene = example("neo_hookean_cube_stretch.toml");
     let out = musclefem(&dir, &["run", &scene, "--out", "result"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
@@ -132,7 +108,7 @@ fn run_writes_frames_history_scene_and_log() {
 /// the same final reaction within 1 % (a 1 s ramp is slow for this cube).
 #[test]
 fn run_with_the_other_solver_agrees() {
-    let dir = test_dir("switch");
+    let dir = test_dir("musclefem-scene", "switch");
     let scene = example("neo_hookean_cube_stretch.toml");
     let out = musclefem(
         &dir,
@@ -161,7 +137,7 @@ fn run_with_the_other_solver_agrees() {
 /// The Hill example's frames carry the activation and the material's state variables.
 #[test]
 fn hill_frames_carry_activation_and_state_variables() {
-    let dir = test_dir("hill");
+    let dir = test_dir("musclefem-scene", "hill");
     let scene = example("hill_block_isometric.toml");
     let out = musclefem(&dir, &["run", &scene, "--out", "result"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
@@ -183,7 +159,7 @@ fn hill_frames_carry_activation_and_state_variables() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_stops_a_run_cleanly() {
-    let dir = test_dir("interrupt");
+    let dir = test_dir("musclefem-scene", "interrupt");
     // The neo-Hookean example made long: 1000 s explicit on a finer mesh.
     let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
         .unwrap()

@@ -1,3 +1,4 @@
 //! Helpers shared by the CLI tests (a folder, so cargo does not take it for a test).
 
 pub mod mesh_files;
+pub mod run;

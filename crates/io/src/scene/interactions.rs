@@ -39,6 +39,29 @@ impl InteractionModel {
         }
     }
 
+    /// One line on the interaction: its name, kind, surfaces and law.
+    pub fn describe(&self) -> String {
+        match self {
+            InteractionModel::Contact(c) => format!(
+                "'{}': penalty contact of '{}' ({} nodes) on '{}', ε = {:.3e} N/m³",
+                c.name(),
+                c.secondary().name,
+                c.secondary().nodes.len(),
+                c.target().name(),
+                c.penalty()
+            ),
+            InteractionModel::Cohesive(c) => {
+                let (secondary, main) = c.surfaces();
+                format!(
+                    "'{}': cohesive bond of '{secondary}' on '{main}', {} bonds over {:.3e} m²",
+                    c.name(),
+                    c.bond_count(),
+                    c.bonded_reference_area()
+                )
+            }
+        }
+    }
+
     /// The interaction's name.
     pub fn name(&self) -> &str {
         match self {
@@ -86,7 +109,10 @@ pub(super) fn rigid_body(
                     ),
                 ));
             }
-            .map(|s| s.renamed(name))
+            .map(|mut surface| {
+                surface.name = name.clone();
+                surface
+            })
         }
         (None, Some(shape)) => match shape.get_ref().as_str() {
             "plane" => RigidSurface::plane(
@@ -207,10 +233,7 @@ pub(super) fn build_interactions(
             "cohesive" => {
                 refuse(entry, &CONTACT_KEYS, "cohesive", locator)?;
                 let settings = cohesive_settings(entry, locator)?;
-                let positions: Vec<Vector3<f64>> = (0..mesh.node_count())
-                    .map(|n| mesh.nodes.position(n))
-                    .collect();
-                CohesiveInterface::new(name, &secondary, &main, &positions, &settings)
+                CohesiveInterface::new(name, &secondary, main, mesh, &settings)
                     .map(InteractionModel::Cohesive)
                     .map_err(|e| at(entry.kind.span(), e.to_string()))?
             }
