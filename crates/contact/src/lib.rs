@@ -4,3 +4,7 @@
 //! cohesive traction-separation with damage.
 //!
 //! Not built yet: the interactions issue fills this crate. It exposes no API until then.
+
+pub mod cohesive;
+
+pub use cohesive::{CohesiveError, CohesiveLaw, CohesiveSettings, TangentialMode};
