@@ -7,4 +7,6 @@
 
 pub mod cohesive;
 
-pub use cohesive::{CohesiveError, CohesiveLaw, CohesiveSettings, TangentialMode};
+pub use cohesive::{
+    CohesiveError, CohesiveInterface, CohesiveLaw, CohesiveSettings, TangentialMode,
+};
