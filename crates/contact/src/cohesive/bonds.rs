@@ -17,9 +17,12 @@
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use rayon::prelude::*;
 
+use super::frame::frame;
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
-use super::triangle::{closest_point, frame};
+use crate::broadphase::Broadphase;
+use crate::projection::{Projection, project_on_triangle};
+use crate::surface::ContactTarget;
 
 /// One bond (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
@@ -28,7 +31,7 @@ pub struct Bond {
     pub node: u32,
     /// Its tributary area in the reference configuration [m²].
     pub area: f64,
-    /// The main triangle (index into [`MainSide::triangles`]).
+    /// The main triangle (index into the main surface's triangles).
     pub triangle: u32,
     /// Barycentric coordinates ξ of the bonded point in the triangle.
     pub coordinates: Vector3<f64>,
@@ -74,74 +77,75 @@ impl Default for BondState {
 /// Bonds of the secondary `nodes` (with tributary `areas` [m²]; nodes of zero area carry
 /// nothing and do not bond) to the `main` surface at the reference nodal `positions` [m]
 /// (a rigid main placed at t = 0), within `tolerance` [m]. A node never bonds to a triangle
-/// of which it is a vertex. Also returns the smallest node–surface distance found [m]
-/// (infinite without candidates), for the error when nothing bonds.
-///
-/// Cost: every node against every triangle whose bounding box is closer than the best
-/// triangle so far, in parallel over the nodes (the result does not depend on the number
-/// of threads); done once per interface.
+/// of which it is a vertex. The candidates come from the broadphase (a BVH of the main
+/// triangles, boxes within `tolerance`), the closest point from
+/// [`project_on_triangle`]; the nodes are treated in parallel, each on its own, so the
+/// bonds do not depend on the number of threads.
 pub fn form_bonds(
     nodes: &[u32],
     areas: &[f64],
-    main: &MainSide,
+    main: &ContactTarget,
     positions: &[Vector3<f64>],
     tolerance: f64,
-) -> (Vec<Bond>, f64) {
+) -> Vec<Bond> {
     let placement = main.placement(0.0);
-    let triangles: Vec<[Vector3<f64>; 3]> = (0..main.len())
-        .map(|i| main.vertices(i, positions, &placement))
-        .collect();
-    let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = triangles
-        .iter()
-        .map(|[a, b, c]| (a.inf(b).inf(c), a.sup(b).sup(c)))
-        .collect();
-    let closest: Vec<Option<(u32, Vector3<f64>, f64)>> = nodes
-        .par_iter()
-        .zip(areas.par_iter())
-        .map(|(&node, &area)| {
-            if area <= 0.0 {
+    let mut broadphase = Broadphase::new(tolerance);
+    broadphase.search(main, 0.0, positions, nodes);
+    let found: Vec<Option<Bond>> = (0..nodes.len())
+        .into_par_iter()
+        .map(|i| {
+            let node = nodes[i];
+            if areas[i] <= 0.0 {
                 return None;
             }
-            let p = positions[node as usize];
-            let mut best: Option<(u32, Vector3<f64>, f64)> = None;
-            for (i, ([a, b, c], (low, high))) in triangles.iter().zip(&boxes).enumerate() {
-                let outside = (low - p).sup(&(p - high)).sup(&Vector3::zeros());
-                let bound = outside.norm_squared();
-                if best.is_some_and(|(_, _, d)| bound >= d) {
+            let x = positions[node as usize];
+            let mut best: Option<(u32, Projection, f64)> = None;
+            for &triangle in broadphase.candidates(i) {
+                if main.nodes(triangle as usize).is_some_and(|ids| ids.contains(&node)) {
                     continue;
                 }
-                if main.nodes(i).is_some_and(|ids| ids.contains(&node)) {
-                    continue;
-                }
-                let (coordinates, distance2) = closest_point(&p, a, b, c);
-                if best.is_none_or(|(_, _, d)| distance2 < d) {
-                    best = Some((i as u32, coordinates, distance2));
+                let corners = main.corners(triangle as usize, positions, &placement);
+                let projection = project_on_triangle(&x, &corners);
+                let distance2 = (x - projection.point).norm_squared();
+                let better = best.is_none_or(|(t, _, d)| {
+                    distance2 < d || (distance2 == d && triangle < t)
+                });
+                if better {
+                    best = Some((triangle, projection, distance2));
                 }
             }
-            best
+            let (triangle, projection, distance2) = best?;
+            (distance2.sqrt() <= tolerance).then(|| Bond {
+                node,
+                area: areas[i],
+                triangle,
+                coordinates: Vector3::from(projection.barycentric),
+                normal: projection.normal,
+                history: 0.0,
+            })
         })
         .collect();
-    let mut smallest = f64::INFINITY;
-    let mut bonds = Vec::new();
-    for ((&node, &area), found) in nodes.iter().zip(areas).zip(closest) {
-        let Some((triangle, coordinates, distance2)) = found else {
-            continue;
-        };
-        let distance = distance2.sqrt();
-        smallest = smallest.min(distance);
-        if distance <= tolerance {
-            let [a, b, c] = &triangles[triangle as usize];
-            bonds.push(Bond {
-                node,
-                area,
-                triangle,
-                coordinates,
-                normal: (b - a).cross(&(c - a)).normalize(),
-                history: 0.0,
-            });
-        }
-    }
-    (bonds, smallest)
+    found.into_iter().flatten().collect()
+}
+
+/// The smallest distance from any of `nodes` to the `main` surface at the reference
+/// `positions` [m] (every node against every triangle: for the message when nothing
+/// bonds), infinite if there is no pair.
+pub fn closest_distance(nodes: &[u32], main: &ContactTarget, positions: &[Vector3<f64>]) -> f64 {
+    let placement = main.placement(0.0);
+    nodes
+        .par_iter()
+        .map(|&node| {
+            let x = positions[node as usize];
+            (0..main.triangles().len())
+                .filter(|&t| main.nodes(t).is_none_or(|ids| !ids.contains(&node)))
+                .map(|t| {
+                    let corners = main.corners(t, positions, &placement);
+                    (x - project_on_triangle(&x, &corners).point).norm()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .reduce(|| f64::INFINITY, f64::min)
 }
 
 impl Bond {
@@ -182,7 +186,7 @@ impl Bond {
 pub fn evaluate_all(
     bonds: &[Bond],
     law: &CohesiveLaw,
-    main: &MainSide,
+    main: &ContactTarget,
     positions: &[Vector3<f64>],
     placement: &Isometry3<f64>,
     states: &mut [BondState],
@@ -192,7 +196,7 @@ pub fn evaluate_all(
         .zip(bonds.par_iter())
         .with_min_len(512)
         .for_each(|(state, bond)| {
-            let vertices = main.vertices(bond.triangle as usize, positions, placement);
+            let vertices = main.corners(bond.triangle as usize, positions, placement);
             *state = bond.evaluate(law, &vertices, &positions[bond.node as usize]);
         });
 }

@@ -27,13 +27,15 @@
 //! - [`Interaction::commit`] stores each bond's damage history κ: damage never heals, and
 //!   a trial that opens a bond further changes nothing until the step is accepted.
 
+use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
 use nalgebra::{Matrix3, Vector3};
 
-use super::bonds::{Bond, BondState, evaluate_all, form_bonds};
+use super::bonds::{Bond, BondState, closest_distance, evaluate_all, form_bonds};
 use super::error::CohesiveError;
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
+use crate::surface::{ContactTarget, DeformableSurface};
 use super::settings::{CohesiveSettings, TangentialMode};
 use super::slide::{Neighbours, slide};
 
@@ -42,9 +44,8 @@ use super::slide::{Neighbours, slide};
 pub struct CohesiveInterface {
     name: String,
     secondary: String,
-    main_name: String,
     law: CohesiveLaw,
-    main: MainSide,
+    main: ContactTarget,
     bonds: Vec<Bond>,
     states: Vec<BondState>,
     /// Vertex rings of the main triangles, for sliding bonds (FreeSlide only).
@@ -52,88 +53,65 @@ pub struct CohesiveInterface {
 }
 
 impl CohesiveInterface {
-    /// Bonds the secondary `nodes` (tributary reference `areas` [m²]) of the surface named
-    /// `secondary` to the `main` triangles of the surface named `main_name`, at the
-    /// reference nodal `positions` [m].
-    pub(crate) fn build(
+    /// The interface `name` bonding the nodes of the `secondary` surface to the `main`
+    /// surface (a [`DeformableSurface`] or a [`crate::RigidSurface`], placed at t = 0) of
+    /// `mesh`, with `settings`.
+    ///
+    /// Errors if the settings are invalid, a surface names a node not in `mesh`, or no
+    /// secondary node lies within the bond tolerance of the main surface
+    /// ([`CohesiveError::NoBond`], with the closest distance found).
+    pub fn new(
         name: &str,
-        (secondary, nodes, areas): (&str, &[u32], &[f64]),
-        (main_name, main): (&str, MainSide),
-        positions: &[Vector3<f64>],
+        secondary: &DeformableSurface,
+        main: impl Into<ContactTarget>,
+        mesh: &Mesh,
         settings: &CohesiveSettings,
     ) -> Result<Self, CohesiveError> {
+        let main = main.into();
         let law = CohesiveLaw::new(settings, name)?;
-        let invalid = |reason: String| CohesiveError::InvalidSurface {
-            interface: name.to_string(),
-            reason,
+        let positions: Vec<Vector3<f64>> =
+            (0..mesh.node_count()).map(|i| mesh.nodes.position(i)).collect();
+        let outside = |surface: &str, nodes: &[u32]| {
+            nodes
+                .iter()
+                .find(|&&n| n as usize >= positions.len())
+                .map_or(Ok(()), |node| {
+                    Err(CohesiveError::InvalidSurface {
+                        interface: name.to_string(),
+                        reason: format!(
+                            "node {node} of surface '{surface}' is not in the mesh ({} nodes)",
+                            positions.len()
+                        ),
+                    })
+                })
         };
-        if let Some(&node) = nodes.iter().find(|&&n| n as usize >= positions.len()) {
-            return Err(invalid(format!(
-                "node {node} of the secondary surface '{secondary}' is not in the mesh ({} \
-                 nodes)",
-                positions.len()
-            )));
+        outside(&secondary.name, &secondary.nodes)?;
+        if let ContactTarget::Deformable(surface) = &main {
+            outside(&surface.name, surface.triangles.as_flattened())?;
         }
-        if let Some(area) = areas.iter().find(|a| !(a.is_finite() && **a >= 0.0)) {
-            return Err(invalid(format!(
-                "the secondary surface '{secondary}' has a tributary area {area} m²"
-            )));
-        }
-        match &main {
-            MainSide::Deformable { triangles } => {
-                if let Some(t) = triangles
-                    .iter()
-                    .find(|t| t.iter().any(|&n| n as usize >= positions.len()))
-                {
-                    return Err(invalid(format!(
-                        "triangle {t:?} of the main surface '{main_name}' names a node that is \
-                         not in the mesh ({} nodes)",
-                        positions.len()
-                    )));
-                }
-            }
-            MainSide::Rigid {
-                vertices,
-                triangles,
-                ..
-            } => {
-                let degenerate = triangles.iter().position(|t| {
-                    t.iter().any(|&v| v as usize >= vertices.len()) || {
-                        let [a, b, c] = t.map(|v| vertices[v as usize]);
-                        let area = (b - a).cross(&(c - a)).norm();
-                        !(area.is_finite() && area > 0.0)
-                    }
-                });
-                if let Some(t) = degenerate {
-                    return Err(invalid(format!(
-                        "triangle {t} of the rigid main surface '{main_name}' is degenerate or \
-                         names a missing vertex"
-                    )));
-                }
-            }
-        }
-        if main.len() == 0 {
-            return Err(invalid(format!(
-                "the main surface '{main_name}' has no triangle"
-            )));
-        }
-        let (bonds, closest) = form_bonds(nodes, areas, &main, positions, settings.bond_tolerance);
+        let tolerance = settings.bond_tolerance;
+        let bonds = form_bonds(
+            &secondary.nodes,
+            &secondary.node_area,
+            &main,
+            &positions,
+            tolerance,
+        );
         if bonds.is_empty() {
             return Err(CohesiveError::NoBond {
                 interface: name.to_string(),
-                secondary: secondary.to_string(),
-                main: main_name.to_string(),
-                nodes: nodes.len(),
-                tolerance: settings.bond_tolerance,
-                closest,
+                secondary: secondary.name.clone(),
+                main: main.name().to_string(),
+                nodes: secondary.nodes.len(),
+                tolerance,
+                closest: closest_distance(&secondary.nodes, &main, &positions),
             });
         }
         let neighbours = (settings.tangential == TangentialMode::FreeSlide)
             .then(|| Neighbours::new(main.triangles()));
         Ok(CohesiveInterface {
             name: name.to_string(),
-            secondary: secondary.to_string(),
-            main_name: main_name.to_string(),
+            secondary: secondary.name.clone(),
             law,
             states: vec![BondState::default(); bonds.len()],
             main,
@@ -144,7 +122,7 @@ impl CohesiveInterface {
 
     /// The names of the secondary and main surfaces.
     pub fn surfaces(&self) -> (&str, &str) {
-        (&self.secondary, &self.main_name)
+        (&self.secondary, self.main.name())
     }
 
     /// The law.

@@ -1,10 +1,12 @@
 //! The interface's forces, stiffness, commit and report on single bonds.
 
+use musclefem_core::mesh::{Mesh, Nodes};
 use musclefem_core::solver::{Interaction, RigidMotion, RigidRotation};
 use musclefem_materials::Amplitude;
 use nalgebra::{DMatrix, Matrix3, Unit, Vector3};
 
 use super::*;
+use crate::rigid_surface::RigidSurface;
 
 fn settings(tangential: TangentialMode) -> CohesiveSettings {
     CohesiveSettings {
@@ -18,28 +20,41 @@ fn settings(tangential: TangentialMode) -> CohesiveSettings {
     }
 }
 
-/// Main triangle nodes 0, 1, 2 on z = 0, secondary node 3 on it at (0.3, 0.2, 0).
+/// Main triangle nodes 0, 1, 2 on z = 0, secondary node 3 on it at (0.3, 0.2, 0), and
+/// nodes 4, 5 of the secondary triangle [3, 4, 5], away from the main triangle (they do
+/// not bond). Node 3's tributary area is a third of that triangle's 1.5 m², 0.5 m².
 fn reference() -> Vec<Vector3<f64>> {
     vec![
         Vector3::new(0.0, 0.0, 0.0),
         Vector3::new(1.0, 0.0, 0.0),
         Vector3::new(0.0, 1.0, 0.0),
         Vector3::new(0.3, 0.2, 0.0),
+        Vector3::new(0.9, 0.2, 0.8),
+        Vector3::new(0.3, 3.2, 0.0),
     ]
 }
 
+fn mesh(points: &[Vector3<f64>]) -> Mesh {
+    let mut nodes = Nodes::new();
+    for p in points {
+        nodes.push(*p);
+    }
+    Mesh::new(nodes, vec![])
+}
+
+fn surfaces(mesh: &Mesh) -> (DeformableSurface, DeformableSurface) {
+    let top = DeformableSurface::from_triangles(mesh, "top", vec![[3, 4, 5]]).unwrap();
+    let bottom = DeformableSurface::from_triangles(mesh, "bottom", vec![[0, 1, 2]]).unwrap();
+    (top, bottom)
+}
+
 fn deformable(settings: &CohesiveSettings) -> CohesiveInterface {
-    let main = MainSide::Deformable {
-        triangles: vec![[0, 1, 2]],
-    };
-    CohesiveInterface::build(
-        "glue",
-        ("top", &[3], &[0.5]),
-        ("bottom", main),
-        &reference(),
-        settings,
-    )
-    .unwrap()
+    let mesh = mesh(&reference());
+    let (top, bottom) = surfaces(&mesh);
+    let interface = CohesiveInterface::new("glue", &top, bottom, &mesh, settings).unwrap();
+    assert_eq!(interface.bond_count(), 1);
+    assert!((interface.bonded_reference_area() - 0.5).abs() < 1e-14);
+    interface
 }
 
 fn all_forces(interface: &mut CohesiveInterface, time: f64, x: &[Vector3<f64>]) -> Vec<f64> {
@@ -94,7 +109,8 @@ fn an_opened_bond_pulls_its_node_back_and_the_main_nodes_take_the_reaction() {
     assert!((f[8] + 0.4).abs() < 1e-12);
     let report = interface.report();
     assert!((report.force - Vector3::new(0.0, 0.0, -2.0)).norm() < 1e-12);
-    assert_eq!((report.active_points, report.active_area), (1, 0.5));
+    assert_eq!(report.active_points, 1);
+    assert!((report.active_area - 0.5).abs() < 1e-14);
     assert!((report.stored_energy - 0.5 * 0.5 * 1e3 * 0.004 * 0.004).abs() < 1e-15);
     let fields = interface.nodal_fields(4);
     assert_eq!(fields[0].name, "cohesive_traction");
@@ -150,18 +166,17 @@ fn the_stiffness_is_consistent_with_a_deformable_main_in_elastic_opening() {
 
 fn rigid(tangential: TangentialMode, stiffness: [f64; 3]) -> CohesiveInterface {
     let ramp = |v| Some(Amplitude::ramp(1.0, v).unwrap());
-    let main = MainSide::Rigid {
-        vertices: reference()[..3].to_vec(),
-        triangles: vec![[0, 1, 2]],
-        motion: RigidMotion {
-            translation: [ramp(0.01), None, ramp(-0.02)],
-            rotation: Some(RigidRotation {
-                center: Vector3::new(0.2, 0.1, 0.0),
-                axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.3)),
-                angle: Amplitude::ramp(1.0, 0.4).unwrap(),
-            }),
-        },
+    let motion = RigidMotion {
+        translation: [ramp(0.01), None, ramp(-0.02)],
+        rotation: Some(RigidRotation {
+            center: Vector3::new(0.2, 0.1, 0.0),
+            axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.3)),
+            angle: Amplitude::ramp(1.0, 0.4).unwrap(),
+        }),
     };
+    let femur = RigidSurface::new("femur", reference()[..3].to_vec(), vec![[0, 1, 2]])
+        .unwrap()
+        .with_motion(motion);
     let [kn, ks, kt] = stiffness;
     let s = CohesiveSettings {
         normal_stiffness: kn,
@@ -169,9 +184,15 @@ fn rigid(tangential: TangentialMode, stiffness: [f64; 3]) -> CohesiveInterface {
         tangential_stiffness: kt,
         ..settings(tangential)
     };
-    let nodes = vec![Vector3::new(0.3, 0.2, 0.0)];
-    CohesiveInterface::build("bone", ("muscle", &[0], &[0.7]), ("femur", main), &nodes, &s)
-        .unwrap()
+    // The secondary node 0 at (0.3, 0.2, 0) with 0.7 m² (a third of 2.1 m²); nodes 1 and
+    // 2 away from the main triangle.
+    let mut points = interface_mesh_positions();
+    points[0] = Vector3::new(0.3, 0.2, 0.0);
+    let mesh = mesh(&points);
+    let muscle = DeformableSurface::from_triangles(&mesh, "muscle", vec![[0, 1, 2]]).unwrap();
+    let interface = CohesiveInterface::new("bone", &muscle, femur, &mesh, &s).unwrap();
+    assert!((interface.bonded_reference_area() - 0.7).abs() < 1e-14);
+    interface
 }
 
 #[test]
@@ -189,7 +210,8 @@ fn the_stiffness_is_consistent_with_a_rigid_main_in_every_mode() {
         // Where the bonded point goes at t = 0.6, plus a separation in softening.
         let placement = interface.main.placement(0.6);
         let point = placement * nalgebra::Point3::new(0.3, 0.2, 0.0);
-        let x = vec![point.coords + Vector3::new(0.006, 0.009, 0.011)];
+        let mut x = interface_mesh_positions();
+        x[0] = point.coords + Vector3::new(0.006, 0.009, 0.011);
         check_stiffness(&mut interface, 0.6, &x);
     }
 }
@@ -200,26 +222,36 @@ fn a_rigid_main_follows_its_motion() {
     let placement = interface.main.placement(1.0);
     let point = placement * nalgebra::Point3::new(0.3, 0.2, 0.0);
     let normal = placement * Vector3::z();
-    let x = vec![point.coords + 0.004 * normal];
+    let mut x = interface_mesh_positions();
+    x[0] = point.coords + 0.004 * normal;
     let f = all_forces(&mut interface, 1.0, &x);
     let expected = 0.7 * 1e3 * 0.004 * normal;
-    assert!((Vector3::from_column_slice(&f) - expected).norm() < 1e-12);
+    assert!((Vector3::from_column_slice(&f[..3]) - expected).norm() < 1e-12);
+    assert!(f[3..].iter().all(|&v| v == 0.0));
     let (_, separation, _) = interface.bond_states().next().unwrap();
     assert!((separation - Vector3::new(0.004, 0.0, 0.0)).norm() < 1e-15);
+}
+
+/// The positions of the rigid cases' mesh (3 nodes).
+fn interface_mesh_positions() -> Vec<Vector3<f64>> {
+    vec![
+        Vector3::zeros(),
+        Vector3::new(0.9, 0.2, 0.8),
+        Vector3::new(0.3, 4.4, 0.0),
+    ]
 }
 
 #[test]
 fn nothing_within_the_tolerance_is_an_error_naming_the_interface_and_surfaces() {
     let mut x = reference();
     x[3].z = 0.01;
-    let main = MainSide::Deformable {
-        triangles: vec![[0, 1, 2]],
-    };
-    let error = CohesiveInterface::build(
+    let mesh = mesh(&x);
+    let (top, bottom) = surfaces(&mesh);
+    let error = CohesiveInterface::new(
         "glue",
-        ("top", &[3], &[0.5]),
-        ("bottom", main),
-        &x,
+        &top,
+        bottom,
+        &mesh,
         &settings(TangentialMode::Elastic),
     )
     .unwrap_err()

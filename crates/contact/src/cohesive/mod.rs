@@ -6,16 +6,16 @@
 //! - [`settings`]: its parameters ([`CohesiveSettings`], the paper's values by default);
 //! - `interface.rs`: [`CohesiveInterface`], the [`musclefem_core::solver::Interaction`]
 //!   the solvers call; `bonds.rs`: the bonds and their forces; `slide.rs`: sliding bonds;
-//!   `triangle.rs`: closest points and frames of the main triangles.
+//!   `main_side.rs`: the main triangles at an instant; `frame.rs`: their local frames.
 
 mod bonds;
 mod error;
+mod frame;
 mod interface;
 pub mod law;
 mod main_side;
 pub mod settings;
 mod slide;
-mod triangle;
 
 pub use error::CohesiveError;
 pub use interface::CohesiveInterface;

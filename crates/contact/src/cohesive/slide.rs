@@ -13,7 +13,8 @@ use nalgebra::{Isometry3, Vector3};
 
 use super::bonds::Bond;
 use super::main_side::MainSide;
-use super::triangle::closest_point;
+use crate::projection::project_on_triangle;
+use crate::surface::ContactTarget;
 
 /// Rings a walk may cross per search.
 pub const MAX_HOPS: usize = 64;
@@ -71,15 +72,18 @@ impl Neighbours {
 /// nodal `positions` [m]) closest to its node, walking from its current triangle.
 pub fn slide(
     bond: &mut Bond,
-    main: &MainSide,
+    main: &ContactTarget,
     neighbours: &Neighbours,
     positions: &[Vector3<f64>],
     placement: &Isometry3<f64>,
 ) {
     let x = positions[bond.node as usize];
     let project = |triangle: usize| {
-        let [a, b, c] = main.vertices(triangle, positions, placement);
-        closest_point(&x, &a, &b, &c)
+        let projection = project_on_triangle(&x, &main.corners(triangle, positions, placement));
+        (
+            Vector3::from(projection.barycentric),
+            (x - projection.point).norm_squared(),
+        )
     };
     let mut current = bond.triangle as usize;
     let (mut coordinates, mut distance2) = project(current);
@@ -108,9 +112,11 @@ pub fn slide(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rigid_surface::RigidSurface;
 
-    /// A strip of 2n triangles on the plane z = 0 along x, unit squares split in two.
-    fn strip(n: u32) -> (MainSide, Vec<Vector3<f64>>) {
+    /// A fixed rigid strip of 2n triangles on the plane z = 0 along x, unit squares split
+    /// in two.
+    fn strip(n: u32) -> ContactTarget {
         let mut vertices = Vec::new();
         for i in 0..=n {
             vertices.push(Vector3::new(f64::from(i), 0.0, 0.0));
@@ -122,16 +128,16 @@ mod tests {
                 [[a, b, c], [a, c, d]]
             })
             .collect();
-        (MainSide::Deformable { triangles }, vertices)
+        RigidSurface::new("strip", vertices, triangles).unwrap().into()
     }
 
     #[test]
     fn a_bond_walks_to_the_closest_point_along_the_surface() {
-        let (main, mut positions) = strip(20);
+        let main = strip(20);
         let neighbours = Neighbours::new(main.triangles());
         assert_eq!(neighbours.of(0), &[1, 2, 3]);
-        let node = positions.len() as u32;
-        positions.push(Vector3::new(0.2, 0.3, 0.5));
+        let node = 0;
+        let mut positions = vec![Vector3::new(0.2, 0.3, 0.5)];
         let mut bond = Bond {
             node,
             area: 1.0,
@@ -143,7 +149,7 @@ mod tests {
         // Slide 13.5 units along x: the walk crosses the strip in one search.
         positions[node as usize] = Vector3::new(13.7, 0.6, 0.5);
         slide(&mut bond, &main, &neighbours, &positions, &Isometry3::identity());
-        let vertices = main.vertices(bond.triangle as usize, &positions, &Isometry3::identity());
+        let vertices = main.corners(bond.triangle as usize, &positions, &Isometry3::identity());
         let point = bond.main_point(&vertices);
         assert!((point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14, "{point:?}");
         assert_eq!(bond.triangle / 2, 13);
