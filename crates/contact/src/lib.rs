@@ -10,7 +10,9 @@
 //!   (generated planes, spheres, cylinders; STL and OBJ files);
 //! - [`broadphase`]: parry3d BVH of the main side, candidate triangles per node;
 //! - [`projection`]: closest point on a triangle, barycentric coordinates, signed gap;
-//! - [`penalty`]: [`PenaltyContact`], frictionless node-to-surface penalty contact.
+//! - [`penalty`]: [`PenaltyContact`], frictionless node-to-surface penalty contact;
+//! - [`cohesive`]: [`CohesiveInterface`], surfaces bonded by a traction–separation law with
+//!   damage ([`CohesiveSettings`]).
 //!
 //! Use: build the secondary side from mesh faces, the main side from faces or a rigid
 //! shape, and hand the contact to `run_implicit_with` / `run_explicit_with`:
@@ -31,6 +33,7 @@
 //! closest-point loop over the candidates (~45 %) dominate.
 
 pub mod broadphase;
+pub mod cohesive;
 pub mod error;
 pub mod penalty;
 pub mod projection;
@@ -38,6 +41,9 @@ pub mod rigid_surface;
 pub mod surface;
 
 pub use broadphase::Broadphase;
+pub use cohesive::{
+    CohesiveError, CohesiveInterface, CohesiveLaw, CohesiveSettings, TangentialMode,
+};
 pub use error::ContactError;
 pub use penalty::{PenaltyContact, default_penalty};
 pub use projection::{Feature, Projection, closest_feature, project_on_triangle};

@@ -1,0 +1,202 @@
+//! Bonds between the nodes of the secondary surface and points of the main surface.
+//!
+//! A bond ties secondary node s (tributary area A [m²], a reference area) to the point
+//! x_m = Σ ξ_k x_k of main triangle (x_0, x_1, x_2) with barycentric coordinates ξ. It
+//! forms at the reference configuration when s lies within the bond tolerance of the main
+//! surface (at the closest point of the closest triangle; ties go to the lowest triangle
+//! index, so the choice is deterministic), and carries the law's damage history κ.
+//!
+//! At positions x: separation δ = x_s − x_m [m], local separation δ_loc = Rᵀ δ with
+//! R = [n s t] the current frame of the triangle (`triangle::frame`), traction
+//! t = R t_law(δ_loc) [Pa] and the force on the secondary node f_s = A t [N] (it enters
+//! like an internal force, M a + f_int + f_c = f_ext: an opened bond pulls s back toward
+//! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
+//! triangle; a rigid main takes it on the body. The stiffness block of the node,
+//! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc, holds the frame R fixed.
+
+use nalgebra::{Isometry3, Matrix3, Vector3};
+use rayon::prelude::*;
+
+use super::frame::frame;
+use super::law::CohesiveLaw;
+use super::main_side::MainSide;
+use crate::broadphase::Broadphase;
+use crate::projection::{Projection, project_on_triangle};
+use crate::surface::ContactTarget;
+
+/// One bond (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bond {
+    /// The secondary node.
+    pub node: u32,
+    /// Its tributary area in the reference configuration [m²].
+    pub area: f64,
+    /// The main triangle (index into the main surface's triangles).
+    pub triangle: u32,
+    /// Barycentric coordinates ξ of the bonded point in the triangle.
+    pub coordinates: Vector3<f64>,
+    /// Unit normal of the triangle where the bond formed (the frame of a triangle that
+    /// has collapsed to zero area falls back on it).
+    pub normal: Vector3<f64>,
+    /// Committed damage history κ [m].
+    pub history: f64,
+}
+
+/// One bond at the positions of the last force evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BondState {
+    /// Force f_s on the secondary node, as it enters the balance [N].
+    pub force: Vector3<f64>,
+    /// ∂f_s/∂x_s = A R C Rᵀ [N/m].
+    pub stiffness: Matrix3<f64>,
+    /// Traction on the secondary surface, −R t_law [Pa].
+    pub traction: Vector3<f64>,
+    /// Local separation (δ_n, δ_s, δ_t) [m].
+    pub separation: Vector3<f64>,
+    /// Trial damage history κ [m] and damage D.
+    pub history: f64,
+    pub damage: f64,
+    /// Stored energy A ½ t·δ [J].
+    pub energy: f64,
+}
+
+impl Default for BondState {
+    fn default() -> Self {
+        BondState {
+            force: Vector3::zeros(),
+            stiffness: Matrix3::zeros(),
+            traction: Vector3::zeros(),
+            separation: Vector3::zeros(),
+            history: 0.0,
+            damage: 0.0,
+            energy: 0.0,
+        }
+    }
+}
+
+/// Bonds of the secondary `nodes` (with tributary `areas` [m²]; nodes of zero area carry
+/// nothing and do not bond) to the `main` surface at the reference nodal `positions` [m]
+/// (a rigid main placed at t = 0), within `tolerance` [m]. A node never bonds to a triangle
+/// of which it is a vertex. The candidates come from the broadphase (a BVH of the main
+/// triangles, boxes within `tolerance`), the closest point from
+/// [`project_on_triangle`]; the nodes are treated in parallel, each on its own, so the
+/// bonds do not depend on the number of threads.
+pub fn form_bonds(
+    nodes: &[u32],
+    areas: &[f64],
+    main: &ContactTarget,
+    positions: &[Vector3<f64>],
+    tolerance: f64,
+) -> Vec<Bond> {
+    let placement = main.placement(0.0);
+    let mut broadphase = Broadphase::new(tolerance);
+    broadphase.search(main, 0.0, positions, nodes);
+    let found: Vec<Option<Bond>> = (0..nodes.len())
+        .into_par_iter()
+        .map(|i| {
+            let node = nodes[i];
+            if areas[i] <= 0.0 {
+                return None;
+            }
+            let x = positions[node as usize];
+            let mut best: Option<(u32, Projection, f64)> = None;
+            for &triangle in broadphase.candidates(i) {
+                if main.nodes(triangle as usize).is_some_and(|ids| ids.contains(&node)) {
+                    continue;
+                }
+                let corners = main.corners(triangle as usize, positions, &placement);
+                let projection = project_on_triangle(&x, &corners);
+                let distance2 = (x - projection.point).norm_squared();
+                let better = best.is_none_or(|(t, _, d)| {
+                    distance2 < d || (distance2 == d && triangle < t)
+                });
+                if better {
+                    best = Some((triangle, projection, distance2));
+                }
+            }
+            let (triangle, projection, distance2) = best?;
+            (distance2.sqrt() <= tolerance).then(|| Bond {
+                node,
+                area: areas[i],
+                triangle,
+                coordinates: Vector3::from(projection.barycentric),
+                normal: projection.normal,
+                history: 0.0,
+            })
+        })
+        .collect();
+    found.into_iter().flatten().collect()
+}
+
+/// The smallest distance from any of `nodes` to the `main` surface at the reference
+/// `positions` [m] (every node against every triangle: for the message when nothing
+/// bonds), infinite if there is no pair.
+pub fn closest_distance(nodes: &[u32], main: &ContactTarget, positions: &[Vector3<f64>]) -> f64 {
+    let placement = main.placement(0.0);
+    nodes
+        .par_iter()
+        .map(|&node| {
+            let x = positions[node as usize];
+            (0..main.triangles().len())
+                .filter(|&t| main.nodes(t).is_none_or(|ids| !ids.contains(&node)))
+                .map(|t| {
+                    let corners = main.corners(t, positions, &placement);
+                    (x - project_on_triangle(&x, &corners).point).norm()
+                })
+                .fold(f64::INFINITY, f64::min)
+        })
+        .reduce(|| f64::INFINITY, f64::min)
+}
+
+impl Bond {
+    /// The bonded point x_m = Σ ξ_k x_k of the triangle with `vertices` [m].
+    pub fn main_point(&self, vertices: &[Vector3<f64>; 3]) -> Vector3<f64> {
+        self.coordinates.x * vertices[0]
+            + self.coordinates.y * vertices[1]
+            + self.coordinates.z * vertices[2]
+    }
+
+    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m].
+    pub fn evaluate(
+        &self,
+        law: &CohesiveLaw,
+        vertices: &[Vector3<f64>; 3],
+        x: &Vector3<f64>,
+    ) -> BondState {
+        let [a, b, c] = vertices;
+        let rotation = frame(a, b, c, &self.normal);
+        let separation = rotation.transpose() * (x - self.main_point(vertices));
+        let response = law.evaluate(&separation, self.history);
+        let traction = rotation * response.traction;
+        BondState {
+            force: self.area * traction,
+            stiffness: self.area * rotation * response.tangent * rotation.transpose(),
+            traction: -traction,
+            separation,
+            history: response.history,
+            damage: response.damage,
+            energy: self.area * response.energy,
+        }
+    }
+}
+
+/// Evaluates every bond at nodal `positions` with the main placed by `placement` into
+/// `states` (one per bond), in parallel over fixed blocks of bonds: each state depends on
+/// its bond only, so the result does not depend on the number of threads.
+pub fn evaluate_all(
+    bonds: &[Bond],
+    law: &CohesiveLaw,
+    main: &ContactTarget,
+    positions: &[Vector3<f64>],
+    placement: &Isometry3<f64>,
+    states: &mut [BondState],
+) {
+    states
+        .par_iter_mut()
+        .zip(bonds.par_iter())
+        .with_min_len(512)
+        .for_each(|(state, bond)| {
+            let vertices = main.corners(bond.triangle as usize, positions, placement);
+            *state = bond.evaluate(law, &vertices, &positions[bond.node as usize]);
+        });
+}

@@ -1,0 +1,58 @@
+//! The local frame (n, s, t) of a main-surface triangle, in which the traction law acts.
+
+use nalgebra::{Matrix3, Vector3};
+
+/// The local frame of triangle (a, b, c) as the columns of a rotation R = [n s t]: the
+/// unit normal n = (b − a) × (c − a) / |·| (right-hand rule: out of the main body for
+/// faces ordered as [`musclefem_core::mesh::Mesh::face_nodes`] orders them), the first
+/// in-plane direction s along b − a, and t = n × s. A degenerate triangle (zero area)
+/// takes `fallback` as its normal.
+pub fn frame(
+    a: &Vector3<f64>,
+    b: &Vector3<f64>,
+    c: &Vector3<f64>,
+    fallback: &Vector3<f64>,
+) -> Matrix3<f64> {
+    let ab = b - a;
+    let cross = ab.cross(&(c - a));
+    let area2 = cross.norm();
+    let n = if area2 > 0.0 && area2.is_finite() {
+        cross / area2
+    } else {
+        *fallback
+    };
+    // b − a is in the plane; if degenerate, any direction normal to n.
+    let mut s = ab - n * n.dot(&ab);
+    if s.norm() <= 1e-300 {
+        s = n.cross(&if n.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        });
+    }
+    let s = s.normalize();
+    let t = n.cross(&s);
+    Matrix3::from_columns(&[n, s, t])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_frame_is_a_right_handed_rotation_with_the_face_normal() {
+        let r = frame(
+            &Vector3::new(0.0, 0.0, 1.0),
+            &Vector3::new(1.0, 0.0, 1.0),
+            &Vector3::new(0.0, 1.0, 1.0),
+            &Vector3::x(),
+        );
+        assert_eq!(Vector3::from(r.column(0)), Vector3::<f64>::z());
+        assert_eq!(Vector3::from(r.column(1)), Vector3::<f64>::x());
+        assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-15);
+        assert!((r.determinant() - 1.0).abs() < 1e-15);
+        let degenerate = frame(&Vector3::zeros(), &Vector3::zeros(), &Vector3::x(), &Vector3::y());
+        assert_eq!(Vector3::from(degenerate.column(0)), Vector3::<f64>::y());
+        assert!((degenerate.determinant() - 1.0).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,295 @@
+//! [`CohesiveInterface`]: a secondary surface bonded to a main surface (deformable or
+//! rigid) by the cohesive law, as an [`Interaction`] of the solvers.
+//!
+//! - Bonds form once, at construction (`bonds.rs`). In [`TangentialMode::Elastic`] a bond
+//!   is a material-point bond: its main triangle and barycentric coordinates stay fixed
+//!   for the run, so the shear separation is the relative displacement of two material
+//!   points. That is exact for a tie with elastic shear, and right while the surfaces
+//!   slide less than about a triangle; beyond that (tangential separations approaching
+//!   the main mesh size) the bonded point should be re-projected, which the elastic shear
+//!   law does not foresee (it would forget the shear separation). In
+//!   [`TangentialMode::FreeSlide`] the shear traction is zero and the bonded point slides:
+//!   every search moves it to the closest point of the main surface (`slide.rs`), so the
+//!   normal separation stays the distance to the surface however far the surfaces slide.
+//! - Forces (`bonds.rs`): f_s = A R t_law(Rᵀ δ) on the secondary node, −ξ_k f_s on the
+//!   nodes of a deformable main triangle.
+//! - Stiffness: the blocks ∂f/∂x of the node and the main triangle's nodes,
+//!   K = A R C Rᵀ times (1, −ξ_k) ⊗ (1, −ξ_l), holding the frame R of the main triangle
+//!   fixed. For a rigid main R depends on time only: the tangent is consistent. For a
+//!   deformable main the variation of R with the triangle's nodes is neglected; that term
+//!   vanishes in Elastic mode with K_nn = K_ss = K_tt while the bond is open (t = (1 − D) K δ
+//!   does not depend on the frame), and otherwise costs Newton its quadratic rate, not its
+//!   solution. For sliding bonds the variation of ξ is neglected too; at the closest point
+//!   it does not change the normal separation to first order.
+//! - [`Interaction::symmetric_stiffness`] is the law's: true in FreeSlide or with equal
+//!   stiffnesses (the default), false otherwise (mixed-mode softening couples unequal
+//!   stiffnesses asymmetrically).
+//! - [`Interaction::commit`] stores each bond's damage history κ: damage never heals, and
+//!   a trial that opens a bond further changes nothing until the step is accepted.
+
+use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
+use nalgebra::{Matrix3, Vector3};
+
+use super::bonds::{Bond, BondState, closest_distance, evaluate_all, form_bonds};
+use super::error::CohesiveError;
+use super::law::CohesiveLaw;
+use super::main_side::MainSide;
+use crate::surface::{ContactTarget, DeformableSurface};
+use super::settings::{CohesiveSettings, TangentialMode};
+use super::slide::{Neighbours, slide};
+
+/// A cohesive interface between two surfaces (see the module docs).
+#[derive(Debug, Clone)]
+pub struct CohesiveInterface {
+    name: String,
+    secondary: String,
+    law: CohesiveLaw,
+    main: ContactTarget,
+    bonds: Vec<Bond>,
+    states: Vec<BondState>,
+    /// Vertex rings of the main triangles, for sliding bonds (FreeSlide only).
+    neighbours: Option<Neighbours>,
+}
+
+impl CohesiveInterface {
+    /// The interface `name` bonding the nodes of the `secondary` surface to the `main`
+    /// surface (a [`DeformableSurface`] or a [`crate::RigidSurface`], placed at t = 0) of
+    /// `mesh`, with `settings`.
+    ///
+    /// Errors if the settings are invalid, a surface names a node not in `mesh`, or no
+    /// secondary node lies within the bond tolerance of the main surface
+    /// ([`CohesiveError::NoBond`], with the closest distance found).
+    pub fn new(
+        name: &str,
+        secondary: &DeformableSurface,
+        main: impl Into<ContactTarget>,
+        mesh: &Mesh,
+        settings: &CohesiveSettings,
+    ) -> Result<Self, CohesiveError> {
+        let main = main.into();
+        let law = CohesiveLaw::new(settings, name)?;
+        let positions: Vec<Vector3<f64>> =
+            (0..mesh.node_count()).map(|i| mesh.nodes.position(i)).collect();
+        let outside = |surface: &str, nodes: &[u32]| {
+            nodes
+                .iter()
+                .find(|&&n| n as usize >= positions.len())
+                .map_or(Ok(()), |node| {
+                    Err(CohesiveError::InvalidSurface {
+                        interface: name.to_string(),
+                        reason: format!(
+                            "node {node} of surface '{surface}' is not in the mesh ({} nodes)",
+                            positions.len()
+                        ),
+                    })
+                })
+        };
+        outside(&secondary.name, &secondary.nodes)?;
+        if let ContactTarget::Deformable(surface) = &main {
+            outside(&surface.name, surface.triangles.as_flattened())?;
+        }
+        let tolerance = settings.bond_tolerance;
+        let bonds = form_bonds(
+            &secondary.nodes,
+            &secondary.node_area,
+            &main,
+            &positions,
+            tolerance,
+        );
+        if bonds.is_empty() {
+            return Err(CohesiveError::NoBond {
+                interface: name.to_string(),
+                secondary: secondary.name.clone(),
+                main: main.name().to_string(),
+                nodes: secondary.nodes.len(),
+                tolerance,
+                closest: closest_distance(&secondary.nodes, &main, &positions),
+            });
+        }
+        let neighbours = (settings.tangential == TangentialMode::FreeSlide)
+            .then(|| Neighbours::new(main.triangles()));
+        Ok(CohesiveInterface {
+            name: name.to_string(),
+            secondary: secondary.name.clone(),
+            law,
+            states: vec![BondState::default(); bonds.len()],
+            main,
+            bonds,
+            neighbours,
+        })
+    }
+
+    /// The names of the secondary and main surfaces.
+    pub fn surfaces(&self) -> (&str, &str) {
+        (&self.secondary, self.main.name())
+    }
+
+    /// The law.
+    pub fn law(&self) -> &CohesiveLaw {
+        &self.law
+    }
+
+    /// Number of bonds (secondary nodes bonded at the start).
+    pub fn bond_count(&self) -> usize {
+        self.bonds.len()
+    }
+
+    /// Total tributary area of the bonds [m²].
+    pub fn bonded_reference_area(&self) -> f64 {
+        self.bonds.iter().map(|b| b.area).sum()
+    }
+
+    /// The bonded secondary nodes, in bond order.
+    pub fn bonded_nodes(&self) -> impl Iterator<Item = u32> + '_ {
+        self.bonds.iter().map(|b| b.node)
+    }
+
+    /// Per bond at the last force evaluation: (secondary node, local separation
+    /// (δ_n, δ_s, δ_t) [m], damage D).
+    pub fn bond_states(&self) -> impl Iterator<Item = (u32, Vector3<f64>, f64)> + '_ {
+        self.bonds
+            .iter()
+            .zip(&self.states)
+            .map(|(b, s)| (b.node, s.separation, s.damage))
+    }
+
+    /// The stiffness blocks of one bond: `add(a, b, K_ab)` over the secondary node and the
+    /// main triangle's nodes, skipping zero coefficients.
+    fn bond_stiffness(
+        &self,
+        bond: &Bond,
+        state: &BondState,
+        add: &mut dyn FnMut(u32, u32, &Matrix3<f64>),
+    ) {
+        let mut rows = [(bond.node, 1.0); 4];
+        let mut count = 1;
+        if let Some(nodes) = self.main.nodes(bond.triangle as usize) {
+            for (node, xi) in nodes.iter().zip(bond.coordinates.iter()) {
+                if *xi != 0.0 {
+                    rows[count] = (*node, -xi);
+                    count += 1;
+                }
+            }
+        }
+        for &(a, ca) in &rows[..count] {
+            for &(b, cb) in &rows[..count] {
+                add(a, b, &(ca * cb * state.stiffness));
+            }
+        }
+    }
+}
+
+impl Interaction for CohesiveInterface {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Sliding bonds (FreeSlide) move to the closest point of the main surface; material-
+    /// point bonds (Elastic) have nothing to search.
+    fn search(&mut self, time: f64, positions: &[Vector3<f64>]) -> Result<(), SolverError> {
+        if let Some(neighbours) = &self.neighbours {
+            let placement = self.main.placement(time);
+            for bond in &mut self.bonds {
+                slide(bond, &self.main, neighbours, positions, &placement);
+            }
+        }
+        Ok(())
+    }
+
+    fn forces(
+        &mut self,
+        time: f64,
+        positions: &[Vector3<f64>],
+        _with_stiffness: bool,
+        force: &mut [Vector3<f64>],
+    ) -> Result<(), SolverError> {
+        let placement = self.main.placement(time);
+        evaluate_all(
+            &self.bonds,
+            &self.law,
+            &self.main,
+            positions,
+            &placement,
+            &mut self.states,
+        );
+        for (bond, state) in self.bonds.iter().zip(&self.states) {
+            force[bond.node as usize] += state.force;
+            if let Some(nodes) = self.main.nodes(bond.triangle as usize) {
+                for (node, xi) in nodes.iter().zip(bond.coordinates.iter()) {
+                    force[*node as usize] -= *xi * state.force;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn stiffness(&self, add: &mut dyn FnMut(u32, u32, &Matrix3<f64>)) {
+        for (bond, state) in self.bonds.iter().zip(&self.states) {
+            self.bond_stiffness(bond, state, add);
+        }
+    }
+
+    fn symmetric_stiffness(&self) -> bool {
+        self.law.has_symmetric_tangent()
+    }
+
+    fn commit(&mut self) {
+        for (bond, state) in self.bonds.iter_mut().zip(&self.states) {
+            bond.history = state.history;
+        }
+    }
+
+    /// `force`: the force the interface exerts on the secondary surface, Σ −f_s [N] (for a
+    /// rigid main, the resultant on all nodes; for a deformable main the main surface
+    /// takes the opposite); `active_points`/`active_area`: bonds carrying a traction and
+    /// their reference area; `bonded_area`: reference area of the bonds not failed
+    /// (D < 1); `stored_energy`: Σ A ½ t·δ [J].
+    fn report(&self) -> InteractionReport {
+        let mut report = InteractionReport {
+            name: self.name.clone(),
+            ..InteractionReport::default()
+        };
+        for (bond, state) in self.bonds.iter().zip(&self.states) {
+            report.force -= state.force;
+            if state.force != Vector3::zeros() {
+                report.active_points += 1;
+                report.active_area += bond.area;
+            }
+            if state.damage < 1.0 {
+                report.bonded_area += bond.area;
+            }
+            report.stored_energy += state.energy;
+        }
+        report
+    }
+
+    /// `cohesive_traction`: the traction on the secondary surface [Pa] (3 per node, the
+    /// force per reference area that the interface exerts on the node: toward the main
+    /// surface in tension); `cohesive_damage`: D (1 per node). Zero off the bonded nodes.
+    fn nodal_fields(&self, node_count: usize) -> Vec<NodalField> {
+        let mut traction = vec![0.0; 3 * node_count];
+        let mut damage = vec![0.0; node_count];
+        for (bond, state) in self.bonds.iter().zip(&self.states) {
+            let n = bond.node as usize;
+            traction[3 * n..3 * n + 3].copy_from_slice(state.traction.as_slice());
+            damage[n] = state.damage;
+        }
+        vec![
+            NodalField {
+                name: "cohesive_traction".to_string(),
+                components: 3,
+                values: traction,
+            },
+            NodalField {
+                name: "cohesive_damage".to_string(),
+                components: 1,
+                values: damage,
+            },
+        ]
+    }
+}
+
+#[cfg(test)]
+#[path = "interface_tests.rs"]
+mod tests;

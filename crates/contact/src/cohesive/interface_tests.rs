@@ -1,0 +1,262 @@
+//! The interface's forces, stiffness, commit and report on single bonds.
+
+use musclefem_core::mesh::{Mesh, Nodes};
+use musclefem_core::solver::{Interaction, RigidMotion, RigidRotation};
+use musclefem_materials::Amplitude;
+use nalgebra::{DMatrix, Matrix3, Unit, Vector3};
+
+use super::*;
+use crate::rigid_surface::RigidSurface;
+
+fn settings(tangential: TangentialMode) -> CohesiveSettings {
+    CohesiveSettings {
+        normal_stiffness: 1e3,
+        shear_stiffness: 1e3,
+        tangential_stiffness: 1e3,
+        initiation_separation: 0.01,
+        failure_separation: 0.03,
+        tangential,
+        bond_tolerance: 1e-6,
+    }
+}
+
+/// Main triangle nodes 0, 1, 2 on z = 0, secondary node 3 on it at (0.3, 0.2, 0), and
+/// nodes 4, 5 of the secondary triangle [3, 4, 5], away from the main triangle (they do
+/// not bond). Node 3's tributary area is a third of that triangle's 1.5 m², 0.5 m².
+fn reference() -> Vec<Vector3<f64>> {
+    vec![
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(0.3, 0.2, 0.0),
+        Vector3::new(0.9, 0.2, 0.8),
+        Vector3::new(0.3, 3.2, 0.0),
+    ]
+}
+
+fn mesh(points: &[Vector3<f64>]) -> Mesh {
+    let mut nodes = Nodes::new();
+    for p in points {
+        nodes.push(*p);
+    }
+    Mesh::new(nodes, vec![])
+}
+
+fn surfaces(mesh: &Mesh) -> (DeformableSurface, DeformableSurface) {
+    let top = DeformableSurface::from_triangles(mesh, "top", vec![[3, 4, 5]]).unwrap();
+    let bottom = DeformableSurface::from_triangles(mesh, "bottom", vec![[0, 1, 2]]).unwrap();
+    (top, bottom)
+}
+
+fn deformable(settings: &CohesiveSettings) -> CohesiveInterface {
+    let mesh = mesh(&reference());
+    let (top, bottom) = surfaces(&mesh);
+    let interface = CohesiveInterface::new("glue", &top, bottom, &mesh, settings).unwrap();
+    assert_eq!(interface.bond_count(), 1);
+    assert!((interface.bonded_reference_area() - 0.5).abs() < 1e-14);
+    interface
+}
+
+fn all_forces(interface: &mut CohesiveInterface, time: f64, x: &[Vector3<f64>]) -> Vec<f64> {
+    let mut force = vec![Vector3::zeros(); x.len()];
+    interface.search(time, x).unwrap();
+    interface.forces(time, x, true, &mut force).unwrap();
+    force.iter().flat_map(|f| f.iter().copied()).collect()
+}
+
+/// The assembled stiffness against central differences of the forces.
+fn check_stiffness(interface: &mut CohesiveInterface, time: f64, x: &[Vector3<f64>]) {
+    let n = 3 * x.len();
+    all_forces(interface, time, x);
+    let mut k = DMatrix::<f64>::zeros(n, n);
+    interface.stiffness(&mut |a, b, block: &Matrix3<f64>| {
+        for i in 0..3 {
+            for j in 0..3 {
+                k[(3 * a as usize + i, 3 * b as usize + j)] += block[(i, j)];
+            }
+        }
+    });
+    let h = 1e-7;
+    let scale = k.amax();
+    for column in 0..n {
+        let mut plus = x.to_vec();
+        let mut minus = x.to_vec();
+        plus[column / 3][column % 3] += h;
+        minus[column / 3][column % 3] -= h;
+        let fp = all_forces(interface, time, &plus);
+        let fm = all_forces(interface, time, &minus);
+        for row in 0..n {
+            let fd = (fp[row] - fm[row]) / (2.0 * h);
+            assert!(
+                (fd - k[(row, column)]).abs() <= 1e-6 * scale,
+                "K[{row}][{column}] = {} vs {fd}",
+                k[(row, column)]
+            );
+        }
+    }
+}
+
+#[test]
+fn an_opened_bond_pulls_its_node_back_and_the_main_nodes_take_the_reaction() {
+    let mut interface = deformable(&settings(TangentialMode::Elastic));
+    let mut x = reference();
+    x[3].z += 0.004;
+    let f = all_forces(&mut interface, 0.0, &x);
+    // f_s = A K δ n = 0.5 × 1e3 × 0.004 along +z (it enters like an internal force).
+    assert!((f[11] - 2.0).abs() < 1e-12);
+    // Reactions −ξ f_s, ξ = (0.5, 0.3, 0.2).
+    assert!((f[2] + 1.0).abs() < 1e-12 && (f[5] + 0.6).abs() < 1e-12);
+    assert!((f[8] + 0.4).abs() < 1e-12);
+    let report = interface.report();
+    assert!((report.force - Vector3::new(0.0, 0.0, -2.0)).norm() < 1e-12);
+    assert_eq!(report.active_points, 1);
+    assert!((report.active_area - 0.5).abs() < 1e-14);
+    assert!((report.stored_energy - 0.5 * 0.5 * 1e3 * 0.004 * 0.004).abs() < 1e-15);
+    let fields = interface.nodal_fields(4);
+    assert_eq!(fields[0].name, "cohesive_traction");
+    let traction = Vector3::from_column_slice(&fields[0].values[9..12]);
+    assert!((traction - Vector3::new(0.0, 0.0, -4.0)).norm() < 1e-12);
+    assert!(fields[0].values[..9].iter().all(|&v| v == 0.0));
+}
+
+#[test]
+fn damage_waits_for_commit_and_never_heals() {
+    let mut interface = deformable(&settings(TangentialMode::Elastic));
+    let mut x = reference();
+    x[3].z += 0.02;
+    all_forces(&mut interface, 0.0, &x);
+    // D(0.02) = 0.03 × 0.01 / (0.02 × 0.02) = 0.75; a trial is not committed.
+    assert!((interface.bond_states().next().unwrap().2 - 0.75).abs() < 1e-14);
+    x[3].z = 0.005;
+    all_forces(&mut interface, 0.0, &x);
+    assert_eq!(interface.bond_states().next().unwrap().2, 0.0);
+    x[3].z = 0.02;
+    all_forces(&mut interface, 0.0, &x);
+    interface.commit();
+    x[3].z = 0.005;
+    let f = all_forces(&mut interface, 0.0, &x);
+    assert!((f[11] - 0.25 * 0.5 * 1e3 * 0.005).abs() < 1e-12);
+    assert!((interface.report().bonded_area - 0.5).abs() < 1e-15);
+    x[3].z = 0.04;
+    all_forces(&mut interface, 0.0, &x);
+    interface.commit();
+    assert_eq!(interface.report().bonded_area, 0.0);
+    // Failed, pressed: the normal stiffness still resists.
+    x[3].z = -0.001;
+    let f = all_forces(&mut interface, 0.0, &x);
+    assert!((f[11] + 0.5 * 1e3 * 0.001).abs() < 1e-12);
+}
+
+#[test]
+fn the_stiffness_is_consistent_with_a_deformable_main_in_elastic_opening() {
+    let mut interface = deformable(&settings(TangentialMode::Elastic));
+    let mut x = reference();
+    // The main triangle moved, tilted and stretched; the node opened into softening.
+    x[0] += Vector3::new(0.01, -0.02, 0.005);
+    x[1] += Vector3::new(0.03, 0.01, 0.1);
+    x[2] += Vector3::new(-0.02, 0.04, -0.05);
+    x[3] += Vector3::new(0.008, -0.006, 0.012);
+    check_stiffness(&mut interface, 0.0, &x);
+    // Unloading after damage (secant).
+    all_forces(&mut interface, 0.0, &x);
+    interface.commit();
+    x[3] -= Vector3::new(0.002, 0.0, 0.006);
+    check_stiffness(&mut interface, 0.0, &x);
+}
+
+fn rigid(tangential: TangentialMode, stiffness: [f64; 3]) -> CohesiveInterface {
+    let ramp = |v| Some(Amplitude::ramp(1.0, v).unwrap());
+    let motion = RigidMotion {
+        translation: [ramp(0.01), None, ramp(-0.02)],
+        rotation: Some(RigidRotation {
+            center: Vector3::new(0.2, 0.1, 0.0),
+            axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.3)),
+            angle: Amplitude::ramp(1.0, 0.4).unwrap(),
+        }),
+    };
+    let femur = RigidSurface::new("femur", reference()[..3].to_vec(), vec![[0, 1, 2]])
+        .unwrap()
+        .with_motion(motion);
+    let [kn, ks, kt] = stiffness;
+    let s = CohesiveSettings {
+        normal_stiffness: kn,
+        shear_stiffness: ks,
+        tangential_stiffness: kt,
+        ..settings(tangential)
+    };
+    // The secondary node 0 at (0.3, 0.2, 0) with 0.7 m² (a third of 2.1 m²); nodes 1 and
+    // 2 away from the main triangle.
+    let mut points = interface_mesh_positions();
+    points[0] = Vector3::new(0.3, 0.2, 0.0);
+    let mesh = mesh(&points);
+    let muscle = DeformableSurface::from_triangles(&mesh, "muscle", vec![[0, 1, 2]]).unwrap();
+    let interface = CohesiveInterface::new("bone", &muscle, femur, &mesh, &s).unwrap();
+    assert!((interface.bonded_reference_area() - 0.7).abs() < 1e-14);
+    interface
+}
+
+#[test]
+fn the_stiffness_is_consistent_with_a_rigid_main_in_every_mode() {
+    for (mode, k) in [
+        (TangentialMode::Elastic, [1e3, 1e3, 1e3]),
+        (TangentialMode::Elastic, [1e3, 4e2, 7e2]),
+        (TangentialMode::FreeSlide, [1e3, 4e2, 7e2]),
+    ] {
+        let mut interface = rigid(mode, k);
+        assert_eq!(
+            interface.symmetric_stiffness(),
+            mode == TangentialMode::FreeSlide || k[0] == k[1]
+        );
+        // Where the bonded point goes at t = 0.6, plus a separation in softening.
+        let placement = interface.main.placement(0.6);
+        let point = placement * nalgebra::Point3::new(0.3, 0.2, 0.0);
+        let mut x = interface_mesh_positions();
+        x[0] = point.coords + Vector3::new(0.006, 0.009, 0.011);
+        check_stiffness(&mut interface, 0.6, &x);
+    }
+}
+
+#[test]
+fn a_rigid_main_follows_its_motion() {
+    let mut interface = rigid(TangentialMode::Elastic, [1e3; 3]);
+    let placement = interface.main.placement(1.0);
+    let point = placement * nalgebra::Point3::new(0.3, 0.2, 0.0);
+    let normal = placement * Vector3::z();
+    let mut x = interface_mesh_positions();
+    x[0] = point.coords + 0.004 * normal;
+    let f = all_forces(&mut interface, 1.0, &x);
+    let expected = 0.7 * 1e3 * 0.004 * normal;
+    assert!((Vector3::from_column_slice(&f[..3]) - expected).norm() < 1e-12);
+    assert!(f[3..].iter().all(|&v| v == 0.0));
+    let (_, separation, _) = interface.bond_states().next().unwrap();
+    assert!((separation - Vector3::new(0.004, 0.0, 0.0)).norm() < 1e-15);
+}
+
+/// The positions of the rigid cases' mesh (3 nodes).
+fn interface_mesh_positions() -> Vec<Vector3<f64>> {
+    vec![
+        Vector3::zeros(),
+        Vector3::new(0.9, 0.2, 0.8),
+        Vector3::new(0.3, 4.4, 0.0),
+    ]
+}
+
+#[test]
+fn nothing_within_the_tolerance_is_an_error_naming_the_interface_and_surfaces() {
+    let mut x = reference();
+    x[3].z = 0.01;
+    let mesh = mesh(&x);
+    let (top, bottom) = surfaces(&mesh);
+    let error = CohesiveInterface::new(
+        "glue",
+        &top,
+        bottom,
+        &mesh,
+        &settings(TangentialMode::Elastic),
+    )
+    .unwrap_err()
+    .to_string();
+    for part in ["'glue'", "'top'", "'bottom'", "1.000e-6 m", "1.000e-2 m"] {
+        assert!(error.contains(part), "{error}");
+    }
+}
