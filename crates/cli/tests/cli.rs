@@ -5,8 +5,7 @@ mod run;
 
 use run::{musclefem, test_dir, text};
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 const HEADER: &str = "time_s,stretch,engineering_stress_pa,cauchy_stress_pa,jacobian";
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";

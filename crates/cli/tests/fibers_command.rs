@@ -6,8 +6,7 @@ mod support;
 
 use support::run::{musclefem, test_dir, text};
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use musclefem_core::mesh::generate::{TetOrder, box_of_tets};
 use musclefem_io::csv::read_table;

@@ -6,8 +6,7 @@ mod run;
 
 use run::{example, musclefem, test_dir, text};
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use musclefem_io::csv::read_table;
 use musclefem_io::output::read_pvd;

@@ -6,8 +6,7 @@ mod run;
 use run::{example, musclefem, test_dir, text};
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use musclefem_io::csv::read_table;
