@@ -16,8 +16,8 @@ mod cohesive_common;
 use std::time::Instant;
 
 use cohesive_common::{
-    BoxSpec, Recorder, area_sum, block_nodes, facing_pairs, held, mode_one_traction,
-    neo_hookean, openings, pair_areas, ramped, spread, two_boxes,
+    BoxSpec, Recorder, area_sum, block_nodes, facing_pairs, held, mode_one_traction, neo_hookean,
+    openings, pair_areas, ramped, spread, two_boxes,
 };
 use musclefem_contact::{
     CohesiveError, CohesiveInterface, CohesiveSettings, DeformableSurface, RigidSurface,
@@ -136,7 +136,11 @@ fn stacked_blocks_pulled_apart_follow_the_law_through_softening_to_failure() {
     }
     let last = result.history.last().unwrap();
     let final_openings = openings(&mesh, &pairs, &result.displacement);
-    assert!(final_openings.iter().all(|&d| d > settings.failure_separation));
+    assert!(
+        final_openings
+            .iter()
+            .all(|&d| d > settings.failure_separation)
+    );
     assert_eq!(last.interactions[0].bonded_area, 0.0);
     assert!(softening_rows >= 25, "{softening_rows}");
     eprintln!(
@@ -300,8 +304,9 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
         let delta = area_sum(&bottom.node_area, &gaps, |d| d) / AREA;
         // The top's reaction: the traction times the area (the block is in tension).
         let traction = row.reactions[0] / AREA;
-        let expected =
-            area_sum(&bottom.node_area, &gaps, |d| mode_one_traction(&settings, d)) / AREA;
+        let expected = area_sum(&bottom.node_area, &gaps, |d| {
+            mode_one_traction(&settings, d)
+        }) / AREA;
         let error = (traction - expected).abs() / settings.strength();
         worst = worst.max(error);
         assert!(
@@ -312,7 +317,10 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
         let report = &row.interactions[0];
         assert!((report.force.z + traction * AREA).abs() <= 1e-8 * settings.strength() * AREA);
     }
-    assert_eq!(result.history.last().unwrap().interactions[0].bonded_area, 0.0);
+    assert_eq!(
+        result.history.last().unwrap().interactions[0].bonded_area,
+        0.0
+    );
     eprintln!(
         "rigid plane, {tangential:?}, ν = {poisson}: {} steps, |t − t_law|/σ_max ≤ \
          {worst:.2e}; {:.2} s",

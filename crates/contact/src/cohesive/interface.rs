@@ -35,9 +35,9 @@ use super::bonds::{Bond, BondState, closest_distance, evaluate_all, form_bonds};
 use super::error::CohesiveError;
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
-use crate::surface::{ContactTarget, DeformableSurface};
 use super::settings::{CohesiveSettings, TangentialMode};
 use super::slide::{Neighbours, slide};
+use crate::surface::{ContactTarget, DeformableSurface};
 
 /// A cohesive interface between two surfaces (see the module docs).
 #[derive(Debug, Clone)]
@@ -69,8 +69,9 @@ impl CohesiveInterface {
     ) -> Result<Self, CohesiveError> {
         let main = main.into();
         let law = CohesiveLaw::new(settings, name)?;
-        let positions: Vec<Vector3<f64>> =
-            (0..mesh.node_count()).map(|i| mesh.nodes.position(i)).collect();
+        let positions: Vec<Vector3<f64>> = (0..mesh.node_count())
+            .map(|i| mesh.nodes.position(i))
+            .collect();
         let outside = |surface: &str, nodes: &[u32]| {
             nodes
                 .iter()
@@ -154,27 +155,32 @@ impl CohesiveInterface {
             .map(|(b, s)| (b.node, s.separation, s.damage))
     }
 
-    /// The stiffness blocks of one bond: `add(a, b, K_ab)` over the secondary node and the
-    /// main triangle's nodes, skipping zero coefficients.
+    /// The stiffness blocks of one bond, `add(a, b, K_ab)`, skipping zero blocks: with
+    /// f_s the force on the secondary node s and f_k = −ξ_k f_s on main corner k,
+    /// K_sj = ∂f_s/∂x_j (`coupling`) and K_kj = −f_s ⊗ ∂ξ_k/∂x_j − ξ_k K_sj, over
+    /// j = s and the corners.
     fn bond_stiffness(
         &self,
         bond: &Bond,
         state: &BondState,
         add: &mut dyn FnMut(u32, u32, &Matrix3<f64>),
     ) {
-        let mut rows = [(bond.node, 1.0); 4];
-        let mut count = 1;
-        if let Some(nodes) = self.main.nodes(bond.triangle as usize) {
-            for (node, xi) in nodes.iter().zip(bond.coordinates.iter()) {
-                if *xi != 0.0 {
-                    rows[count] = (*node, -xi);
-                    count += 1;
-                }
+        let mut add_nonzero = |a: u32, b: u32, k: &Matrix3<f64>| {
+            if k.iter().any(|&v| v != 0.0) {
+                add(a, b, k);
             }
-        }
-        for &(a, ca) in &rows[..count] {
-            for &(b, cb) in &rows[..count] {
-                add(a, b, &(ca * cb * state.stiffness));
+        };
+        let Some(corners) = self.main.nodes(bond.triangle as usize) else {
+            add_nonzero(bond.node, bond.node, &state.coupling[0]);
+            return;
+        };
+        let nodes = [bond.node, corners[0], corners[1], corners[2]];
+        for (j, &column) in nodes.iter().enumerate() {
+            add_nonzero(bond.node, column, &state.coupling[j]);
+            for k in 0..3 {
+                let shift = state.force * state.coordinate_gradients[j].row(k);
+                let block = -shift - state.coordinates[k] * state.coupling[j];
+                add_nonzero(corners[k], column, &block);
             }
         }
     }
@@ -211,12 +217,13 @@ impl Interaction for CohesiveInterface {
             &self.main,
             positions,
             &placement,
+            self.neighbours.is_some(),
             &mut self.states,
         );
         for (bond, state) in self.bonds.iter().zip(&self.states) {
             force[bond.node as usize] += state.force;
             if let Some(nodes) = self.main.nodes(bond.triangle as usize) {
-                for (node, xi) in nodes.iter().zip(bond.coordinates.iter()) {
+                for (node, xi) in nodes.iter().zip(state.coordinates.iter()) {
                     force[*node as usize] -= *xi * state.force;
                 }
             }

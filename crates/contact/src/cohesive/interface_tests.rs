@@ -260,3 +260,113 @@ fn nothing_within_the_tolerance_is_an_error_naming_the_interface_and_surfaces() 
         assert!(error.contains(part), "{error}");
     }
 }
+
+/// A fixed rigid pyramid: apex (0, 0, 0.3) over the square (±1, ±1, 0), four faces
+/// facing up and out; its apex and the edges to it are interior.
+fn pyramid() -> RigidSurface {
+    let vertices = vec![
+        Vector3::new(-1.0, -1.0, 0.0),
+        Vector3::new(1.0, -1.0, 0.0),
+        Vector3::new(1.0, 1.0, 0.0),
+        Vector3::new(-1.0, 1.0, 0.0),
+        Vector3::new(0.0, 0.0, 0.3),
+    ];
+    let triangles = (0..4u32).map(|i| [i, (i + 1) % 4, 4]).collect();
+    RigidSurface::new("pyramid", vertices, triangles).unwrap()
+}
+
+#[test]
+fn sliding_bonds_have_a_consistent_stiffness_over_faces_edges_and_vertices() {
+    let apex = Vector3::new(0.0, 0.0, 0.3);
+    let mut points = interface_mesh_positions();
+    points[0] = apex;
+    let mesh = mesh(&points);
+    let muscle = DeformableSurface::from_triangles(&mesh, "muscle", vec![[0, 1, 2]]).unwrap();
+    let mut interface = CohesiveInterface::new(
+        "slide",
+        &muscle,
+        pyramid(),
+        &mesh,
+        &settings(TangentialMode::FreeSlide),
+    )
+    .unwrap();
+    let face_normal = |i: usize| {
+        let p = pyramid();
+        let [a, b, c] = p.triangles[i].map(|v| p.vertices[v as usize]);
+        (b - a).cross(&(c - a)).normalize()
+    };
+    let edge_midpoint = 0.5 * (apex + Vector3::new(1.0, -1.0, 0.0));
+    let bisector = (face_normal(0) + face_normal(1)).normalize();
+    let centroid = (Vector3::new(-1.0, -1.0, 0.0) + Vector3::new(1.0, -1.0, 0.0) + apex) / 3.0;
+    // Gaps of 15 mm (softening), and 5 mm (elastic), over the three features.
+    for gap in [0.015, 0.005] {
+        for (feature, x) in [
+            ("face", centroid + gap * face_normal(0)),
+            ("edge", edge_midpoint + gap * bisector),
+            (
+                "vertex",
+                apex + gap * Vector3::new(0.05, 0.1, 1.0).normalize(),
+            ),
+        ] {
+            let mut positions = interface_mesh_positions();
+            positions[0] = x;
+            let f = all_forces(&mut interface, 0.0, &positions);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!(
+                (separation.x - gap).abs() < 1e-12,
+                "{feature}: {separation:?}"
+            );
+            let corners = pyramid().triangles[interface.bonds[0].triangle as usize]
+                .map(|v| pyramid().vertices[v as usize]);
+            let found = match crate::projection::project_on_triangle(&x, &corners).feature {
+                crate::projection::Feature::Face => "face",
+                crate::projection::Feature::Edge(_) => "edge",
+                crate::projection::Feature::Vertex(_) => "vertex",
+            };
+            assert_eq!(found, feature);
+            // The force pulls the node straight back towards the closest point.
+            let expected = mode_one(gap) * interface.bonded_reference_area();
+            assert!((Vector3::from_column_slice(&f[..3]).norm() - expected).abs() < 1e-9);
+            check_stiffness(&mut interface, 0.0, &positions);
+        }
+    }
+}
+
+/// The normal traction of [`settings`] in monotonic opening [Pa].
+fn mode_one(opening: f64) -> f64 {
+    let s = settings(TangentialMode::FreeSlide);
+    if opening <= s.initiation_separation {
+        s.normal_stiffness * opening
+    } else {
+        s.normal_stiffness * s.initiation_separation * (s.failure_separation - opening)
+            / (s.failure_separation - s.initiation_separation)
+    }
+}
+
+#[test]
+fn sliding_bonds_on_a_deformable_face_have_the_full_consistent_stiffness() {
+    let mut interface = deformable(&settings(TangentialMode::FreeSlide));
+    let mut x = reference();
+    // The main triangle moved, tilted and stretched.
+    x[0] += Vector3::new(0.01, -0.02, 0.005);
+    x[1] += Vector3::new(0.03, 0.01, 0.1);
+    x[2] += Vector3::new(-0.02, 0.04, -0.05);
+    let [a, b, c] = [x[0], x[1], x[2]];
+    let n = (b - a).cross(&(c - a)).normalize();
+    let centroid = (a + b + c) / 3.0;
+    // Openings far beyond the triangle's size matter most: the lever arm g/h.
+    for gap in [0.005, 0.015] {
+        let offset = Vector3::new(0.05, -0.03, 0.0);
+        x[3] = centroid + offset - offset.dot(&n) * n + gap * n;
+        let f = all_forces(&mut interface, 0.0, &x);
+        let (_, separation, _) = interface.bond_states().next().unwrap();
+        assert!((separation.x - gap).abs() < 1e-12);
+        // Action and reaction balance.
+        let total: Vector3<f64> = (0..4)
+            .map(|i| Vector3::from_column_slice(&f[3 * i..3 * i + 3]))
+            .sum();
+        assert!(total.norm() < 1e-12);
+        check_stiffness(&mut interface, 0.0, &x);
+    }
+    assert!(interface.symmetric_stiffness());
+}

@@ -16,6 +16,7 @@ pub mod law;
 mod main_side;
 pub mod settings;
 mod slide;
+mod slide_tangent;
 
 pub use error::CohesiveError;
 pub use interface::CohesiveInterface;

@@ -8,12 +8,28 @@
 //!
 //! The bond (its node, area and damage) stays with the secondary node: the damage of a
 //! bond is that of the secondary surface's patch, wherever it slides.
+//!
+//! A sliding bond's separation is the signed gap g to its triangle (re-projected at every
+//! force evaluation, so line-search trials see the gap of their positions) and its
+//! traction acts along the direction ν of the gap ([`evaluate_sliding`]): the triangle's
+//! normal n over the face, the unit vector from the closest point to the node over an
+//! interior edge or vertex (the gradient of the distance, continuous across a convex
+//! edge, so a node sliding over it feels a force that turns smoothly), and n again past
+//! the rim of an open surface: there the node keeps the plane of its rim triangle, g is
+//! its distance to that plane and it is not pulled sideways back to the rim; its reaction
+//! acts at the closest rim point, so forces balance but a node that overhangs the rim by
+//! d leaves a couple d × f_s unbalanced (projecting on the plane past the rim balances it
+//! but hands the corners reactions growing like d/h, which tipped the rim triangles over
+//! in the tests). Across a concave edge the closest point jumps between the faces, and so
+//! does the direction of the force.
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Vector3};
 
-use super::bonds::Bond;
+use super::bonds::{Bond, BondState, point_coupling};
+use super::law::CohesiveLaw;
 use super::main_side::MainSide;
-use crate::projection::project_on_triangle;
+use super::slide_tangent::face_tangent;
+use crate::projection::{Feature, project_on_triangle};
 use crate::surface::ContactTarget;
 
 /// Rings a walk may cross per search.
@@ -90,7 +106,10 @@ pub fn slide(
     for _ in 0..MAX_HOPS {
         let mut best = current;
         for &other in neighbours.of(current) {
-            if main.nodes(other as usize).is_some_and(|n| n.contains(&bond.node)) {
+            if main
+                .nodes(other as usize)
+                .is_some_and(|n| n.contains(&bond.node))
+            {
                 continue;
             }
             let (xi, d2) = project(other as usize);
@@ -107,6 +126,75 @@ pub fn slide(
     }
     bond.triangle = current as u32;
     bond.coordinates = coordinates;
+}
+
+/// The sliding `bond` at secondary position `x` [m], its triangle at `corners` [m] with
+/// the rim bits `rim` (see the module docs): f_s = A t_n(g) ν. Over the face, the full
+/// linearization with the turning of the triangle and the shift of the closest point
+/// (`slide_tangent.rs`). Elsewhere ∂f_s/∂x_s = A (C_nn ν⊗ν + (t_n/g) P) with
+/// P = I − ν⊗ν − e⊗e over an interior edge of direction e, I − ν⊗ν over an interior vertex
+/// (the turning of ν) and 0 past the rim, and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s for the corners
+/// (the turning of a deformable main's triangle and the shift of the closest point are
+/// left out there).
+pub fn evaluate_sliding(
+    bond: &Bond,
+    law: &CohesiveLaw,
+    corners: &[Vector3<f64>; 3],
+    rim: u8,
+    x: &Vector3<f64>,
+) -> BondState {
+    let projection = project_on_triangle(x, corners);
+    let on_rim = |bits: u8| rim & bits != 0;
+    let interior = match projection.feature {
+        Feature::Face => None,
+        Feature::Edge(i) if !on_rim(1 << i) => {
+            let e = (corners[(i as usize + 1) % 3] - corners[i as usize]).normalize();
+            Some(-e * e.transpose())
+        }
+        Feature::Vertex(i) if !on_rim((1 << i) | (1 << ((i + 2) % 3))) => Some(Matrix3::zeros()),
+        _ => None,
+    };
+    let (gap, direction, coordinates, turning) = match interior {
+        Some(along_edge) => {
+            let nu = projection.direction;
+            let turning = Matrix3::identity() - nu * nu.transpose() + along_edge;
+            let coordinates = Vector3::from(projection.barycentric);
+            (projection.gap, nu, coordinates, Some(turning))
+        }
+        // The face, or past the rim (the plane of the rim triangle).
+        None => {
+            let n = projection.normal;
+            let coordinates = Vector3::from(projection.barycentric);
+            let gap = (x - projection.point).dot(&n);
+            let rim = (projection.feature != Feature::Face).then(Matrix3::zeros);
+            (gap, n, coordinates, rim)
+        }
+    };
+    let response = law.evaluate(&Vector3::new(gap, 0.0, 0.0), bond.history);
+    let traction = response.traction.x;
+    let tangent = response.tangent[(0, 0)];
+    let (coupling, coordinate_gradients) = match turning {
+        None => {
+            let (force, slope) = (bond.area * traction, bond.area * tangent);
+            face_tangent(corners, &coordinates, &direction, gap, force, slope)
+        }
+        Some(turning) => {
+            let secant = if gap != 0.0 { traction / gap } else { tangent };
+            let node = bond.area * (tangent * direction * direction.transpose() + secant * turning);
+            (point_coupling(&node, &coordinates), [Matrix3::zeros(); 4])
+        }
+    };
+    BondState {
+        force: bond.area * traction * direction,
+        coupling,
+        coordinate_gradients,
+        traction: -traction * direction,
+        separation: Vector3::new(gap, 0.0, 0.0),
+        coordinates,
+        history: response.history,
+        damage: response.damage,
+        energy: bond.area * response.energy,
+    }
 }
 
 #[cfg(test)]
@@ -128,7 +216,9 @@ mod tests {
                 [[a, b, c], [a, c, d]]
             })
             .collect();
-        RigidSurface::new("strip", vertices, triangles).unwrap().into()
+        RigidSurface::new("strip", vertices, triangles)
+            .unwrap()
+            .into()
     }
 
     #[test]
@@ -148,10 +238,19 @@ mod tests {
         };
         // Slide 13.5 units along x: the walk crosses the strip in one search.
         positions[node as usize] = Vector3::new(13.7, 0.6, 0.5);
-        slide(&mut bond, &main, &neighbours, &positions, &Isometry3::identity());
+        slide(
+            &mut bond,
+            &main,
+            &neighbours,
+            &positions,
+            &Isometry3::identity(),
+        );
         let vertices = main.corners(bond.triangle as usize, &positions, &Isometry3::identity());
         let point = bond.main_point(&vertices);
-        assert!((point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14, "{point:?}");
+        assert!(
+            (point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14,
+            "{point:?}"
+        );
         assert_eq!(bond.triangle / 2, 13);
     }
 }
