@@ -47,47 +47,57 @@ pub struct Projection {
     pub feature: Feature,
 }
 
-/// The closest point of `x` on the triangle `corners` (see the module docs).
-pub fn project_on_triangle(x: &Vector3<f64>, corners: &[Vector3<f64>; 3]) -> Projection {
+/// The barycentric coordinates of the closest point of `x` on the triangle `corners` and
+/// the feature it lies on (no normal, no square root: the cheap part of
+/// [`project_on_triangle`]).
+pub fn closest_feature(x: &Vector3<f64>, corners: &[Vector3<f64>; 3]) -> ([f64; 3], Feature) {
     let [a, b, c] = corners;
     let ab = b - a;
     let ac = c - a;
-    let normal = ab.cross(&ac).normalize();
     let ap = x - a;
     let d1 = ab.dot(&ap);
     let d2 = ac.dot(&ap);
-    let (barycentric, feature) = if d1 <= 0.0 && d2 <= 0.0 {
-        ([1.0, 0.0, 0.0], Feature::Vertex(0))
-    } else {
-        let bp = x - b;
-        let d3 = ab.dot(&bp);
-        let d4 = ac.dot(&bp);
-        let cp = x - c;
-        let d5 = ab.dot(&cp);
-        let d6 = ac.dot(&cp);
-        let vc = d1 * d4 - d3 * d2;
-        let vb = d5 * d2 - d1 * d6;
-        let va = d3 * d6 - d5 * d4;
-        if d3 >= 0.0 && d4 <= d3 {
-            ([0.0, 1.0, 0.0], Feature::Vertex(1))
-        } else if d6 >= 0.0 && d5 <= d6 {
-            ([0.0, 0.0, 1.0], Feature::Vertex(2))
-        } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-            let t = d1 / (d1 - d3);
-            ([1.0 - t, t, 0.0], Feature::Edge(0))
-        } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-            let t = d2 / (d2 - d6);
-            ([1.0 - t, 0.0, t], Feature::Edge(2))
-        } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-            let t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            ([0.0, 1.0 - t, t], Feature::Edge(1))
-        } else {
-            let denominator = 1.0 / (va + vb + vc);
-            let v = vb * denominator;
-            let w = vc * denominator;
-            ([1.0 - v - w, v, w], Feature::Face)
-        }
-    };
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return ([1.0, 0.0, 0.0], Feature::Vertex(0));
+    }
+    let bp = x - b;
+    let d3 = ab.dot(&bp);
+    let d4 = ac.dot(&bp);
+    if d3 >= 0.0 && d4 <= d3 {
+        return ([0.0, 1.0, 0.0], Feature::Vertex(1));
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let t = d1 / (d1 - d3);
+        return ([1.0 - t, t, 0.0], Feature::Edge(0));
+    }
+    let cp = x - c;
+    let d5 = ab.dot(&cp);
+    let d6 = ac.dot(&cp);
+    if d6 >= 0.0 && d5 <= d6 {
+        return ([0.0, 0.0, 1.0], Feature::Vertex(2));
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let t = d2 / (d2 - d6);
+        return ([1.0 - t, 0.0, t], Feature::Edge(2));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return ([0.0, 1.0 - t, t], Feature::Edge(1));
+    }
+    let denominator = 1.0 / (va + vb + vc);
+    let v = vb * denominator;
+    let w = vc * denominator;
+    ([1.0 - v - w, v, w], Feature::Face)
+}
+
+/// The closest point of `x` on the triangle `corners` (see the module docs).
+pub fn project_on_triangle(x: &Vector3<f64>, corners: &[Vector3<f64>; 3]) -> Projection {
+    let [a, b, c] = corners;
+    let normal = (b - a).cross(&(c - a)).normalize();
+    let (barycentric, feature) = closest_feature(x, corners);
     let point = a * barycentric[0] + b * barycentric[1] + c * barycentric[2];
     let offset = x - point;
     let (gap, direction) = if feature == Feature::Face {

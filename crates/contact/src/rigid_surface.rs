@@ -62,7 +62,7 @@ impl RigidSurface {
             let [a, b, c] = tri.map(|v| vertices[v as usize]);
             let area = 0.5 * (b - a).cross(&(c - a)).norm();
             let scale = (b - a).norm_squared().max((c - a).norm_squared());
-            if !(area > 1e-12 * scale) {
+            if area.is_nan() || area <= 1e-12 * scale {
                 return Err(ContactError::DegenerateTriangle {
                     surface: name.to_string(),
                     triangle: t,

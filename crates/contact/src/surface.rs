@@ -10,11 +10,16 @@
 //! - tri6 (tet10) faces `[c₁, c₂, c₃, m₁₂, m₂₃, m₃₁]` are split through the mid-side nodes
 //!   into four: `[c₁, m₁₂, m₃₁]`, `[m₁₂, c₂, m₂₃]`, `[m₃₁, m₂₃, c₃]`, `[m₁₂, m₂₃, m₃₁]`.
 //!
-//! Tributary areas are lumped per triangle: each triangle gives a third of its reference
-//! area A_t [m²] to each of its three nodes, A_a = Σ_{t ∋ a} A_t / 3. They sum to the
-//! surface's reference area. (For tri6 faces this is not the consistent load vector, which
-//! puts nothing on the corners: a node-to-surface penalty needs an area at every node that
-//! can touch.)
+//! Tributary areas [m²] are lumped per face in the reference configuration and sum to the
+//! surface's area:
+//! - a quad4 face gives a quarter of its area (the sum of its two triangles) to each
+//!   corner: the consistent share of a uniform pressure on a parallelogram, so a uniform
+//!   penetration gives a uniform pressure, whichever diagonal split the face;
+//! - every other triangle (tri3 faces, the four triangles of a tri6 face, triangles given
+//!   directly to [`DeformableSurface::from_triangles`]) gives a third of its area A_t to
+//!   each of its nodes, A_a = Σ_{t ∋ a} A_t / 3. For tri6 faces this is not the consistent
+//!   load vector (which puts nothing on the corners): a node-to-surface penalty needs an
+//!   area at every node that can touch.
 
 use std::collections::{BTreeSet, HashMap};
 
@@ -36,8 +41,8 @@ pub struct DeformableSurface {
     pub triangles: Vec<[u32; 3]>,
     /// Reference area of each triangle [m²].
     pub triangle_area: Vec<f64>,
-    /// Tributary reference area of each node of [`Self::nodes`] [m²] (lumped, see the
-    /// module docs).
+    /// Tributary reference area of each node of [`Self::nodes`] [m²] (lumped per face, see
+    /// the module docs).
     pub node_area: Vec<f64>,
     /// Per triangle, bit `i` set when its edge `i` (vertex `i` to vertex `i + 1`) belongs to
     /// no other triangle: the rim of an open surface.
@@ -58,6 +63,7 @@ impl DeformableSurface {
             return Err(ContactError::EmptySurface(name.to_string()));
         }
         let mut triangles = Vec::with_capacity(2 * faces.len());
+        let mut quads = Vec::new();
         for &face in faces {
             let ids = mesh.face_nodes(face).map_err(mesh_error)?;
             let shape = mesh
@@ -65,9 +71,35 @@ impl DeformableSurface {
                 .map_err(mesh_error)?
                 .shape
                 .face_shape(face.face as usize);
+            if shape == FaceShape::Quad4 {
+                quads.push(triangles.len());
+            }
             triangulate(shape, &ids, &mut triangles);
         }
-        Self::from_triangles(mesh, name, triangles)
+        let mut surface = Self::from_triangles(mesh, name, triangles)?;
+        // Quad4 faces: a quarter of the face to each corner instead of the triangles' thirds.
+        for &first in &quads {
+            let [a, b, c] = surface.triangles[first];
+            let d = surface.triangles[first + 1][2];
+            let area = surface.triangle_area[first] + surface.triangle_area[first + 1];
+            let thirds = [
+                (
+                    a,
+                    (surface.triangle_area[first] + surface.triangle_area[first + 1]) / 3.0,
+                ),
+                (b, surface.triangle_area[first] / 3.0),
+                (c, area / 3.0),
+                (d, surface.triangle_area[first + 1] / 3.0),
+            ];
+            for (node, third) in thirds {
+                let local = surface
+                    .nodes
+                    .binary_search(&node)
+                    .expect("a node of the surface");
+                surface.node_area[local] += 0.25 * area - third;
+            }
+        }
+        Ok(surface)
     }
 
     /// The surface named `surface` in `mesh` (see [`Mesh::surface`]).
@@ -143,7 +175,7 @@ impl DeformableSurface {
             let [a, b, c] = tri.map(|n| mesh.nodes.position(n as usize));
             let area = 0.5 * (b - a).cross(&(c - a)).norm();
             let scale = (b - a).norm_squared().max((c - a).norm_squared());
-            if !(area > 1e-12 * scale) {
+            if area.is_nan() || area <= 1e-12 * scale {
                 return Err(ContactError::DegenerateTriangle {
                     surface: name.to_string(),
                     triangle: t,
@@ -185,6 +217,12 @@ impl DeformableSurface {
     /// Total reference area [m²].
     pub fn area(&self) -> f64 {
         self.triangle_area.iter().sum()
+    }
+
+    /// A typical element size h = √(2 Ā) [m], Ā the mean reference triangle area: the side
+    /// of the squares (hex8 faces) the right triangles come from.
+    pub fn element_size(&self) -> f64 {
+        (2.0 * self.area() / self.triangles.len() as f64).sqrt()
     }
 
     /// The current corners of triangle `t` at nodal `positions` [m].
@@ -319,9 +357,11 @@ mod tests {
         // 8 rim edges, each on one triangle.
         let rim: u32 = top.boundary_edges.iter().map(|b| b.count_ones()).sum();
         assert_eq!(rim, 8);
-        // The centre node (1, 1, 2) = 22 touches 6 of the 8 triangles (diagonals a–c).
+        // The centre node (1, 1, 2) = 22 has a quarter of each of its 4 faces; a corner one.
         let centre = top.local_index(22).unwrap();
-        assert!((top.node_area[centre] - 6.0 * 0.125 / 3.0).abs() < 1e-15);
+        assert!((top.node_area[centre] - 0.25).abs() < 1e-15);
+        let corner = top.local_index(26).unwrap();
+        assert!((top.node_area[corner] - 0.0625).abs() < 1e-15);
     }
 
     #[test]

@@ -1,0 +1,463 @@
+//! Penalty contact: the nodes of a secondary [`DeformableSurface`] against the triangles of
+//! a main [`ContactTarget`], frictionless, node to surface (one pass).
+//!
+//! Each secondary node s with tributary area A_s [m²] takes its closest point x_m on the
+//! main surface among its broadphase candidates ([`crate::projection`]; triangles that
+//! have s as a vertex are skipped, which allows self-contact). With the signed gap g [m]
+//! and its direction ν (the face normal n on a face), the normal traction is
+//!
+//! t_n = ε ⟨−g⟩ [Pa],   ε [N/m³] the penalty stiffness per unit area,
+//!
+//! and the node is pushed out along ν with the force t_n A_s [N]. In the solver's sign
+//! convention (f_c enters like the internal force) f_c,s = ε A_s g ν = k d with k = ε A_s
+//! and d = x_s − x_m; on a deformable main surface the reaction −f_c,s is shared by the
+//! vertices of the main triangle by their barycentric weights, f_c,j = −N_j k d; on a rigid
+//! one it goes to the body (the report's resultant). The forces derive from the stored
+//! energy ½ ε g² A_s per active node, so they are conservative and the stiffness
+//! (`penalty/stiffness.rs`) is symmetric.
+//!
+//! A node whose closest point is on the rim of an open main surface (a boundary edge or a
+//! vertex of one) and that is not over the face (x − x_m leaning out of the normal's line
+//! by more than [`RIM_TOLERANCE`]) is beside the surface, not in it: it carries no force.
+//! A node right over the rim (on a symmetry plane, say) is in contact.
+//!
+//! Default penalty ([`default_penalty`]): ε = 10 E / h with E the Young's modulus of the
+//! softer body [Pa] and h its element size [m]. A pressure p then penetrates by
+//! g = p/ε = h (p/E)/10: a tenth of the strain p/E, in units of the element size (a
+//! pressure that strains the body by 5 % penetrates by 0.5 % of h).
+//!
+//! Explicit runs: the contact spring k = ε A_s on a surface node of mass m ≈ ρ h A_s / 2
+//! adds k/m ≈ 20 E/(ρ h²) to the node's highest squared frequency, against
+//! 12 M/(ρ h²) from its elements (M the dilatational modulus, the solver's bound
+//! L = h/√3), so the stable step shrinks by about √(1 + 5E/(3M)). The solver does not know
+//! it: lower its safety factor by that much (0.9 → 0.7 for the tests' material, E/M =
+//! 0.26; nothing for nearly incompressible muscle, E/M ≈ 10⁻⁴), or lower ε. An unstable
+//! step breaks the energy balance, which stops the run.
+//!
+//! Forces do not depend on the number of threads: each node's pair is evaluated on its
+//! own (in parallel), then the forces are added to the nodes serially in node order.
+//! Limitations: no friction; a node must not penetrate deeper than the search distance
+//! (default [`DEFAULT_SEARCH_FACTOR`] × the secondary surface's element size h: penetrations
+//! stay ≪ h, and an explicit step or a Newton iteration moves a node by much less) nor past
+//! the middle of a thin main body.
+
+mod stiffness;
+
+use nalgebra::{Matrix3, Point3, Vector3};
+use rayon::prelude::*;
+
+use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
+
+use crate::broadphase::{Broadphase, CHUNK};
+use crate::error::ContactError;
+use crate::projection::{Feature, closest_feature, project_on_triangle};
+use crate::surface::{ContactTarget, DeformableSurface};
+use stiffness::FeatureGeometry;
+
+/// The default search distance is this fraction of the secondary surface's element size.
+pub const DEFAULT_SEARCH_FACTOR: f64 = 0.5;
+
+/// Factor β of the default penalty ε = β E / h.
+pub const DEFAULT_PENALTY_FACTOR: f64 = 10.0;
+
+/// The default penalty stiffness ε = [`DEFAULT_PENALTY_FACTOR`] · E / h [N/m³] for a body of
+/// Young's modulus `modulus` [Pa] meshed with elements of size `element_size` [m].
+pub fn default_penalty(modulus: f64, element_size: f64) -> Result<f64, ContactError> {
+    for (what, value) in [("Young's modulus", modulus), ("element size", element_size)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(ContactError::invalid(
+                what,
+                value,
+                "must be finite and positive",
+            ));
+        }
+    }
+    Ok(DEFAULT_PENALTY_FACTOR * modulus / element_size)
+}
+
+/// A node whose closest point is on the rim of an open main surface is beside it when
+/// x − x_m leans out of the face normal's line by more than this (as a sine).
+pub const RIM_TOLERANCE: f64 = 0.01;
+
+/// The state of one secondary node at the last force evaluation.
+#[derive(Debug, Clone, Copy)]
+struct NodeContact {
+    /// The main triangle of the closest point (`u32::MAX`: no candidate).
+    triangle: u32,
+    /// Signed gap g [m] (0 without a candidate).
+    gap: f64,
+    /// Carries a force.
+    active: bool,
+    /// d = x_s − x_m in world axes [m].
+    offset: Vector3<f64>,
+    /// Vertices, weights and tangents of the feature, world axes.
+    geometry: FeatureGeometry,
+}
+
+impl Default for NodeContact {
+    fn default() -> Self {
+        NodeContact {
+            triangle: u32::MAX,
+            gap: 0.0,
+            active: false,
+            offset: Vector3::zeros(),
+            geometry: FeatureGeometry::new(
+                Feature::Vertex(0),
+                &[1.0, 0.0, 0.0],
+                &[Vector3::zeros(); 3],
+            ),
+        }
+    }
+}
+
+/// Frictionless penalty contact of a deformable surface's nodes on a main surface (see the
+/// module docs).
+#[derive(Debug, Clone)]
+pub struct PenaltyContact {
+    name: String,
+    secondary: DeformableSurface,
+    target: ContactTarget,
+    penalty: f64,
+    broadphase: Broadphase,
+    /// Per main triangle, bit i set when vertex i is on the rim of the main surface.
+    rim_vertices: Vec<u8>,
+    contacts: Vec<NodeContact>,
+    report: InteractionReport,
+}
+
+impl PenaltyContact {
+    /// Contact of the nodes of `secondary` on `target` with penalty `penalty` ε [N/m³],
+    /// searched within [`DEFAULT_SEARCH_FACTOR`] × the secondary surface's element size.
+    pub fn new(
+        name: &str,
+        secondary: DeformableSurface,
+        target: impl Into<ContactTarget>,
+        penalty: f64,
+    ) -> Result<Self, ContactError> {
+        if !(penalty.is_finite() && penalty > 0.0) {
+            return Err(ContactError::invalid(
+                &format!("contact '{name}': penalty stiffness [N/m³]"),
+                penalty,
+                "must be finite and positive",
+            ));
+        }
+        let target = target.into();
+        let (triangles, boundary) = match &target {
+            ContactTarget::Deformable(s) => (&s.triangles, &s.boundary_edges),
+            ContactTarget::Rigid(s) => (&s.triangles, &s.boundary_edges),
+        };
+        let mut rim = std::collections::HashSet::new();
+        for (t, bits) in triangles.iter().zip(boundary) {
+            for e in 0..3 {
+                if bits & (1 << e) != 0 {
+                    rim.insert(t[e]);
+                    rim.insert(t[(e + 1) % 3]);
+                }
+            }
+        }
+        let rim_vertices = triangles
+            .iter()
+            .map(|t| {
+                (0..3)
+                    .filter(|&i| rim.contains(&t[i]))
+                    .fold(0u8, |b, i| b | (1 << i))
+            })
+            .collect();
+        let search_distance = DEFAULT_SEARCH_FACTOR * secondary.element_size();
+        Ok(PenaltyContact {
+            name: name.to_string(),
+            contacts: vec![NodeContact::default(); secondary.nodes.len()],
+            secondary,
+            target,
+            penalty,
+            broadphase: Broadphase::new(search_distance),
+            rim_vertices,
+            report: InteractionReport {
+                name: name.to_string(),
+                ..InteractionReport::default()
+            },
+        })
+    }
+
+    /// Contact with the [`default_penalty`] for a secondary body of Young's modulus
+    /// `modulus` [Pa], h = the secondary surface's element size.
+    pub fn with_default_penalty(
+        name: &str,
+        secondary: DeformableSurface,
+        target: impl Into<ContactTarget>,
+        modulus: f64,
+    ) -> Result<Self, ContactError> {
+        let penalty = default_penalty(modulus, secondary.element_size())?;
+        Self::new(name, secondary, target, penalty)
+    }
+
+    /// The same contact searching within `distance` [m] of each node.
+    pub fn with_search_distance(mut self, distance: f64) -> Result<Self, ContactError> {
+        if !(distance.is_finite() && distance > 0.0) {
+            return Err(ContactError::invalid(
+                "search distance",
+                distance,
+                "must be finite and positive",
+            ));
+        }
+        self.broadphase = Broadphase::new(distance);
+        Ok(self)
+    }
+
+    /// The penalty stiffness ε [N/m³].
+    pub fn penalty(&self) -> f64 {
+        self.penalty
+    }
+
+    /// The secondary surface.
+    pub fn secondary(&self) -> &DeformableSurface {
+        &self.secondary
+    }
+
+    /// The main surface.
+    pub fn target(&self) -> &ContactTarget {
+        &self.target
+    }
+
+    /// The broadphase (its statistics).
+    pub fn broadphase(&self) -> &Broadphase {
+        &self.broadphase
+    }
+
+    /// The closest point of every secondary node at `positions` and `time` (in parallel,
+    /// each node on its own).
+    fn evaluate(&mut self, time: f64, positions: &[Vector3<f64>]) {
+        let frame = match &self.target {
+            ContactTarget::Rigid(rigid) => Some(rigid.motion.isometry_at(time)),
+            ContactTarget::Deformable(_) => None,
+        };
+        let (target, broadphase) = (&self.target, &self.broadphase);
+        let rim_edges = match target {
+            ContactTarget::Deformable(s) => &s.boundary_edges,
+            ContactTarget::Rigid(s) => &s.boundary_edges,
+        };
+        let rim = (rim_edges.as_slice(), self.rim_vertices.as_slice());
+        let nodes = &self.secondary.nodes;
+        self.contacts
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(chunk, contacts)| {
+                for (k, contact) in contacts.iter_mut().enumerate() {
+                    let i = chunk * CHUNK + k;
+                    let node = nodes[i];
+                    let x = positions[node as usize];
+                    *contact = match (target, &frame) {
+                        (ContactTarget::Rigid(rigid), Some(iso)) => {
+                            let body = iso.inverse_transform_point(&Point3::from(x)).coords;
+                            let corners =
+                                |t: usize| rigid.triangles[t].map(|v| rigid.vertices[v as usize]);
+                            let mut c =
+                                closest(&body, broadphase.candidates(i), rim, |_| false, corners);
+                            let rotation = iso.rotation.to_rotation_matrix().into_inner();
+                            c.offset = rotation * c.offset;
+                            c.geometry = c.geometry.rotated(&rotation);
+                            c
+                        }
+                        (ContactTarget::Deformable(main), _) => closest(
+                            &x,
+                            broadphase.candidates(i),
+                            rim,
+                            |t| main.triangles[t].contains(&node),
+                            |t| main.corners(t, positions),
+                        ),
+                        (ContactTarget::Rigid(_), None) => {
+                            unreachable!("a rigid target has a frame")
+                        }
+                    };
+                }
+            });
+    }
+
+    /// Calls `f(node, force)` with each nonzero nodal force f_c [N], serially in secondary
+    /// node order (each node, then its main triangle's vertices).
+    fn for_each_force(&self, mut f: impl FnMut(u32, Vector3<f64>)) {
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !c.active {
+                continue;
+            }
+            let k = self.penalty * self.secondary.node_area[i];
+            let force = c.offset * k;
+            f(self.secondary.nodes[i], force);
+            if let ContactTarget::Deformable(main) = &self.target {
+                let triangle = main.triangles[c.triangle as usize];
+                for j in 0..c.geometry.count {
+                    let vertex = triangle[c.geometry.vertices[j] as usize];
+                    f(vertex, -force * c.geometry.weights[j]);
+                }
+            }
+        }
+    }
+}
+
+/// The closest point of `x` over the `candidates` (skipping those `skip` says), the
+/// smallest |x − x_m|² winning, ties to the lowest triangle index; active when g < 0 and
+/// the closest point is not on the rim.
+fn closest(
+    x: &Vector3<f64>,
+    candidates: &[u32],
+    (rim_edges, rim_vertices): (&[u8], &[u8]),
+    skip: impl Fn(usize) -> bool,
+    corners: impl Fn(usize) -> [Vector3<f64>; 3],
+) -> NodeContact {
+    // Squared distances: a triangle whose box is farther than the best so far is skipped;
+    // only the winner gets its normal and gap.
+    let mut best: Option<(f64, u32, [Vector3<f64>; 3])> = None;
+    for &t in candidates {
+        if skip(t as usize) {
+            continue;
+        }
+        let c = corners(t as usize);
+        let low = c[0].inf(&c[1]).inf(&c[2]);
+        let high = c[0].sup(&c[1]).sup(&c[2]);
+        let bound = (x - x.sup(&low).inf(&high)).norm_squared();
+        if best.as_ref().is_some_and(|(d, _, _)| bound > *d) {
+            continue;
+        }
+        let (weights, _) = closest_feature(x, &c);
+        let distance =
+            (x - (c[0] * weights[0] + c[1] * weights[1] + c[2] * weights[2])).norm_squared();
+        let better = best
+            .as_ref()
+            .is_none_or(|(d, bt, _)| distance < *d || (distance == *d && t < *bt));
+        if better {
+            best = Some((distance, t, c));
+        }
+    }
+    let Some((_, t, c)) = best else {
+        return NodeContact::default();
+    };
+    let p = project_on_triangle(x, &c);
+    let rim_feature = match p.feature {
+        Feature::Face => false,
+        Feature::Edge(e) => rim_edges[t as usize] & (1 << e) != 0,
+        Feature::Vertex(v) => rim_vertices[t as usize] & (1 << v) != 0,
+    };
+    // Beside the rim: x − x_m leans out of the face's normal line by more than ~0.6°.
+    let offset = x - p.point;
+    let along = offset.dot(&p.normal);
+    let beside = rim_feature && (offset - p.normal * along).norm() > RIM_TOLERANCE * offset.norm();
+    NodeContact {
+        triangle: t,
+        gap: p.gap,
+        active: p.gap < 0.0 && !beside,
+        offset,
+        geometry: FeatureGeometry::new(p.feature, &p.barycentric, &c),
+    }
+}
+
+impl Interaction for PenaltyContact {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn search(&mut self, time: f64, positions: &[Vector3<f64>]) -> Result<(), SolverError> {
+        self.broadphase
+            .search(&self.target, time, positions, &self.secondary.nodes);
+        Ok(())
+    }
+
+    fn forces(
+        &mut self,
+        time: f64,
+        positions: &[Vector3<f64>],
+        _with_stiffness: bool,
+        force: &mut [Vector3<f64>],
+    ) -> Result<(), SolverError> {
+        self.evaluate(time, positions);
+        let mut resultant = Vector3::zeros();
+        self.for_each_force(|node, f| {
+            force[node as usize] += f;
+            resultant -= f;
+        });
+        let (mut active_points, mut active_area, mut stored_energy) = (0, 0.0, 0.0);
+        for (c, area) in self.contacts.iter().zip(&self.secondary.node_area) {
+            if c.active {
+                active_points += 1;
+                active_area += area;
+                stored_energy += 0.5 * self.penalty * c.gap * c.gap * area;
+            }
+        }
+        self.report.force = resultant;
+        self.report.active_points = active_points;
+        self.report.active_area = active_area;
+        self.report.stored_energy = stored_energy;
+        Ok(())
+    }
+
+    fn stiffness(&self, add: &mut dyn FnMut(u32, u32, &Matrix3<f64>)) {
+        let rigid = matches!(self.target, ContactTarget::Rigid(_));
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !c.active {
+                continue;
+            }
+            let node = self.secondary.nodes[i];
+            let k = self.penalty * self.secondary.node_area[i];
+            let vertices = match &self.target {
+                ContactTarget::Deformable(main) => main.triangles[c.triangle as usize],
+                ContactTarget::Rigid(_) => [node; 3],
+            };
+            let id = |l: usize| {
+                if l == 0 {
+                    node
+                } else {
+                    vertices[c.geometry.vertices[l - 1] as usize]
+                }
+            };
+            c.geometry
+                .blocks(k, &c.offset, rigid, |l, m, block| add(id(l), id(m), block));
+        }
+    }
+
+    fn symmetric_stiffness(&self) -> bool {
+        true
+    }
+
+    /// Frictionless contact keeps no history: nothing to accept.
+    fn commit(&mut self) {}
+
+    fn report(&self) -> InteractionReport {
+        self.report.clone()
+    }
+
+    /// `contact_pressure` t_n [Pa] and `contact_gap` g [m] at the secondary nodes (g = 0
+    /// where a node has no main triangle within the search distance), and `contact_force`,
+    /// the force −f_c [N] the contact puts on every node (secondary and main).
+    fn nodal_fields(&self, node_count: usize) -> Vec<NodalField> {
+        let mut pressure = vec![0.0; node_count];
+        let mut gap = vec![0.0; node_count];
+        for (c, &node) in self.contacts.iter().zip(&self.secondary.nodes) {
+            gap[node as usize] = c.gap;
+            if c.active {
+                pressure[node as usize] = -self.penalty * c.gap;
+            }
+        }
+        let mut force = vec![0.0; 3 * node_count];
+        self.for_each_force(|node, f| {
+            for k in 0..3 {
+                force[3 * node as usize + k] -= f[k];
+            }
+        });
+        vec![
+            NodalField {
+                name: "contact_pressure".to_string(),
+                components: 1,
+                values: pressure,
+            },
+            NodalField {
+                name: "contact_gap".to_string(),
+                components: 1,
+                values: gap,
+            },
+            NodalField {
+                name: "contact_force".to_string(),
+                components: 3,
+                values: force,
+            },
+        ]
+    }
+}
