@@ -3,13 +3,12 @@
 //! (Elastic and FreeSlide), a block bonded to a rigid plane that moves away, and the
 //! error when nothing bonds.
 //!
-//! The blocks are loaded so that their state would be homogeneous under a uniform traction
-//! (symmetry planes x = 0 and y = 0, free lateral faces). The tributary areas are lumped
-//! per triangle (a third of each), so the two corners of a quad on its diagonal carry A/3
-//! and the others A/6: the rim nodes of the interface have unequal areas and the openings
-//! differ between bonds by about 1e-3 of their value. The check is therefore per bond:
-//! the reaction equals Σ A_i t_law(δ_i) over the bonds, δ_i the opening of facing nodes
-//! i, to round-off of the Newton solution; the traction is that sum over the area.
+//! The blocks are loaded so that their state is homogeneous (symmetry planes x = 0 and
+//! y = 0, free lateral faces, each quad face lumping a quarter of its area on each
+//! corner): every bond of the conforming interface has the same opening δ (asserted to
+//! 1e-12 of it), and the traction, the reaction over the reference area, must be the
+//! law's t(δ) to round-off of the Newton solution (1e-8 of σ_max). The expected force is
+//! written as Σ A_i t(δ_i) over the bonds, which is A t(δ) when the openings agree.
 
 mod cohesive_common;
 
@@ -143,6 +142,7 @@ fn stacked_blocks_pulled_apart_follow_the_law_through_softening_to_failure() {
     );
     assert_eq!(last.interactions[0].bonded_area, 0.0);
     assert!(softening_rows >= 25, "{softening_rows}");
+    assert!(largest_spread <= 1e-12, "{largest_spread:e}");
     eprintln!(
         "normal pull: {} steps ({} cuts), |t − t_law|/σ_max ≤ {worst_elastic:.2e} elastic, \
          {worst_softening:.2e} softening; bond openings spread {largest_spread:.1e} of the \
