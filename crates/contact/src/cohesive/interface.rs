@@ -11,16 +11,26 @@
 //!   [`TangentialMode::FreeSlide`] the shear traction is zero and the bonded point slides:
 //!   every search moves it to the closest point of the main surface (`slide.rs`), so the
 //!   normal separation stays the distance to the surface however far the surfaces slide.
-//! - Forces (`bonds.rs`): f_s = A R t_law(Rᵀ δ) on the secondary node, −ξ_k f_s on the
-//!   nodes of a deformable main triangle.
-//! - Stiffness: the blocks ∂f/∂x of the node and the main triangle's nodes,
-//!   K = A R C Rᵀ times (1, −ξ_k) ⊗ (1, −ξ_l), holding the frame R of the main triangle
-//!   fixed. For a rigid main R depends on time only: the tangent is consistent. For a
-//!   deformable main the variation of R with the triangle's nodes is neglected; that term
-//!   vanishes in Elastic mode with K_nn = K_ss = K_tt while the bond is open (t = (1 − D) K δ
-//!   does not depend on the frame), and otherwise costs Newton its quadratic rate, not its
-//!   solution. For sliding bonds the variation of ξ is neglected too; at the closest point
-//!   it does not change the normal separation to first order.
+//! - Forces: material-point bonds (`bonds.rs`) f_s = A R t_law(Rᵀ δ) on the secondary
+//!   node, R the frame of the main triangle; sliding bonds (`slide.rs`) f_s = A t_n(g) ν,
+//!   g the gap to the surface, ν its direction; −ξ_k f_s on the corners of a deformable
+//!   main triangle.
+//! - Stiffness: the blocks ∂f/∂x of the node and the main triangle's corners. Material-point
+//!   bonds: A R C Rᵀ times (1, −ξ_k) ⊗ (1, −ξ_l), holding R fixed. For a rigid main R
+//!   depends on time only: the tangent is consistent. For a deformable main the variation
+//!   of R with the corners is left out; that term vanishes in Elastic mode with
+//!   K_nn = K_ss = K_tt while the bond is open (t = (1 − D) K δ does not depend on the
+//!   frame), and otherwise costs Newton its quadratic rate, not its solution. Sliding
+//!   bonds: the full linearization (`slide_tangent.rs`), with the turning of the main
+//!   triangle (or of the direction ν about an edge) and the shift of the closest point,
+//!   checked against finite differences over the face, interior edges and corners, and
+//!   past the rim. The turning matters once the gap is comparable to the triangle size
+//!   (its lever arm is g/h). Measured on two stacked blocks with a 12 × 12 interface
+//!   (h = 0.83 mm) in FreeSlide, 9 load steps: gaps up to 12 h with a slide of 4 mm
+//!   converge in 2–4 Newton iterations per step; a gap of 30 h with a slide of 2.3 mm did
+//!   not converge, the closest points jumping between the faces of the deformed main
+//!   surface's concave edges (the force direction jumps there). Openings in the muscle
+//!   model are far below the element size (t/K_nn = 1 kPa / 5e7 N/m³ = 20 µm).
 //! - [`Interaction::symmetric_stiffness`] is the law's: true in FreeSlide or with equal
 //!   stiffnesses (the default), false otherwise (mixed-mode softening couples unequal
 //!   stiffnesses asymmetrically).

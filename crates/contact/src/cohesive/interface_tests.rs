@@ -344,7 +344,7 @@ fn mode_one(opening: f64) -> f64 {
 }
 
 #[test]
-fn sliding_bonds_on_a_deformable_face_have_the_full_consistent_stiffness() {
+fn sliding_bonds_over_the_face_and_past_the_rim_have_the_full_consistent_stiffness() {
     let mut interface = deformable(&settings(TangentialMode::FreeSlide));
     let mut x = reference();
     // The main triangle moved, tilted and stretched.
@@ -354,19 +354,69 @@ fn sliding_bonds_on_a_deformable_face_have_the_full_consistent_stiffness() {
     let [a, b, c] = [x[0], x[1], x[2]];
     let n = (b - a).cross(&(c - a)).normalize();
     let centroid = (a + b + c) / 3.0;
+    let in_plane = |v: Vector3<f64>| v - v.dot(&n) * n;
+    let over_face = centroid + in_plane(Vector3::new(0.05, -0.03, 0.0));
+    let past_edge = 0.5 * (a + b) + 0.05 * (b - a).cross(&n).normalize();
+    let past_corner = b + 0.05 * in_plane(b - centroid).normalize();
     // Openings far beyond the triangle's size matter most: the lever arm g/h.
     for gap in [0.005, 0.015] {
-        let offset = Vector3::new(0.05, -0.03, 0.0);
-        x[3] = centroid + offset - offset.dot(&n) * n + gap * n;
-        let f = all_forces(&mut interface, 0.0, &x);
-        let (_, separation, _) = interface.bond_states().next().unwrap();
-        assert!((separation.x - gap).abs() < 1e-12);
-        // Action and reaction balance.
-        let total: Vector3<f64> = (0..4)
-            .map(|i| Vector3::from_column_slice(&f[3 * i..3 * i + 3]))
-            .sum();
-        assert!(total.norm() < 1e-12);
-        check_stiffness(&mut interface, 0.0, &x);
+        for (place, foot) in [
+            ("face", over_face),
+            ("edge", past_edge),
+            ("corner", past_corner),
+        ] {
+            x[3] = foot + gap * n;
+            let f = all_forces(&mut interface, 0.0, &x);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!((separation.x - gap).abs() < 1e-12, "{place}");
+            // The forces balance.
+            let total: Vector3<f64> = (0..4)
+                .map(|i| Vector3::from_column_slice(&f[3 * i..3 * i + 3]))
+                .sum();
+            assert!(total.norm() < 1e-12, "{place}");
+            check_stiffness(&mut interface, 0.0, &x);
+        }
     }
     assert!(interface.symmetric_stiffness());
+}
+
+#[test]
+fn sliding_bonds_over_interior_edges_and_corners_of_a_deformable_main_are_consistent() {
+    // The pyramid's corners as mesh nodes 0–4 (then moved a little), the secondary
+    // triangle [5, 6, 7] with node 5 bonded at the apex.
+    let p = pyramid();
+    let mut points = p.vertices.clone();
+    points.extend([
+        Vector3::new(0.0, 0.0, 0.3),
+        Vector3::new(0.6, 0.2, 1.1),
+        Vector3::new(0.0, 3.2, 0.3),
+    ]);
+    let mesh = mesh(&points);
+    let main = DeformableSurface::from_triangles(&mesh, "pyramid", p.triangles.clone()).unwrap();
+    let skin = DeformableSurface::from_triangles(&mesh, "skin", vec![[5, 6, 7]]).unwrap();
+    let s = settings(TangentialMode::FreeSlide);
+    let mut interface = CohesiveInterface::new("slide", &skin, main, &mesh, &s).unwrap();
+    let mut x = points.clone();
+    x[1] += Vector3::new(0.02, -0.01, 0.03);
+    x[4] += Vector3::new(-0.01, 0.02, 0.01);
+    let apex = x[4];
+    let normal = |t: usize| {
+        let [a, b, c] = p.triangles[t].map(|v| x[v as usize]);
+        (b - a).cross(&(c - a)).normalize()
+    };
+    let middle = 0.5 * (apex + x[1]);
+    let bisector = (normal(0) + normal(1)).normalize();
+    let up = (normal(0) + normal(1) + normal(2) + normal(3)).normalize();
+    for gap in [0.005, 0.015] {
+        for (place, node) in [
+            ("edge", middle + gap * bisector),
+            ("vertex", apex + gap * up),
+        ] {
+            x[5] = node;
+            all_forces(&mut interface, 0.0, &x);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!((separation.x - gap).abs() < 1e-12, "{place}");
+            check_stiffness(&mut interface, 0.0, &x);
+        }
+    }
 }

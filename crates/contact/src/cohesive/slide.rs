@@ -23,12 +23,12 @@
 //! in the tests). Across a concave edge the closest point jumps between the faces, and so
 //! does the direction of the force.
 
-use nalgebra::{Isometry3, Matrix3, Vector3};
+use nalgebra::{Isometry3, Vector3};
 
-use super::bonds::{Bond, BondState, point_coupling};
+use super::bonds::{Bond, BondState};
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
-use super::slide_tangent::face_tangent;
+use super::slide_tangent::{Footing, pivot_tangent, sliding_tangent};
 use crate::projection::{Feature, project_on_triangle};
 use crate::surface::ContactTarget;
 
@@ -129,13 +129,9 @@ pub fn slide(
 }
 
 /// The sliding `bond` at secondary position `x` [m], its triangle at `corners` [m] with
-/// the rim bits `rim` (see the module docs): f_s = A t_n(g) ν. Over the face, the full
-/// linearization with the turning of the triangle and the shift of the closest point
-/// (`slide_tangent.rs`). Elsewhere ∂f_s/∂x_s = A (C_nn ν⊗ν + (t_n/g) P) with
-/// P = I − ν⊗ν − e⊗e over an interior edge of direction e, I − ν⊗ν over an interior vertex
-/// (the turning of ν) and 0 past the rim, and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s for the corners
-/// (the turning of a deformable main's triangle and the shift of the closest point are
-/// left out there).
+/// the rim bits `rim` (see the module docs): f_s = A t_n(g) ν, with the full
+/// linearization (`slide_tangent.rs`): the turning of the triangle or of ν, and the shift
+/// of the closest point.
 pub fn evaluate_sliding(
     bond: &Bond,
     law: &CohesiveLaw,
@@ -145,43 +141,30 @@ pub fn evaluate_sliding(
 ) -> BondState {
     let projection = project_on_triangle(x, corners);
     let on_rim = |bits: u8| rim & bits != 0;
-    let interior = match projection.feature {
+    // Interior edges and corners: (index, is a corner).
+    let pivot = match projection.feature {
         Feature::Face => None,
-        Feature::Edge(i) if !on_rim(1 << i) => {
-            let e = (corners[(i as usize + 1) % 3] - corners[i as usize]).normalize();
-            Some(-e * e.transpose())
-        }
-        Feature::Vertex(i) if !on_rim((1 << i) | (1 << ((i + 2) % 3))) => Some(Matrix3::zeros()),
+        Feature::Edge(i) if !on_rim(1 << i) => Some((i as usize, false)),
+        Feature::Vertex(i) if !on_rim((1 << i) | (1 << ((i + 2) % 3))) => Some((i as usize, true)),
         _ => None,
     };
-    let (gap, direction, coordinates, turning) = match interior {
-        Some(along_edge) => {
-            let nu = projection.direction;
-            let turning = Matrix3::identity() - nu * nu.transpose() + along_edge;
-            let coordinates = Vector3::from(projection.barycentric);
-            (projection.gap, nu, coordinates, Some(turning))
-        }
+    let coordinates = Vector3::from(projection.barycentric);
+    let (gap, direction) = match pivot {
+        Some(_) => (projection.gap, projection.direction),
         // The face, or past the rim (the plane of the rim triangle).
-        None => {
-            let n = projection.normal;
-            let coordinates = Vector3::from(projection.barycentric);
-            let gap = (x - projection.point).dot(&n);
-            let rim = (projection.feature != Feature::Face).then(Matrix3::zeros);
-            (gap, n, coordinates, rim)
-        }
+        None => (
+            (x - projection.point).dot(&projection.normal),
+            projection.normal,
+        ),
     };
     let response = law.evaluate(&Vector3::new(gap, 0.0, 0.0), bond.history);
     let traction = response.traction.x;
-    let tangent = response.tangent[(0, 0)];
-    let (coupling, coordinate_gradients) = match turning {
+    let scalars = (bond.area * traction, bond.area * response.tangent[(0, 0)]);
+    let (coupling, coordinate_gradients) = match pivot {
+        Some(pivot) => pivot_tangent(corners, pivot, x, &direction, gap, scalars),
         None => {
-            let (force, slope) = (bond.area * traction, bond.area * tangent);
-            face_tangent(corners, &coordinates, &direction, gap, force, slope)
-        }
-        Some(turning) => {
-            let secant = if gap != 0.0 { traction / gap } else { tangent };
-            let node = bond.area * (tangent * direction * direction.transpose() + secant * turning);
-            (point_coupling(&node, &coordinates), [Matrix3::zeros(); 4])
+            let footing = Footing::of(projection.feature);
+            sliding_tangent(corners, footing, x, &coordinates, &direction, gap, scalars)
         }
     };
     BondState {
