@@ -168,22 +168,29 @@ impl Bond {
             + self.coordinates.z * vertices[2]
     }
 
-    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m].
+    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m]
+    /// (the stiffness blocks only `with_stiffness`, zero otherwise).
     pub fn evaluate(
         &self,
         law: &CohesiveLaw,
         vertices: &[Vector3<f64>; 3],
         x: &Vector3<f64>,
+        with_stiffness: bool,
     ) -> BondState {
         let [a, b, c] = vertices;
         let rotation = frame(a, b, c, &self.normal);
         let separation = rotation.transpose() * (x - self.main_point(vertices));
         let response = law.evaluate(&separation, self.history);
         let traction = rotation * response.traction;
-        let stiffness = self.area * rotation * response.tangent * rotation.transpose();
+        let coupling = if with_stiffness {
+            let stiffness = self.area * rotation * response.tangent * rotation.transpose();
+            point_coupling(&stiffness, &self.coordinates)
+        } else {
+            [Matrix3::zeros(); 4]
+        };
         BondState {
             force: self.area * traction,
-            coupling: point_coupling(&stiffness, &self.coordinates),
+            coupling,
             coordinate_gradients: [Matrix3::zeros(); 4],
             traction: -traction,
             separation,
@@ -208,15 +215,16 @@ pub fn point_coupling(stiffness: &Matrix3<f64>, coordinates: &Vector3<f64>) -> [
 
 /// Evaluates every bond at nodal `positions` with the main placed by `placement` into
 /// `states` (one per bond), as material-point bonds or, with `sliding`, as sliding bonds
-/// ([`evaluate_sliding`]); in parallel over fixed blocks of bonds: each state depends on
-/// its bond only, so the result does not depend on the number of threads.
+/// ([`evaluate_sliding`]), the stiffness blocks only `with_stiffness`; in parallel over
+/// fixed blocks of bonds: each state depends on its bond only, so the result does not
+/// depend on the number of threads.
 pub fn evaluate_all(
     bonds: &[Bond],
     law: &CohesiveLaw,
     main: &ContactTarget,
     positions: &[Vector3<f64>],
     placement: &Isometry3<f64>,
-    sliding: bool,
+    (sliding, with_stiffness): (bool, bool),
     states: &mut [BondState],
 ) {
     states
@@ -228,9 +236,10 @@ pub fn evaluate_all(
             let vertices = main.corners(triangle, positions, placement);
             let x = &positions[bond.node as usize];
             *state = if sliding {
-                evaluate_sliding(bond, law, &vertices, main.rim(triangle), x)
+                let rim = main.rim(triangle);
+                evaluate_sliding(bond, law, &vertices, rim, x, with_stiffness)
             } else {
-                bond.evaluate(law, &vertices, x)
+                bond.evaluate(law, &vertices, x, with_stiffness)
             };
         });
 }

@@ -46,7 +46,7 @@ use super::error::CohesiveError;
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
 use super::settings::{CohesiveSettings, TangentialMode};
-use super::slide::{Neighbours, slide};
+use super::slide::{Neighbours, slide_all};
 use crate::surface::{ContactTarget, DeformableSurface};
 
 /// A cohesive interface between two surfaces (see the module docs).
@@ -201,14 +201,19 @@ impl Interaction for CohesiveInterface {
         &self.name
     }
 
-    /// Sliding bonds (FreeSlide) move to the closest point of the main surface; material-
-    /// point bonds (Elastic) have nothing to search.
+    /// Sliding bonds (FreeSlide) move to the closest point of the main surface (in
+    /// parallel over blocks of bonds, each on its own); material-point bonds (Elastic) have
+    /// nothing to search.
     fn search(&mut self, time: f64, positions: &[Vector3<f64>]) -> Result<(), SolverError> {
         if let Some(neighbours) = &self.neighbours {
             let placement = self.main.placement(time);
-            for bond in &mut self.bonds {
-                slide(bond, &self.main, neighbours, positions, &placement);
-            }
+            slide_all(
+                &mut self.bonds,
+                &self.main,
+                neighbours,
+                positions,
+                &placement,
+            );
         }
         Ok(())
     }
@@ -217,7 +222,7 @@ impl Interaction for CohesiveInterface {
         &mut self,
         time: f64,
         positions: &[Vector3<f64>],
-        _with_stiffness: bool,
+        with_stiffness: bool,
         force: &mut [Vector3<f64>],
     ) -> Result<(), SolverError> {
         let placement = self.main.placement(time);
@@ -227,7 +232,7 @@ impl Interaction for CohesiveInterface {
             &self.main,
             positions,
             &placement,
-            self.neighbours.is_some(),
+            (self.neighbours.is_some(), with_stiffness),
             &mut self.states,
         );
         for (bond, state) in self.bonds.iter().zip(&self.states) {

@@ -23,7 +23,8 @@
 //! in the tests). Across a concave edge the closest point jumps between the faces, and so
 //! does the direction of the force.
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Vector3};
+use rayon::prelude::*;
 
 use super::bonds::{Bond, BondState};
 use super::law::CohesiveLaw;
@@ -84,6 +85,21 @@ impl Neighbours {
     }
 }
 
+/// [`slide`] for every bond, in parallel over fixed blocks of bonds (each bond on its own,
+/// so the result does not depend on the number of threads).
+pub fn slide_all(
+    bonds: &mut [Bond],
+    main: &ContactTarget,
+    neighbours: &Neighbours,
+    positions: &[Vector3<f64>],
+    placement: &Isometry3<f64>,
+) {
+    bonds
+        .par_iter_mut()
+        .with_min_len(64)
+        .for_each(|bond| slide(bond, main, neighbours, positions, placement));
+}
+
 /// Moves `bond` to the point of the `main` surface (placed by `placement`, vertices at
 /// nodal `positions` [m]) closest to its node, walking from its current triangle.
 pub fn slide(
@@ -138,6 +154,7 @@ pub fn evaluate_sliding(
     corners: &[Vector3<f64>; 3],
     rim: u8,
     x: &Vector3<f64>,
+    with_stiffness: bool,
 ) -> BondState {
     let projection = project_on_triangle(x, corners);
     let on_rim = |bits: u8| rim & bits != 0;
@@ -161,6 +178,7 @@ pub fn evaluate_sliding(
     let traction = response.traction.x;
     let scalars = (bond.area * traction, bond.area * response.tangent[(0, 0)]);
     let (coupling, coordinate_gradients) = match pivot {
+        _ if !with_stiffness => ([Matrix3::zeros(); 4], [Matrix3::zeros(); 4]),
         Some(pivot) => pivot_tangent(corners, pivot, x, &direction, gap, scalars),
         None => {
             let footing = Footing::of(projection.feature);
