@@ -3,21 +3,20 @@
 //! (Elastic and FreeSlide), a block bonded to a rigid plane that moves away, and the
 //! error when nothing bonds.
 //!
-//! The blocks are loaded so that their state would be homogeneous under a uniform traction
-//! (symmetry planes x = 0 and y = 0, free lateral faces). The tributary areas are lumped
-//! per triangle (a third of each), so the two corners of a quad on its diagonal carry A/3
-//! and the others A/6: the rim nodes of the interface have unequal areas and the openings
-//! differ between bonds by about 1e-3 of their value. The check is therefore per bond:
-//! the reaction equals Σ A_i t_law(δ_i) over the bonds, δ_i the opening of facing nodes
-//! i, to round-off of the Newton solution; the traction is that sum over the area.
+//! The blocks are loaded so that their state is homogeneous (symmetry planes x = 0 and
+//! y = 0, free lateral faces, each quad face lumping a quarter of its area on each
+//! corner): every bond of the conforming interface has the same opening δ (asserted to
+//! 1e-12 of it), and the traction, the reaction over the reference area, must be the
+//! law's t(δ) to round-off of the Newton solution (1e-8 of σ_max). The expected force is
+//! written as Σ A_i t(δ_i) over the bonds, which is A t(δ) when the openings agree.
 
 mod cohesive_common;
 
 use std::time::Instant;
 
 use cohesive_common::{
-    BoxSpec, Recorder, area_sum, block_nodes, facing_pairs, held, mode_one_traction,
-    neo_hookean, openings, pair_areas, ramped, spread, two_boxes,
+    BoxSpec, Recorder, area_sum, block_nodes, facing_pairs, held, mode_one_traction, neo_hookean,
+    openings, pair_areas, ramped, spread, two_boxes,
 };
 use musclefem_contact::{
     CohesiveError, CohesiveInterface, CohesiveSettings, DeformableSurface, RigidSurface,
@@ -136,9 +135,14 @@ fn stacked_blocks_pulled_apart_follow_the_law_through_softening_to_failure() {
     }
     let last = result.history.last().unwrap();
     let final_openings = openings(&mesh, &pairs, &result.displacement);
-    assert!(final_openings.iter().all(|&d| d > settings.failure_separation));
+    assert!(
+        final_openings
+            .iter()
+            .all(|&d| d > settings.failure_separation)
+    );
     assert_eq!(last.interactions[0].bonded_area, 0.0);
     assert!(softening_rows >= 25, "{softening_rows}");
+    assert!(largest_spread <= 1e-12, "{largest_spread:e}");
     eprintln!(
         "normal pull: {} steps ({} cuts), |t − t_law|/σ_max ≤ {worst_elastic:.2e} elastic, \
          {worst_softening:.2e} softening; bond openings spread {largest_spread:.1e} of the \
@@ -300,8 +304,9 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
         let delta = area_sum(&bottom.node_area, &gaps, |d| d) / AREA;
         // The top's reaction: the traction times the area (the block is in tension).
         let traction = row.reactions[0] / AREA;
-        let expected =
-            area_sum(&bottom.node_area, &gaps, |d| mode_one_traction(&settings, d)) / AREA;
+        let expected = area_sum(&bottom.node_area, &gaps, |d| {
+            mode_one_traction(&settings, d)
+        }) / AREA;
         let error = (traction - expected).abs() / settings.strength();
         worst = worst.max(error);
         assert!(
@@ -312,7 +317,10 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
         let report = &row.interactions[0];
         assert!((report.force.z + traction * AREA).abs() <= 1e-8 * settings.strength() * AREA);
     }
-    assert_eq!(result.history.last().unwrap().interactions[0].bonded_area, 0.0);
+    assert_eq!(
+        result.history.last().unwrap().interactions[0].bonded_area,
+        0.0
+    );
     eprintln!(
         "rigid plane, {tangential:?}, ν = {poisson}: {} steps, |t − t_law|/σ_max ≤ \
          {worst:.2e}; {:.2} s",

@@ -82,10 +82,21 @@ fn the_force_opening_curve_of_a_dcb_follows_beam_theory_once_the_crack_grows() {
     let secondary = DeformableSurface::from_faces(&mesh, "upper arm, bonded", &bonded).unwrap();
     let main = DeformableSurface::from_mesh_surface(&mesh, "lower_z1").unwrap();
     let interface = CohesiveInterface::new("dcb", &secondary, main, &mesh, &settings()).unwrap();
-    assert_eq!(interface.bond_count(), 2 * (ELEMENTS - first_bonded as usize + 1));
+    assert_eq!(
+        interface.bond_count(),
+        2 * (ELEMENTS - first_bonded as usize + 1)
+    );
     let mut displacements = vec![
-        ramped(mesh.node_set("upper_x0").unwrap().to_vec(), 2, 0.5 * OPENING),
-        ramped(mesh.node_set("lower_x0").unwrap().to_vec(), 2, -0.5 * OPENING),
+        ramped(
+            mesh.node_set("upper_x0").unwrap().to_vec(),
+            2,
+            0.5 * OPENING,
+        ),
+        ramped(
+            mesh.node_set("lower_x0").unwrap().to_vec(),
+            2,
+            -0.5 * OPENING,
+        ),
     ];
     for arm in ["upper_x1", "lower_x1"] {
         displacements.extend((0..3).map(|dof| held(&mesh, arm, dof)));
@@ -159,7 +170,10 @@ fn the_force_opening_curve_of_a_dcb_follows_beam_theory_once_the_crack_grows() {
         CRACK * 1e3,
         final_crack * 1e3
     );
-    assert!(final_crack >= CRACK + 0.01, "the crack grew only to {final_crack}");
+    assert!(
+        final_crack >= CRACK + 0.01,
+        "the crack grew only to {final_crack}"
+    );
     assert!(compared >= 20, "{compared} rows on the growth branch");
     assert!(worst <= 0.05, "worst relative error {worst}");
 }

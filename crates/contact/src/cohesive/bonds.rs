@@ -11,8 +11,9 @@
 //! t = R t_law(δ_loc) [Pa] and the force on the secondary node f_s = A t [N] (it enters
 //! like an internal force, M a + f_int + f_c = f_ext: an opened bond pulls s back toward
 //! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
-//! triangle; a rigid main takes it on the body. The stiffness block of the node,
-//! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc, holds the frame R fixed.
+//! triangle; a rigid main takes it on the body. The stiffness blocks,
+//! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s, hold
+//! the frame R fixed.
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use rayon::prelude::*;
@@ -20,6 +21,7 @@ use rayon::prelude::*;
 use super::frame::frame;
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
+use super::slide::evaluate_sliding;
 use crate::broadphase::Broadphase;
 use crate::projection::{Projection, project_on_triangle};
 use crate::surface::ContactTarget;
@@ -47,12 +49,18 @@ pub struct Bond {
 pub struct BondState {
     /// Force f_s on the secondary node, as it enters the balance [N].
     pub force: Vector3<f64>,
-    /// ∂f_s/∂x_s = A R C Rᵀ [N/m].
-    pub stiffness: Matrix3<f64>,
+    /// ∂f_s/∂x_j [N/m] for j = the secondary node and the main triangle's corners 0, 1, 2
+    /// (material-point bond: A R C Rᵀ times 1, −ξ_0, −ξ_1, −ξ_2).
+    pub coupling: [Matrix3<f64>; 4],
+    /// ∂ξ_k/∂x_j [1/m] (row k) for the same j: how the reactions −ξ_k f_s shift along the
+    /// triangle (zero for material-point bonds).
+    pub coordinate_gradients: [Matrix3<f64>; 4],
     /// Traction on the secondary surface, −R t_law [Pa].
     pub traction: Vector3<f64>,
-    /// Local separation (δ_n, δ_s, δ_t) [m].
+    /// Local separation (δ_n, δ_s, δ_t) [m] (a sliding bond: (g, 0, 0), g the gap).
     pub separation: Vector3<f64>,
+    /// Barycentric coordinates ξ of the main point in the bond's triangle.
+    pub coordinates: Vector3<f64>,
     /// Trial damage history κ [m] and damage D.
     pub history: f64,
     pub damage: f64,
@@ -64,9 +72,11 @@ impl Default for BondState {
     fn default() -> Self {
         BondState {
             force: Vector3::zeros(),
-            stiffness: Matrix3::zeros(),
+            coupling: [Matrix3::zeros(); 4],
+            coordinate_gradients: [Matrix3::zeros(); 4],
             traction: Vector3::zeros(),
             separation: Vector3::zeros(),
+            coordinates: Vector3::zeros(),
             history: 0.0,
             damage: 0.0,
             energy: 0.0,
@@ -101,15 +111,17 @@ pub fn form_bonds(
             let x = positions[node as usize];
             let mut best: Option<(u32, Projection, f64)> = None;
             for &triangle in broadphase.candidates(i) {
-                if main.nodes(triangle as usize).is_some_and(|ids| ids.contains(&node)) {
+                if main
+                    .nodes(triangle as usize)
+                    .is_some_and(|ids| ids.contains(&node))
+                {
                     continue;
                 }
                 let corners = main.corners(triangle as usize, positions, &placement);
                 let projection = project_on_triangle(&x, &corners);
                 let distance2 = (x - projection.point).norm_squared();
-                let better = best.is_none_or(|(t, _, d)| {
-                    distance2 < d || (distance2 == d && triangle < t)
-                });
+                let better =
+                    best.is_none_or(|(t, _, d)| distance2 < d || (distance2 == d && triangle < t));
                 if better {
                     best = Some((triangle, projection, distance2));
                 }
@@ -156,23 +168,33 @@ impl Bond {
             + self.coordinates.z * vertices[2]
     }
 
-    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m].
+    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m]
+    /// (the stiffness blocks only `with_stiffness`, zero otherwise).
     pub fn evaluate(
         &self,
         law: &CohesiveLaw,
         vertices: &[Vector3<f64>; 3],
         x: &Vector3<f64>,
+        with_stiffness: bool,
     ) -> BondState {
         let [a, b, c] = vertices;
         let rotation = frame(a, b, c, &self.normal);
         let separation = rotation.transpose() * (x - self.main_point(vertices));
         let response = law.evaluate(&separation, self.history);
         let traction = rotation * response.traction;
+        let coupling = if with_stiffness {
+            let stiffness = self.area * rotation * response.tangent * rotation.transpose();
+            point_coupling(&stiffness, &self.coordinates)
+        } else {
+            [Matrix3::zeros(); 4]
+        };
         BondState {
             force: self.area * traction,
-            stiffness: self.area * rotation * response.tangent * rotation.transpose(),
+            coupling,
+            coordinate_gradients: [Matrix3::zeros(); 4],
             traction: -traction,
             separation,
+            coordinates: self.coordinates,
             history: response.history,
             damage: response.damage,
             energy: self.area * response.energy,
@@ -180,23 +202,44 @@ impl Bond {
     }
 }
 
+/// The blocks ∂f_s/∂x_j of a bond whose force depends on x_s − Σ ξ_k x_k only, through
+/// `stiffness` = ∂f_s/∂x_s: (1, −ξ_0, −ξ_1, −ξ_2) × stiffness.
+pub fn point_coupling(stiffness: &Matrix3<f64>, coordinates: &Vector3<f64>) -> [Matrix3<f64>; 4] {
+    [
+        *stiffness,
+        -coordinates.x * stiffness,
+        -coordinates.y * stiffness,
+        -coordinates.z * stiffness,
+    ]
+}
+
 /// Evaluates every bond at nodal `positions` with the main placed by `placement` into
-/// `states` (one per bond), in parallel over fixed blocks of bonds: each state depends on
-/// its bond only, so the result does not depend on the number of threads.
+/// `states` (one per bond), as material-point bonds or, with `sliding`, as sliding bonds
+/// ([`evaluate_sliding`]), the stiffness blocks only `with_stiffness`; in parallel over
+/// fixed blocks of bonds: each state depends on its bond only, so the result does not
+/// depend on the number of threads.
 pub fn evaluate_all(
     bonds: &[Bond],
     law: &CohesiveLaw,
     main: &ContactTarget,
     positions: &[Vector3<f64>],
     placement: &Isometry3<f64>,
+    (sliding, with_stiffness): (bool, bool),
     states: &mut [BondState],
 ) {
     states
         .par_iter_mut()
         .zip(bonds.par_iter())
-        .with_min_len(512)
+        .with_min_len(64)
         .for_each(|(state, bond)| {
-            let vertices = main.corners(bond.triangle as usize, positions, placement);
-            *state = bond.evaluate(law, &vertices, &positions[bond.node as usize]);
+            let triangle = bond.triangle as usize;
+            let vertices = main.corners(triangle, positions, placement);
+            let x = &positions[bond.node as usize];
+            *state = if sliding {
+                let rim = main.rim(triangle);
+                evaluate_sliding(bond, law, &vertices, rim, x, with_stiffness)
+            } else {
+                bond.evaluate(law, &vertices, x, with_stiffness)
+            };
         });
 }

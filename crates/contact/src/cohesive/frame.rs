@@ -51,7 +51,12 @@ mod tests {
         assert_eq!(Vector3::from(r.column(1)), Vector3::<f64>::x());
         assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-15);
         assert!((r.determinant() - 1.0).abs() < 1e-15);
-        let degenerate = frame(&Vector3::zeros(), &Vector3::zeros(), &Vector3::x(), &Vector3::y());
+        let degenerate = frame(
+            &Vector3::zeros(),
+            &Vector3::zeros(),
+            &Vector3::x(),
+            &Vector3::y(),
+        );
         assert_eq!(Vector3::from(degenerate.column(0)), Vector3::<f64>::y());
         assert!((degenerate.determinant() - 1.0).abs() < 1e-15);
     }

@@ -260,3 +260,163 @@ fn nothing_within_the_tolerance_is_an_error_naming_the_interface_and_surfaces() 
         assert!(error.contains(part), "{error}");
     }
 }
+
+/// A fixed rigid pyramid: apex (0, 0, 0.3) over the square (±1, ±1, 0), four faces
+/// facing up and out; its apex and the edges to it are interior.
+fn pyramid() -> RigidSurface {
+    let vertices = vec![
+        Vector3::new(-1.0, -1.0, 0.0),
+        Vector3::new(1.0, -1.0, 0.0),
+        Vector3::new(1.0, 1.0, 0.0),
+        Vector3::new(-1.0, 1.0, 0.0),
+        Vector3::new(0.0, 0.0, 0.3),
+    ];
+    let triangles = (0..4u32).map(|i| [i, (i + 1) % 4, 4]).collect();
+    RigidSurface::new("pyramid", vertices, triangles).unwrap()
+}
+
+#[test]
+fn sliding_bonds_have_a_consistent_stiffness_over_faces_edges_and_vertices() {
+    let apex = Vector3::new(0.0, 0.0, 0.3);
+    let mut points = interface_mesh_positions();
+    points[0] = apex;
+    let mesh = mesh(&points);
+    let muscle = DeformableSurface::from_triangles(&mesh, "muscle", vec![[0, 1, 2]]).unwrap();
+    let mut interface = CohesiveInterface::new(
+        "slide",
+        &muscle,
+        pyramid(),
+        &mesh,
+        &settings(TangentialMode::FreeSlide),
+    )
+    .unwrap();
+    let face_normal = |i: usize| {
+        let p = pyramid();
+        let [a, b, c] = p.triangles[i].map(|v| p.vertices[v as usize]);
+        (b - a).cross(&(c - a)).normalize()
+    };
+    let edge_midpoint = 0.5 * (apex + Vector3::new(1.0, -1.0, 0.0));
+    let bisector = (face_normal(0) + face_normal(1)).normalize();
+    let centroid = (Vector3::new(-1.0, -1.0, 0.0) + Vector3::new(1.0, -1.0, 0.0) + apex) / 3.0;
+    // Gaps of 15 mm (softening), and 5 mm (elastic), over the three features.
+    for gap in [0.015, 0.005] {
+        for (feature, x) in [
+            ("face", centroid + gap * face_normal(0)),
+            ("edge", edge_midpoint + gap * bisector),
+            (
+                "vertex",
+                apex + gap * Vector3::new(0.05, 0.1, 1.0).normalize(),
+            ),
+        ] {
+            let mut positions = interface_mesh_positions();
+            positions[0] = x;
+            let f = all_forces(&mut interface, 0.0, &positions);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!(
+                (separation.x - gap).abs() < 1e-12,
+                "{feature}: {separation:?}"
+            );
+            let corners = pyramid().triangles[interface.bonds[0].triangle as usize]
+                .map(|v| pyramid().vertices[v as usize]);
+            let found = match crate::projection::project_on_triangle(&x, &corners).feature {
+                crate::projection::Feature::Face => "face",
+                crate::projection::Feature::Edge(_) => "edge",
+                crate::projection::Feature::Vertex(_) => "vertex",
+            };
+            assert_eq!(found, feature);
+            // The force pulls the node straight back towards the closest point.
+            let expected = mode_one(gap) * interface.bonded_reference_area();
+            assert!((Vector3::from_column_slice(&f[..3]).norm() - expected).abs() < 1e-9);
+            check_stiffness(&mut interface, 0.0, &positions);
+        }
+    }
+}
+
+/// The normal traction of [`settings`] in monotonic opening [Pa].
+fn mode_one(opening: f64) -> f64 {
+    let s = settings(TangentialMode::FreeSlide);
+    if opening <= s.initiation_separation {
+        s.normal_stiffness * opening
+    } else {
+        s.normal_stiffness * s.initiation_separation * (s.failure_separation - opening)
+            / (s.failure_separation - s.initiation_separation)
+    }
+}
+
+#[test]
+fn sliding_bonds_over_the_face_and_past_the_rim_have_the_full_consistent_stiffness() {
+    let mut interface = deformable(&settings(TangentialMode::FreeSlide));
+    let mut x = reference();
+    // The main triangle moved, tilted and stretched.
+    x[0] += Vector3::new(0.01, -0.02, 0.005);
+    x[1] += Vector3::new(0.03, 0.01, 0.1);
+    x[2] += Vector3::new(-0.02, 0.04, -0.05);
+    let [a, b, c] = [x[0], x[1], x[2]];
+    let n = (b - a).cross(&(c - a)).normalize();
+    let centroid = (a + b + c) / 3.0;
+    let in_plane = |v: Vector3<f64>| v - v.dot(&n) * n;
+    let over_face = centroid + in_plane(Vector3::new(0.05, -0.03, 0.0));
+    let past_edge = 0.5 * (a + b) + 0.05 * (b - a).cross(&n).normalize();
+    let past_corner = b + 0.05 * in_plane(b - centroid).normalize();
+    // Openings far beyond the triangle's size matter most: the lever arm g/h.
+    for gap in [0.005, 0.015] {
+        for (place, foot) in [
+            ("face", over_face),
+            ("edge", past_edge),
+            ("corner", past_corner),
+        ] {
+            x[3] = foot + gap * n;
+            let f = all_forces(&mut interface, 0.0, &x);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!((separation.x - gap).abs() < 1e-12, "{place}");
+            // The forces balance.
+            let total: Vector3<f64> = (0..4)
+                .map(|i| Vector3::from_column_slice(&f[3 * i..3 * i + 3]))
+                .sum();
+            assert!(total.norm() < 1e-12, "{place}");
+            check_stiffness(&mut interface, 0.0, &x);
+        }
+    }
+    assert!(interface.symmetric_stiffness());
+}
+
+#[test]
+fn sliding_bonds_over_interior_edges_and_corners_of_a_deformable_main_are_consistent() {
+    // The pyramid's corners as mesh nodes 0–4 (then moved a little), the secondary
+    // triangle [5, 6, 7] with node 5 bonded at the apex.
+    let p = pyramid();
+    let mut points = p.vertices.clone();
+    points.extend([
+        Vector3::new(0.0, 0.0, 0.3),
+        Vector3::new(0.6, 0.2, 1.1),
+        Vector3::new(0.0, 3.2, 0.3),
+    ]);
+    let mesh = mesh(&points);
+    let main = DeformableSurface::from_triangles(&mesh, "pyramid", p.triangles.clone()).unwrap();
+    let skin = DeformableSurface::from_triangles(&mesh, "skin", vec![[5, 6, 7]]).unwrap();
+    let s = settings(TangentialMode::FreeSlide);
+    let mut interface = CohesiveInterface::new("slide", &skin, main, &mesh, &s).unwrap();
+    let mut x = points.clone();
+    x[1] += Vector3::new(0.02, -0.01, 0.03);
+    x[4] += Vector3::new(-0.01, 0.02, 0.01);
+    let apex = x[4];
+    let normal = |t: usize| {
+        let [a, b, c] = p.triangles[t].map(|v| x[v as usize]);
+        (b - a).cross(&(c - a)).normalize()
+    };
+    let middle = 0.5 * (apex + x[1]);
+    let bisector = (normal(0) + normal(1)).normalize();
+    let up = (normal(0) + normal(1) + normal(2) + normal(3)).normalize();
+    for gap in [0.005, 0.015] {
+        for (place, node) in [
+            ("edge", middle + gap * bisector),
+            ("vertex", apex + gap * up),
+        ] {
+            x[5] = node;
+            all_forces(&mut interface, 0.0, &x);
+            let (_, separation, _) = interface.bond_states().next().unwrap();
+            assert!((separation.x - gap).abs() < 1e-12, "{place}");
+            check_stiffness(&mut interface, 0.0, &x);
+        }
+    }
+}

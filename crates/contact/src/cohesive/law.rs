@@ -98,8 +98,7 @@ impl CohesiveLaw {
     pub fn effective_separation(&self, separation: &Vector3<f64>) -> f64 {
         let opening = separation.x.max(0.0);
         let w = self.shear_weight();
-        (opening * opening + w * (separation.y * separation.y + separation.z * separation.z))
-            .sqrt()
+        (opening * opening + w * (separation.y * separation.y + separation.z * separation.z)).sqrt()
     }
 
     /// Damage D(κ) of the damage history κ [m]: 0 up to δ_0, linear softening to 1 at δ_f.

@@ -14,6 +14,10 @@ pub trait MainSide {
     /// The mesh nodes of triangle `triangle`, for a deformable main.
     fn nodes(&self, triangle: usize) -> Option<[u32; 3]>;
 
+    /// Bit `i` set when edge `i` (corner `i` to `i + 1`) of triangle `triangle` is on the
+    /// rim of the surface (no other triangle shares it).
+    fn rim(&self, triangle: usize) -> u8;
+
     /// The rigid body's placement at `time` (identity for a deformable main).
     fn placement(&self, time: f64) -> Isometry3<f64>;
 
@@ -40,6 +44,14 @@ impl MainSide for ContactTarget {
         match self {
             ContactTarget::Deformable(s) => Some(s.triangles[triangle]),
             ContactTarget::Rigid(_) => None,
+        }
+    }
+
+    #[inline]
+    fn rim(&self, triangle: usize) -> u8 {
+        match self {
+            ContactTarget::Deformable(s) => s.boundary_edges[triangle],
+            ContactTarget::Rigid(s) => s.boundary_edges[triangle],
         }
     }
 

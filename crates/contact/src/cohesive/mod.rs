@@ -5,8 +5,19 @@
 //! - [`law`]: the traction–separation law t(δ) with damage and its consistent tangent;
 //! - [`settings`]: its parameters ([`CohesiveSettings`], the paper's values by default);
 //! - `interface.rs`: [`CohesiveInterface`], the [`musclefem_core::solver::Interaction`]
-//!   the solvers call; `bonds.rs`: the bonds and their forces; `slide.rs`: sliding bonds;
+//!   the solvers call; `bonds.rs`: the bonds, their formation and material-point forces;
+//!   `slide.rs` and `slide_tangent.rs`: sliding bonds and their linearization;
 //!   `main_side.rs`: the main triangles at an instant; `frame.rs`: their local frames.
+//!
+//! Use:
+//!
+//! ```text
+//! let vastus = DeformableSurface::from_mesh_surface(&mesh, "vastus_deep")?;
+//! let femur = RigidSurface::from_stl("femur.stl")?.with_motion(motion);
+//! let settings = CohesiveSettings { tangential: TangentialMode::FreeSlide, ..Default::default() };
+//! let glue = CohesiveInterface::new("vastus on femur", &vastus, femur, &mesh, &settings)?;
+//! let mut interactions: Vec<Box<dyn Interaction>> = vec![Box::new(glue)];
+//! ```
 
 mod bonds;
 mod error;
@@ -16,6 +27,7 @@ pub mod law;
 mod main_side;
 pub mod settings;
 mod slide;
+mod slide_tangent;
 
 pub use error::CohesiveError;
 pub use interface::CohesiveInterface;

@@ -27,9 +27,12 @@ pub enum TangentialMode {
 pub struct CohesiveSettings {
     /// K_nn: normal traction per normal separation [N/m³ = Pa/m].
     pub normal_stiffness: f64,
-    /// K_ss: shear traction per separation along the first in-plane direction s [N/m³].
+    /// K_ss: shear traction per separation along the first in-plane direction s [N/m³]
+    /// (s follows the first edge of each main triangle, so with K_ss ≠ K_tt the in-plane
+    /// axes depend on the mesh; the paper has K_ss = K_tt).
     pub shear_stiffness: f64,
-    /// K_tt: shear traction per separation along the second in-plane direction t [N/m³].
+    /// K_tt: shear traction per separation along the second in-plane direction t = n × s
+    /// [N/m³].
     pub tangential_stiffness: f64,
     /// δ_0: effective separation at which damage starts [m].
     pub initiation_separation: f64,

@@ -8,12 +8,29 @@
 //!
 //! The bond (its node, area and damage) stays with the secondary node: the damage of a
 //! bond is that of the secondary surface's patch, wherever it slides.
+//!
+//! A sliding bond's separation is the signed gap g to its triangle (re-projected at every
+//! force evaluation, so line-search trials see the gap of their positions) and its
+//! traction acts along the direction ν of the gap ([`evaluate_sliding`]): the triangle's
+//! normal n over the face, the unit vector from the closest point to the node over an
+//! interior edge or vertex (the gradient of the distance, continuous across a convex
+//! edge, so a node sliding over it feels a force that turns smoothly), and n again past
+//! the rim of an open surface: there the node keeps the plane of its rim triangle, g is
+//! its distance to that plane and it is not pulled sideways back to the rim; its reaction
+//! acts at the closest rim point, so forces balance but a node that overhangs the rim by
+//! d leaves a couple d × f_s unbalanced (projecting on the plane past the rim balances it
+//! but hands the corners reactions growing like d/h, which tipped the rim triangles over
+//! in the tests). Across a concave edge the closest point jumps between the faces, and so
+//! does the direction of the force.
 
-use nalgebra::{Isometry3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Vector3};
+use rayon::prelude::*;
 
-use super::bonds::Bond;
+use super::bonds::{Bond, BondState};
+use super::law::CohesiveLaw;
 use super::main_side::MainSide;
-use crate::projection::project_on_triangle;
+use super::slide_tangent::{Footing, pivot_tangent, sliding_tangent};
+use crate::projection::{Feature, project_on_triangle};
 use crate::surface::ContactTarget;
 
 /// Rings a walk may cross per search.
@@ -68,6 +85,21 @@ impl Neighbours {
     }
 }
 
+/// [`slide`] for every bond, in parallel over fixed blocks of bonds (each bond on its own,
+/// so the result does not depend on the number of threads).
+pub fn slide_all(
+    bonds: &mut [Bond],
+    main: &ContactTarget,
+    neighbours: &Neighbours,
+    positions: &[Vector3<f64>],
+    placement: &Isometry3<f64>,
+) {
+    bonds
+        .par_iter_mut()
+        .with_min_len(64)
+        .for_each(|bond| slide(bond, main, neighbours, positions, placement));
+}
+
 /// Moves `bond` to the point of the `main` surface (placed by `placement`, vertices at
 /// nodal `positions` [m]) closest to its node, walking from its current triangle.
 pub fn slide(
@@ -90,7 +122,10 @@ pub fn slide(
     for _ in 0..MAX_HOPS {
         let mut best = current;
         for &other in neighbours.of(current) {
-            if main.nodes(other as usize).is_some_and(|n| n.contains(&bond.node)) {
+            if main
+                .nodes(other as usize)
+                .is_some_and(|n| n.contains(&bond.node))
+            {
                 continue;
             }
             let (xi, d2) = project(other as usize);
@@ -107,6 +142,60 @@ pub fn slide(
     }
     bond.triangle = current as u32;
     bond.coordinates = coordinates;
+}
+
+/// The sliding `bond` at secondary position `x` [m], its triangle at `corners` [m] with
+/// the rim bits `rim` (see the module docs): f_s = A t_n(g) ν, with the full
+/// linearization (`slide_tangent.rs`): the turning of the triangle or of ν, and the shift
+/// of the closest point.
+pub fn evaluate_sliding(
+    bond: &Bond,
+    law: &CohesiveLaw,
+    corners: &[Vector3<f64>; 3],
+    rim: u8,
+    x: &Vector3<f64>,
+    with_stiffness: bool,
+) -> BondState {
+    let projection = project_on_triangle(x, corners);
+    let on_rim = |bits: u8| rim & bits != 0;
+    // Interior edges and corners: (index, is a corner).
+    let pivot = match projection.feature {
+        Feature::Face => None,
+        Feature::Edge(i) if !on_rim(1 << i) => Some((i as usize, false)),
+        Feature::Vertex(i) if !on_rim((1 << i) | (1 << ((i + 2) % 3))) => Some((i as usize, true)),
+        _ => None,
+    };
+    let coordinates = Vector3::from(projection.barycentric);
+    let (gap, direction) = match pivot {
+        Some(_) => (projection.gap, projection.direction),
+        // The face, or past the rim (the plane of the rim triangle).
+        None => (
+            (x - projection.point).dot(&projection.normal),
+            projection.normal,
+        ),
+    };
+    let response = law.evaluate(&Vector3::new(gap, 0.0, 0.0), bond.history);
+    let traction = response.traction.x;
+    let scalars = (bond.area * traction, bond.area * response.tangent[(0, 0)]);
+    let (coupling, coordinate_gradients) = match pivot {
+        _ if !with_stiffness => ([Matrix3::zeros(); 4], [Matrix3::zeros(); 4]),
+        Some(pivot) => pivot_tangent(corners, pivot, x, &direction, gap, scalars),
+        None => {
+            let footing = Footing::of(projection.feature);
+            sliding_tangent(corners, footing, x, &coordinates, &direction, gap, scalars)
+        }
+    };
+    BondState {
+        force: bond.area * traction * direction,
+        coupling,
+        coordinate_gradients,
+        traction: -traction * direction,
+        separation: Vector3::new(gap, 0.0, 0.0),
+        coordinates,
+        history: response.history,
+        damage: response.damage,
+        energy: bond.area * response.energy,
+    }
 }
 
 #[cfg(test)]
@@ -128,7 +217,9 @@ mod tests {
                 [[a, b, c], [a, c, d]]
             })
             .collect();
-        RigidSurface::new("strip", vertices, triangles).unwrap().into()
+        RigidSurface::new("strip", vertices, triangles)
+            .unwrap()
+            .into()
     }
 
     #[test]
@@ -148,10 +239,19 @@ mod tests {
         };
         // Slide 13.5 units along x: the walk crosses the strip in one search.
         positions[node as usize] = Vector3::new(13.7, 0.6, 0.5);
-        slide(&mut bond, &main, &neighbours, &positions, &Isometry3::identity());
+        slide(
+            &mut bond,
+            &main,
+            &neighbours,
+            &positions,
+            &Isometry3::identity(),
+        );
         let vertices = main.corners(bond.triangle as usize, &positions, &Isometry3::identity());
         let point = bond.main_point(&vertices);
-        assert!((point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14, "{point:?}");
+        assert!(
+            (point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14,
+            "{point:?}"
+        );
         assert_eq!(bond.triangle / 2, 13);
     }
 }

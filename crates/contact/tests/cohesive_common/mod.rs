@@ -195,7 +195,10 @@ pub fn spread(values: &[f64]) -> f64 {
 }
 
 /// The tributary area of the secondary node of every pair, from `surface` [m²].
-pub fn pair_areas(surface: &musclefem_contact::DeformableSurface, pairs: &[(u32, u32)]) -> Vec<f64> {
+pub fn pair_areas(
+    surface: &musclefem_contact::DeformableSurface,
+    pairs: &[(u32, u32)],
+) -> Vec<f64> {
     pairs
         .iter()
         .map(|&(s, _)| surface.node_area[surface.local_index(s).expect("a surface node")])
