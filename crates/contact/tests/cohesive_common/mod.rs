@@ -114,12 +114,14 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// The values of the nodal field `name`.
+    /// The values of the nodal field `name` of the (one) interaction: the solvers name
+    /// it `INTERACTION_name`.
     pub fn field(&self, name: &str) -> &[f64] {
+        let suffix = format!("_{name}");
         &self
             .fields
             .iter()
-            .find(|f| f.name == name)
+            .find(|f| f.name.ends_with(&suffix))
             .unwrap_or_else(|| panic!("no nodal field {name}"))
             .values
     }

@@ -385,13 +385,17 @@ pub fn build_model(
     })
 }
 
+/// value × the named amplitude (or a constant without a name).
+type ScaledAmplitude<'a> =
+    dyn Fn(&Option<Spanned<String>>, f64) -> Result<Amplitude, SceneError> + 'a;
+
 /// The motion of a rigid tie or body: `translation` [m] times its amplitude, and a
 /// rotation about an axis.
 fn rigid_motion(
     translation: &[f64; 3],
     translation_amplitude: &Option<Spanned<String>>,
     rotation: &Option<RotationEntry>,
-    scaled: &dyn Fn(&Option<Spanned<String>>, f64) -> Result<Amplitude, SceneError>,
+    scaled: &ScaledAmplitude<'_>,
     locator: &Locator,
 ) -> Result<RigidMotion, SceneError> {
     let mut amplitudes = [None, None, None];

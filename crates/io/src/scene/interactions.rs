@@ -24,18 +24,18 @@ const DEFAULT_DIVISIONS: usize = 16;
 /// One interaction of a scene, ready to hand to a solver.
 #[derive(Debug, Clone)]
 pub enum InteractionModel {
-    /// Penalty contact.
-    Contact(PenaltyContact),
+    /// Penalty contact (boxed: it carries its broadphase).
+    Contact(Box<PenaltyContact>),
     /// Cohesive traction–separation with damage.
-    Cohesive(CohesiveInterface),
+    Cohesive(Box<CohesiveInterface>),
 }
 
 impl InteractionModel {
     /// A fresh copy for a solver (each run starts from the undamaged state).
     pub fn boxed(&self) -> Box<dyn Interaction> {
         match self {
-            InteractionModel::Contact(c) => Box::new(c.clone()),
-            InteractionModel::Cohesive(c) => Box::new(c.clone()),
+            InteractionModel::Contact(c) => c.clone(),
+            InteractionModel::Cohesive(c) => c.clone(),
         }
     }
 
@@ -227,14 +227,14 @@ pub(super) fn build_interactions(
                     ));
                 }
                 PenaltyContact::new(name, secondary, main, penalty)
-                    .map(InteractionModel::Contact)
+                    .map(|c| InteractionModel::Contact(Box::new(c)))
                     .map_err(|e| at(entry.kind.span(), e.to_string()))?
             }
             "cohesive" => {
                 refuse(entry, &CONTACT_KEYS, "cohesive", locator)?;
                 let settings = cohesive_settings(entry, locator)?;
                 CohesiveInterface::new(name, &secondary, main, mesh, &settings)
-                    .map(InteractionModel::Cohesive)
+                    .map(|c| InteractionModel::Cohesive(Box::new(c)))
                     .map_err(|e| at(entry.kind.span(), e.to_string()))?
             }
             other => {
@@ -377,7 +377,7 @@ fn part_surface(
             ),
         ));
     };
-    if mesh.surfaces.get(full).is_none() {
+    if !mesh.surfaces.contains_key(full) {
         let prefix = format!("{part}.");
         let known: Vec<&str> = mesh
             .surfaces
