@@ -1,0 +1,120 @@
+//! Tests of the sparse system (`sparse.rs`).
+use super::*;
+use crate::mesh::generate::box_of_hexes;
+
+/// A system over the 24 unknowns of one free hex8 (full 24 × 24 pattern), with the
+/// values `entry(row, column)`; solves K x = K 1 and returns the factorization used
+/// and the largest error of x.
+fn solve_one_hex(entry: impl Fn(usize, usize) -> f64, symmetric: bool) -> (Factorization, f64) {
+    let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
+    let equation: Vec<u32> = (0..24).collect();
+    let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
+    let mut system = SparseSystem::new(
+        &positions,
+        &equation,
+        24,
+        mesh.blocks.iter(),
+        &[],
+        usize::MAX,
+    );
+    assert_eq!(system.entries(), 24 * 24);
+    for row in 0..24 {
+        for column in 0..24 {
+            let p = system.position(row, column);
+            system.values_mut()[p] = entry(row, column);
+        }
+    }
+    let mut rhs: Vec<f64> = (0..24)
+        .map(|row| (0..24).map(|c| entry(row, c)).sum())
+        .collect();
+    let used = system.solve(&mut rhs, symmetric, None).unwrap();
+    (
+        used,
+        rhs.iter().map(|x| (x - 1.0).abs()).fold(0.0, f64::max),
+    )
+}
+
+fn coupling(row: usize, column: usize) -> f64 {
+    0.1 / (1.0 + row as f64 + column as f64)
+}
+
+#[test]
+fn positive_definite_systems_use_cholesky() {
+    let spd = |r: usize, c: usize| if r == c { 4.0 } else { coupling(r, c) };
+    let (used, error) = solve_one_hex(spd, true);
+    assert_eq!(used, Factorization::Cholesky);
+    assert!(error < 1e-13, "{error}");
+}
+
+/// After a factorization of K₀, K₁ = K₀ + 10 % off-diagonal coupling is solved by
+/// conjugate gradients preconditioned with K₀'s factor, to the direct solution of
+/// K₁ x = K₁ 1 within 1e-11, without a new factorization.
+#[test]
+fn a_nearby_matrix_is_solved_with_the_factor_at_hand() {
+    let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
+    let equation: Vec<u32> = (0..24).collect();
+    let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
+    let mut system = SparseSystem::new(
+        &positions,
+        &equation,
+        24,
+        mesh.blocks.iter(),
+        &[],
+        usize::MAX,
+    );
+    let fill = |system: &mut SparseSystem, scale: f64| -> Vec<f64> {
+        let entry = |r: usize, c: usize| {
+            if r == c { 4.0 } else { scale * coupling(r, c) }
+        };
+        for row in 0..24 {
+            for column in 0..24 {
+                let p = system.position(row, column);
+                system.values_mut()[p] = entry(row, column);
+            }
+        }
+        (0..24)
+            .map(|r| (0..24).map(|c| entry(r, c)).sum())
+            .collect()
+    };
+    let reuse = FactorReuse::default();
+    let mut rhs = fill(&mut system, 1.0);
+    system.solve(&mut rhs, true, Some(&reuse)).unwrap();
+    assert_eq!(system.statistics().numeric_factorizations, 1);
+    let mut rhs = fill(&mut system, 1.1);
+    assert_eq!(
+        system.solve(&mut rhs, true, Some(&reuse)).unwrap(),
+        Factorization::Cholesky
+    );
+    let statistics = system.statistics();
+    assert_eq!(statistics.numeric_factorizations, 1);
+    assert_eq!(statistics.krylov_solves, 1);
+    assert!(statistics.krylov_iterations >= 1);
+    let error = rhs.iter().map(|x| (x - 1.0).abs()).fold(0.0, f64::max);
+    assert!(error < 1e-11, "{error}");
+}
+
+#[test]
+fn indefinite_systems_fall_back_to_lu() {
+    let indefinite = |r: usize, c: usize| match (r == c, r % 2) {
+        (true, 0) => 4.0,
+        (true, _) => -4.0,
+        _ => coupling(r, c),
+    };
+    let (used, error) = solve_one_hex(indefinite, true);
+    assert_eq!(used, Factorization::Lu);
+    assert!(error < 1e-13, "{error}");
+}
+
+#[test]
+fn unsymmetric_systems_use_lu() {
+    let unsymmetric = |r: usize, c: usize| {
+        if r == c {
+            4.0
+        } else {
+            coupling(r, c) * if r < c { 2.0 } else { 0.5 }
+        }
+    };
+    let (used, error) = solve_one_hex(unsymmetric, false);
+    assert_eq!(used, Factorization::Lu);
+    assert!(error < 1e-13, "{error}");
+}
