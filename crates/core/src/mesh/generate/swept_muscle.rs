@@ -113,7 +113,10 @@ pub struct SweptSolid {
 impl SweptSolid {
     /// The solid through `stations`. Errors unless there are at least two stations,
     /// every value is finite, the semi-axes are positive, consecutive centres differ,
-    /// and the width direction is nowhere within 10° of the centreline's tangent.
+    /// the width direction is nowhere within 10° of the centreline's tangent, and the
+    /// centreline nowhere bends so sharply that neighbouring sections overlap (curvature
+    /// × the section's extent towards the centre of curvature below 1, checked at the
+    /// quadrature points).
     pub fn new(stations: &[SweptStation]) -> Result<Self, MeshError> {
         if stations.len() < 2 {
             return Err(invalid(format!(
@@ -164,8 +167,34 @@ impl SweptSolid {
                     solid.curve.position(t)
                 )));
             }
+            let bending = solid.bending(t);
+            if bending >= 1.0 {
+                return Err(invalid(format!(
+                    "the centreline bends too sharply for the section at {:?}: curvature × \
+                     the section's extent towards the centre of curvature is {bending:.2} (≥ 1, \
+                     the sections overlap)",
+                    solid.curve.position(t)
+                )));
+            }
         }
         Ok(solid)
+    }
+
+    /// The sweep's folding measure at parameter `t`: max over the section of κ·(u d₁ + v d₂)
+    /// = √((a κ·d₁)² + (b κ·d₂)²), κ the curvature vector. The Jacobian of
+    /// (s, u, v) ↦ c + u d₁ + v d₂ is |c'| a b (1 − κ·(u d₁ + v d₂)) up to the in-plane
+    /// scaling, so the solid is free of overlapping sections where this is below 1.
+    fn bending(&self, t: f64) -> f64 {
+        let h = 1e-6 * self.curve.end();
+        let (lo, hi) = ((t - h).max(0.0), (t + h).min(self.curve.end()));
+        let first = self.curve.derivative(t);
+        let second = (self.curve.derivative(hi) - self.curve.derivative(lo)) / (hi - lo);
+        let speed = first.norm();
+        let tangent = first / speed;
+        let curvature = (second - second.dot(&tangent) * tangent) / (speed * speed);
+        let section = self.section_at_parameter(t);
+        (section.half_width * curvature.dot(&section.width_axis))
+            .hypot(section.half_thickness * curvature.dot(&section.thickness_axis))
     }
 
     fn width_direction(&self, t: f64) -> Vector3<f64> {
@@ -175,6 +204,15 @@ impl SweptSolid {
     /// Length of the centreline [m].
     pub fn length(&self) -> f64 {
         self.arclength[self.arclength.len() - 1].1
+    }
+
+    /// Arclength [m] from the origin to each station's centre, in station order.
+    pub fn station_arclengths(&self) -> Vec<f64> {
+        self.curve
+            .knots()
+            .iter()
+            .map(|&t| self.arclength_of(t))
+            .collect()
     }
 
     /// The cross-section at curve parameter `t`.

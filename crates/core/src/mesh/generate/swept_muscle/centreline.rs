@@ -112,6 +112,11 @@ impl Centreline {
         }
     }
 
+    /// The knots t_0 = 0 < … < t_{n−1}: the parameters of the points.
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
     /// The last knot t_{n−1}: the parameter runs over [0, end].
     pub fn end(&self) -> f64 {
         self.knots[self.knots.len() - 1]

@@ -70,6 +70,11 @@ fn the_solid_volume_is_the_frustum_volume() {
         solid.volume()
     );
     assert!((solid.length() - l).abs() < 1e-12);
+    let at_stations = solid.station_arclengths();
+    assert_eq!(at_stations.len(), 5);
+    for (i, s) in at_stations.iter().enumerate() {
+        assert!((s - 0.05 * i as f64).abs() < 1e-12, "{at_stations:?}");
+    }
     let mid = solid.section(0.1);
     assert!((mid.half_width - 0.020).abs() < 1e-12 && (mid.half_thickness - 0.009).abs() < 1e-12);
     assert!((mid.centre - Vector3::new(0.0, 0.0, 0.1)).norm() < 1e-12);
@@ -250,6 +255,15 @@ fn unusable_specs_are_rejected() {
         .iter()
         .map(|&[x, y]| station([x, y, 0.0], [0.0, 0.0, 1.0], 10.0, 40.0))
         .collect();
-    let error = swept_muscle_mesh(&spec(hairpin, 4, 1, 20)).unwrap_err();
+    let error = SweptSolid::new(&hairpin).unwrap_err();
     assert!(error.to_string().contains("bends too sharply"), "{error}");
+    // The same bend with a section 4 mm across in the bending plane is fine.
+    let thin: Vec<_> = hairpin
+        .iter()
+        .map(|s| SweptStation {
+            half_thickness: 2.0 * MM,
+            ..*s
+        })
+        .collect();
+    assert!(SweptSolid::new(&thin).is_ok());
 }
