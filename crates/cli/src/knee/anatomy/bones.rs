@@ -17,8 +17,8 @@
 //!   epicondylar width, Yue et al. 2011) whose profile is the 21 mm circle about the
 //!   flexion axis, with epicondyles; the trochlea, a body of revolution about the groove
 //!   axis whose floor is the groove circle and whose facets rise by 0.85 times the
-//!   patella's own receding (so the patella rides on the floor only), the lateral facet
-//!   extending further; an intercondylar notch 20 mm wide; a neck (radius 15 mm) to a
+//!   patella's own receding (so the patella rides on the floor only), cut off 4 mm
+//!   above the tibial plateau; an intercondylar notch 20 mm wide; a neck (radius 15 mm) to a
 //!   head of radius 24 mm at the hip centre, and greater and lesser trochanters.
 //! - **Tibia** (400 mm long): the plateau, an elliptic slab 78 mm wide and 50 mm deep
 //!   (Gandhi et al. 2010 report 74–80 × 48–52 mm for men) from the joint line 23 mm below
@@ -141,10 +141,12 @@ pub fn femur_distance(p: &Vector3<f64>) -> f64 {
         5.0,
     ));
     d = smooth_min(d, condyles, 5.0);
-    // Trochlea: within groove radius + facet rise of the groove axis, in front of x = 2.
+    // Trochlea: within groove radius + facet rise of the groove axis, in front of x = 2
+    // and above y = −19 mm (4 mm clear of the tibial plateau in extension).
     let (gx, gy) = (GROOVE_CENTRE[0] / MM, GROOVE_CENTRE[1] / MM);
     let trochlea = ((x - gx).hypot(y - gy) - (GROOVE_RADIUS / MM + facet_rise(z)))
         .max(2.0 - x)
+        .max(-19.0 - y)
         .max((z - 2.0).abs() - 38.0);
     d = smooth_min(d, trochlea, 1.0);
     // Epicondyles.

@@ -2,7 +2,8 @@
 //!
 //! - `femur.stl`, `tibia_<θ>deg.stl`, `patella_<θ>deg.stl`: the bones (ASCII STL, metres);
 //! - `muscles.vtu`: the four quadriceps' meshes at 0° (one block each; `block_id` tells
-//!   them apart, `fiber_direction_reference` shows the fibers);
+//!   them apart, `fiber_direction_reference` shows the fibers), and each one's outer
+//!   surface as `<muscle>.stl`;
 //! - `paths_<θ>deg.vtk`: the musculotendon paths (centreline to the release station,
 //!   free path, patellar tendon) as VTK legacy polylines, one cell per muscle and one
 //!   for the patellar tendon, with a `muscle` cell field (0–3 in the order VI, VL, VM,
@@ -20,12 +21,12 @@ use nalgebra::Vector3;
 
 use musclefem_io::output::{Frame, write_vtu};
 
-use super::Anatomy;
 use super::dimensions::{APEX, TUBEROSITY};
 use super::kinematics::flexion_rotation;
 use super::path::free_path_points;
+use super::{Anatomy, TriangleSurface};
 
-/// Writes `muscles.vtu` and `femur.stl`, and for each knee flexion angle of
+/// Writes `muscles.vtu`, the muscles' and the femur's STL, and for each knee flexion angle of
 /// `angles_degrees` the tibia, the patella and the paths (see the module documentation),
 /// into `directory` (created if missing).
 pub fn write_anatomy(anatomy: &Anatomy, directory: &Path, angles_degrees: &[f64]) -> Result<()> {
@@ -42,6 +43,11 @@ pub fn write_anatomy(anatomy: &Anatomy, directory: &Path, angles_degrees: &[f64]
         .bones
         .femur
         .write_stl(&directory.join("femur.stl"), "femur")?;
+    for muscle in &anatomy.muscles {
+        let name = muscle.muscle.name();
+        TriangleSurface::from_mesh_surface(&muscle.mesh, "outer")?
+            .write_stl(&directory.join(format!("{name}.stl")), name)?;
+    }
     let reference = anatomy.patella_reference.isometry().inverse();
     for &degrees in angles_degrees {
         let angle = degrees.to_radians();

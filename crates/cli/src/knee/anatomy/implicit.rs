@@ -185,11 +185,10 @@ pub fn marching_tetrahedra(
     if nx < 2 || ny < 2 || nz < 2 {
         bail!("marching tetrahedra: every axis needs two nodes, got {nx} × {ny} × {nz}");
     }
-    if grid
-        .axes
-        .iter()
-        .any(|a| a.windows(2).any(|w| !(w[1] > w[0])))
-    {
+    if grid.axes.iter().any(|a| {
+        a.windows(2)
+            .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+    }) {
         bail!("marching tetrahedra: grid coordinates must increase");
     }
     let count = nx * ny * nz;

@@ -18,6 +18,9 @@
 //! 2. *the inextensible patellar tendon*: |A(u, φ) − T(θ)| = ℓ, A the apex, T the
 //!    tuberosity moving with the tibia, ℓ = [`PATELLAR_TENDON_LENGTH`].
 //!
+//! The groove runs 120° round its circle below the straight part (to the notch); u is
+//! kept on that range.
+//!
 //! The remaining degree of freedom is set by **equilibrium**: the quadriceps pull the
 //! patella with tensions w_m along their paths, the contact is frictionless and the
 //! tendon inextensible, so by virtual work the patella rests where the tension-weighted
@@ -44,6 +47,9 @@ use super::path::{WrapCylinder, free_path};
 
 /// Arclength of the groove's straight proximal part available to the patella [m].
 const GROOVE_PROXIMAL_LENGTH: f64 = 0.2;
+/// How far round its circle the groove runs below its centre's level [rad]: 120°, to
+/// the intercondylar notch.
+const GROOVE_DISTAL_ANGLE: f64 = 120.0 * DEG;
 /// Step of the downward search for the tendon constraint's bracket [m].
 const GROOVE_SEARCH_STEP: f64 = 0.002;
 /// Range of patellar flexion searched for the equilibrium [rad].
@@ -102,6 +108,8 @@ pub struct KneeKinematics {
     pub pulls: Vec<QuadricepsPull>,
     /// The cylinder the quadriceps tendon wraps over.
     pub trochlea: WrapCylinder,
+    /// Length ℓ of the patellar tendon [m].
+    pub tendon_length: f64,
 }
 
 impl KneeKinematics {
@@ -110,6 +118,7 @@ impl KneeKinematics {
         Self {
             pulls,
             trochlea: WrapCylinder::trochlea(),
+            tendon_length: PATELLAR_TENDON_LENGTH,
         }
     }
 
@@ -157,9 +166,9 @@ impl KneeKinematics {
     fn tendon_constrained(&self, phi: f64, angle: f64) -> Option<PatellaPose> {
         let tuberosity = self.tuberosity(angle);
         let excess = |u: f64| {
-            (self.patella_at(u, phi).to_world(&APEX) - tuberosity).norm() - PATELLAR_TENDON_LENGTH
+            (self.patella_at(u, phi).to_world(&APEX) - tuberosity).norm() - self.tendon_length
         };
-        let lowest = -std::f64::consts::PI * (GROOVE_RADIUS + PATELLA_RIDGE_RADIUS);
+        let lowest = -GROOVE_DISTAL_ANGLE * (GROOVE_RADIUS + PATELLA_RIDGE_RADIUS);
         let mut high = GROOVE_PROXIMAL_LENGTH;
         if excess(high) <= 0.0 {
             return None;
@@ -268,5 +277,74 @@ impl KneeKinematics {
         let apex = pose.to_world(&APEX);
         let tendon = flexion_rotation(angle).inverse() * (apex - self.tuberosity(angle));
         tendon.x.atan2(tendon.y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::knee::anatomy::Quadriceps;
+
+    fn kinematics() -> KneeKinematics {
+        KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect())
+    }
+
+    #[test]
+    fn the_tibia_turns_about_the_flexion_axis() {
+        let k = kinematics();
+        // At 90° the tuberosity, 35.6 mm in front and 43.1 mm below the axis, is 43.1 mm
+        // behind and 35.6 mm below it.
+        let t = k.tuberosity(std::f64::consts::FRAC_PI_2);
+        assert!((t - Vector3::new(-43.1e-3, -35.6e-3, 0.0)).norm() < 1e-15);
+        let motion = k.tibia_isometry(0.3);
+        assert!(
+            (motion.transform_point(&TUBEROSITY.into()).coords - k.tuberosity(0.3)).norm() < 1e-15
+        );
+    }
+
+    #[test]
+    fn the_equilibrium_pose_meets_both_constraints_and_minimises_the_pull() {
+        let k = kinematics();
+        for degrees in [0.0, 25.0, 60.0, 95.0] {
+            let angle = f64::to_radians(degrees);
+            let pose = k.patella_pose(angle).unwrap();
+            // Tendon: |A − T| = ℓ.
+            let tendon = (pose.to_world(&APEX) - k.tuberosity(angle)).norm();
+            assert!(
+                (tendon - PATELLAR_TENDON_LENGTH).abs() < 1e-12,
+                "{degrees}°"
+            );
+            // Contact: the ridge's centre is r_g + ρ_p from the groove's axis, or on the
+            // straight part's offset line above it.
+            let ridge = pose.to_world(&Vector3::new(
+                PATELLA_RIDGE_RADIUS - PATELLA_SEMI_AXES[2],
+                0.0,
+                0.0,
+            ));
+            let [gx, gy] = GROOVE_CENTRE;
+            let offset = GROOVE_RADIUS + PATELLA_RIDGE_RADIUS;
+            let distance = if ridge.y > gy {
+                ridge.x - gx
+            } else {
+                (ridge.x - gx).hypot(ridge.y - gy)
+            };
+            assert!((distance - offset).abs() < 1e-12, "{degrees}°: {distance}");
+            // Equilibrium: tilting the patella either way (re-solving the constraints)
+            // lengthens the quadriceps.
+            let w = k.weighted_length(&pose);
+            for delta in [-0.01, 0.01] {
+                let tilted = k.tendon_constrained(pose.flexion + delta, angle).unwrap();
+                assert!(k.weighted_length(&tilted) > w, "{degrees}° {delta}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_tendon_too_short_to_reach_is_reported() {
+        // A 0.5 m tendon would hold the patella beyond the groove's 0.2 m straight part.
+        let mut k = kinematics();
+        k.tendon_length = 0.5;
+        let error = k.patella_pose(0.2).unwrap_err();
+        assert!(error.to_string().contains("cannot reach"), "{error}");
     }
 }

@@ -316,3 +316,63 @@ pub fn combined_mesh(muscles: &[Muscle]) -> Mesh {
     }
     combined
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn insertions_lie_on_the_patella_and_pulls_on_the_femur_side() {
+        let [a, b, c] = PATELLA_SEMI_AXES;
+        for m in Quadriceps::ALL {
+            let p = m.insertion();
+            let on = (p.x / c).powi(2) + (p.y / b).powi(2) + (p.z / a).powi(2);
+            assert!((on - 1.0).abs() < 1e-12, "{m:?}");
+            assert!(p.y > 0.7 * b, "{m:?} inserts on the base");
+            let pull = m.pull();
+            assert!((pull.release.y - RELEASE_HEIGHT).abs() < 1e-12);
+            assert!((pull.weight - m.visible_human_volume()).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn the_combined_mesh_keeps_every_muscle_and_its_names() {
+        let pose = PatellaPose {
+            centre: mm(46.4, 27.0, 0.0),
+            flexion: 0.0,
+            groove_coordinate: 0.0,
+        };
+        let muscles: Vec<Muscle> = Quadriceps::ALL
+            .iter()
+            .map(|&m| Muscle::new(m, &pose, Resolution::Coarse).unwrap())
+            .collect();
+        let mesh = combined_mesh(&muscles);
+        mesh.validate().unwrap();
+        assert_eq!(mesh.blocks.len(), 4);
+        let total: f64 = muscles.iter().map(|m| m.mesh.total_volume().unwrap()).sum();
+        assert!((mesh.total_volume().unwrap() - total).abs() < 1e-12 * total);
+        for (b, muscle) in muscles.iter().enumerate() {
+            let name = muscle.muscle.name();
+            assert_eq!(mesh.blocks[b].name, name);
+            assert_eq!(
+                mesh.element_set(name).unwrap().len(),
+                muscle.mesh.element_count()
+            );
+            // The insertion nodes of the combined mesh are the muscle's, moved by its
+            // offset.
+            let own = muscle.mesh.node_set("insertion").unwrap();
+            let combined = mesh.node_set(&format!("{name}_insertion")).unwrap();
+            assert_eq!(own.len(), combined.len());
+            for (&i, &j) in own.iter().zip(combined) {
+                assert_eq!(
+                    muscle.mesh.nodes.position(i as usize),
+                    mesh.nodes.position(j as usize)
+                );
+            }
+            for surface in ["origin", "insertion", "outer"] {
+                let faces = mesh.surface(&format!("{name}_{surface}")).unwrap();
+                assert!(faces.iter().all(|f| f.element.block == b as u32));
+            }
+        }
+    }
+}

@@ -128,3 +128,51 @@ impl Squat {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::knee::anatomy::Quadriceps;
+
+    #[test]
+    fn the_profile_rests_at_both_ends_and_peaks_halfway() {
+        let squat = Squat::to_ninety_degrees(4.0);
+        assert_eq!(squat.flexion_at(0.0), 0.0);
+        assert!((squat.flexion_at(2.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!(squat.flexion_at(4.0).abs() < 1e-15);
+        assert!((squat.flexion_at(1.0) - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+        // Symmetric about the peak, at rest (zero slope) at the ends and the peak.
+        assert!((squat.flexion_at(0.7) - squat.flexion_at(3.3)).abs() < 1e-15);
+        let h = 1e-6;
+        for t in [h, 2.0 + h, 4.0 - h] {
+            assert!((squat.flexion_at(t) - squat.flexion_at(t - h)).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn the_drive_samples_the_kinematics() {
+        let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
+        let reference = kinematics.patella_pose(0.0).unwrap();
+        let squat = Squat {
+            duration: 1.0,
+            peak_flexion: std::f64::consts::FRAC_PI_2,
+            knots: 11,
+        };
+        let motions = squat.motions(&kinematics, &reference).unwrap();
+        // At a knot the drive is exact: the tibia is turned by θ, the patella is at its pose.
+        let t = 0.3;
+        let angle = squat.flexion_at(t);
+        let tibia = motions.tibia.isometry_at(t);
+        assert!((tibia.rotation.angle() - angle).abs() < 1e-12);
+        let pose = kinematics.patella_pose(angle).unwrap();
+        let apex = motions.patella.position_at(&reference.to_world(&APEX), t);
+        assert!((apex - pose.to_world(&APEX)).norm() < 1e-12);
+        assert!(
+            Squat { knots: 2, ..squat }
+                .motions(&kinematics, &reference)
+                .is_err()
+        );
+    }
+
+    use super::super::dimensions::APEX;
+}

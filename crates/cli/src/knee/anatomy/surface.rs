@@ -15,6 +15,8 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use nalgebra::{Isometry3, Point3, Vector3};
 
+use musclefem_core::mesh::Mesh;
+
 /// A triangulated surface: positions [m] and triangles of vertex indices.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleSurface {
@@ -134,6 +136,26 @@ impl TriangleSurface {
         }
     }
 
+    /// The faces of `mesh`'s surface `name` as triangles (each quadrilateral face split
+    /// along its diagonal from its first corner), sharing the mesh's node positions.
+    pub fn from_mesh_surface(mesh: &Mesh, name: &str) -> Result<TriangleSurface> {
+        let mut triangles = Vec::new();
+        for &face in mesh.surface(name)? {
+            let block = mesh.block(face.element.block)?;
+            let ids = mesh.face_nodes(face)?;
+            let corners = &ids[..block.shape.face_shape(face.face as usize).corner_count()];
+            for k in 1..corners.len() - 1 {
+                triangles.push([corners[0], corners[k], corners[k + 1]]);
+            }
+        }
+        Ok(TriangleSurface {
+            vertices: (0..mesh.node_count())
+                .map(|i| mesh.nodes.position(i))
+                .collect(),
+            triangles,
+        })
+    }
+
     /// Writes the surface as an ASCII STL file named `solid name` (coordinates in metres,
     /// facet normals from the right-hand rule).
     pub fn write_stl(&self, path: &Path, name: &str) -> Result<()> {
@@ -193,6 +215,15 @@ mod tests {
         let moved = cube.transformed(&Isometry3::translation(2.0, 0.0, 0.0));
         assert!(moved.contains(&Vector3::new(2.5, 0.5, 0.5)));
         assert!((moved.volume() - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn a_meshed_box_gives_its_closed_outer_surface() {
+        let mesh =
+            musclefem_core::mesh::generate::box_of_hexes([0.02, 0.03, 0.04], [2, 3, 2]).unwrap();
+        let surface = TriangleSurface::from_mesh_surface(&mesh, "outer").unwrap();
+        surface.check_closed().unwrap();
+        assert!((surface.volume() - 0.02 * 0.03 * 0.04).abs() < 1e-18);
     }
 
     #[test]

@@ -130,7 +130,7 @@ impl SweptSolid {
                 .iter()
                 .chain(s.width_direction.iter())
                 .all(|x| x.is_finite());
-            if !finite || !(s.half_width > 0.0 && s.half_thickness > 0.0) {
+            if !(finite && s.half_width > 0.0 && s.half_thickness > 0.0) {
                 return Err(invalid(format!(
                     "station {i} must be finite with positive semi-axes: {s:?}"
                 )));

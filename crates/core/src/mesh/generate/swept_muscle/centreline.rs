@@ -4,11 +4,8 @@
 //! - Position: a centripetal Catmull–Rom spline through the station centres P_0 … P_{n−1}
 //!   (Yuksel, Schaefer & Keyser 2011): knots t_0 = 0, t_{i+1} = t_i + |P_{i+1} − P_i|^½,
 //!   and on [t_i, t_{i+1}] the cubic Hermite curve between P_i and P_{i+1} with the
-//!   derivatives
-//!
-//!   P'(t_i) = (P_i − P_{i−1})/(t_i − t_{i−1}) − (P_{i+1} − P_{i−1})/(t_{i+1} − t_{i−1})
-//!             + (P_{i+1} − P_i)/(t_{i+1} − t_i),
-//!
+//!   derivatives P'(t_i) = (P_i − P_{i−1})/(t_i − t_{i−1})
+//!   − (P_{i+1} − P_{i−1})/(t_{i+1} − t_{i−1}) + (P_{i+1} − P_i)/(t_{i+1} − t_i),
 //!   with phantom end points P_{−1} = 2P_0 − P_1 and P_n = 2P_{n−1} − P_{n−2}. The curve
 //!   passes through every centre, is C¹, and the centripetal knots keep it free of cusps
 //!   and self-intersections within a segment.
