@@ -386,6 +386,30 @@ fn the_patella_rides_the_groove_on_an_inextensible_tendon() {
                 "{degrees}°: {tendon_angle} against {m}"
             );
         }
+        // The quadriceps' lever: the tendon's force over the quadriceps' (volume-weighted
+        // moment arm over the tendon's moment arm about the flexion axis).
+        let arms = moment_arms_at(kinematics, &anatomy.muscles, angle).unwrap();
+        let weights: Vec<f64> = anatomy
+            .muscles
+            .iter()
+            .map(|m| m.muscle.visible_human_volume())
+            .collect();
+        let lever = arms.iter().zip(&weights).map(|(r, w)| r * w).sum::<f64>()
+            / weights.iter().sum::<f64>();
+        let tuberosity = kinematics.tuberosity(angle);
+        let direction = (pose.to_world(&APEX) - tuberosity).normalize();
+        let tendon_arm = tuberosity.cross(&direction).z.abs();
+        let ratio = lever / tendon_arm;
+        println!(
+            "      force ratio tendon / quadriceps {ratio:.2} (tendon moment arm {:.1} mm)",
+            tendon_arm / MM
+        );
+        if degrees == 0.0 {
+            assert!((0.85..1.2).contains(&ratio), "{ratio}");
+        }
+        if degrees == 90.0 {
+            assert!((0.4..0.8).contains(&ratio), "{ratio}");
+        }
         // Patellar flexion grows with knee flexion, lagging it.
         assert!(
             pose.flexion > previous && pose.flexion < angle,

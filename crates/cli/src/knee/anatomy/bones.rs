@@ -9,22 +9,25 @@
 //! the code, adult male):
 //!
 //! - **Femur** (490 mm from the head's top to the condyles): a round shaft of radius
-//!   14 mm (28 mm diameter at mid-shaft, Rubin et al. 1992) from 90 mm above the
-//!   flexion axis to the neck, its axis leaning 40 mm laterally between y = 25 and
-//!   400 mm (the 6° of the anatomical to the mechanical axis), its anterior surface on
-//!   x = 35.5 mm distally; a metaphysis flaring from the shaft's section at y = 95 mm to
-//!   44 × 76 mm at y = 5 mm, keeping the shaft's anterior line; two condyles (lateral z ∈ [10, 40] mm, medial [−42, −10] mm: an 84 mm
-//!   epicondylar width, Yue et al. 2011) whose profile is the 21 mm circle about the
-//!   flexion axis, with epicondyles; the trochlea, a body of revolution about the groove
-//!   axis whose floor is the groove circle and whose facets rise by 0.85 times the
-//!   patella's own receding (so the patella rides on the floor only), cut off 4 mm
-//!   above the tibial plateau; an intercondylar notch 20 mm wide; a neck (radius 15 mm) to a
-//!   head of radius 24 mm at the hip centre, and greater and lesser trochanters.
-//! - **Tibia** (400 mm long): the plateau, an elliptic slab 78 mm wide and 50 mm deep
-//!   (Gandhi et al. 2010 report 74–80 × 48–52 mm for men) from the joint line 23 mm below
-//!   the flexion axis down 22 mm, tapering to a shaft of 26 × 24 mm by 110 mm below the
-//!   axis; the tibial tuberosity, an ellipsoidal prominence 9 mm in front of the plateau
-//!   around the tendon's insertion; a distal flare and a rounded distal end.
+//!   14 mm (28 mm across, a typical adult male mid-shaft) from 90 mm above the flexion
+//!   axis to the neck, its axis leaning 40 mm laterally between y = 25 and 400 mm (the
+//!   ≈ 6° between the anatomical and the mechanical axis), its anterior surface on
+//!   x = 35.5 mm distally; a metaphysis flaring from the shaft's section at y = 95 mm
+//!   to 44 × 76 mm at y = 5 mm, keeping the shaft's anterior line; two condyles
+//!   (lateral z ∈ [10, 40] mm, medial [−42, −10] mm) whose profile is the 21 mm circle
+//!   about the flexion axis, with epicondyles on that axis 90 mm apart tip to tip (the
+//!   transepicondylar width of adult men, ≈ 85–90 mm); the trochlea, a body of revolution about
+//!   the groove axis whose floor is the groove circle and whose facets rise by 0.85
+//!   times the patella's own receding (so the patella rides on the floor only), cut
+//!   off 4 mm above the tibial plateau; an intercondylar notch 20 mm wide; a neck
+//!   (radius 15 mm) to a head of radius 24 mm at the hip centre, and greater and
+//!   lesser trochanters.
+//! - **Tibia** (390 mm from the plateau to the distal end): the plateau, an elliptic
+//!   slab 78 mm wide and 50 mm deep (adult male plateaus are about 75–80 × 48–52 mm)
+//!   from the joint line 23 mm below the flexion axis down 22 mm, tapering to a shaft
+//!   of 26 × 24 mm by 110 mm below the axis; the tibial tuberosity, an ellipsoidal
+//!   prominence 9 mm in front of the plateau around the tendon's insertion; a distal
+//!   flare and a rounded distal end.
 //! - **Patella**: the ellipsoid of semi-axes 25 × 22 × 10.85 mm (25.0 cm³, the VHM
 //!   patella's volume).
 //!
@@ -149,11 +152,11 @@ pub fn femur_distance(p: &Vector3<f64>) -> f64 {
         .max(-19.0 - y)
         .max((z - 2.0).abs() - 38.0);
     d = smooth_min(d, trochlea, 1.0);
-    // Epicondyles.
-    let epicondyles = sphere(&q, &Vector3::new(-2.0, 4.0, 40.0), 9.0).min(sphere(
+    // Epicondyles, on the flexion axis: 90 mm from tip to tip.
+    let epicondyles = sphere(&q, &Vector3::new(0.0, 0.0, 37.0), 8.0).min(sphere(
         &q,
-        &Vector3::new(-2.0, 4.0, -41.0),
-        9.0,
+        &Vector3::new(0.0, 0.0, -38.0),
+        8.0,
     ));
     d = smooth_min(d, epicondyles, 4.0);
     // Intercondylar notch.

@@ -52,8 +52,8 @@ pub const GROOVE_CENTRE: [f64; 2] = [17.4 * MM, 3.4 * MM];
 pub const GROOVE_RADIUS: f64 = 18.1 * MM;
 
 /// The anterior femoral surface above the groove, x = groove centre + radius [m]
-/// (35.5 mm in front of the flexion axis; the distal femur's anteroposterior depth is
-/// then 35.5 + 21 ≈ 57 mm, within the 55–65 mm of adult males).
+/// (35.5 mm in front of the flexion axis: the distal femur is 35.5 + 21 ≈ 57 mm deep
+/// at the groove and ≈ 62 mm over the lateral facet, as adult male femora).
 pub const ANTERIOR_FEMUR: f64 = GROOVE_CENTRE[0] + GROOVE_RADIUS;
 
 /// Semi-axes of the patella's ellipsoid [m]: mediolateral 25 mm, proximodistal 22 mm,

@@ -50,13 +50,13 @@ use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Resolution {
     /// 4 × 4 O-grid cells inside 1 ring (32 per section), 12 layers: 384 hex8 per
-    /// muscle, 1536 in all; bones on a 3 mm grid.
+    /// muscle, 1536 in all; bones on a 3 mm grid at the knee (9 mm along the shafts).
     Coarse,
     /// 6 × 6 inside 2 rings (84 per section), 28 layers: 2352 per muscle, 9408 in all;
-    /// bones on a 2 mm grid.
+    /// bones on a 2 mm grid at the knee (6 mm along the shafts).
     Medium,
     /// 8 × 8 inside 3 rings (160 per section), 56 layers: 8960 per muscle, 35 840 in
-    /// all; bones on a 1.5 mm grid.
+    /// all; bones on a 1.5 mm grid at the knee (4.5 mm along the shafts).
     Fine,
 }
 

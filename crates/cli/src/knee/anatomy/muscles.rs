@@ -25,7 +25,8 @@
 //! 10:34; the VHM's right rectus femoris is missing, its left one is used). The vasti
 //! lateralis and medialis get one more, smaller station at y = 58 mm so that their
 //! distal turn towards the patella stays gentle enough for their sections (curvature ×
-//! section extent 0.80 and 0.50, below the overlap limit 1). The last station is placed
+//! section extent below the overlap limit 1, which `SweptSolid` checks). The last
+//! station is placed
 //! on the patella at 0° of flexion (1 mm proximal to the insertion point on the base)
 //! and every muscle's semi-axes are rescaled at construction so the volume matches
 //! exactly. Fibers run along the centreline.
