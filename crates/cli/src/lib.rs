@@ -2,5 +2,7 @@
 //! tests, benchmarks and the parametric studies.
 //!
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
+//! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
 
 pub mod elongation;
+pub mod knee;

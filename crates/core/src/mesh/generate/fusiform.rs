@@ -10,7 +10,7 @@
 //! slab of elements is close to a scaled copy of the mid-belly one. Between two layers
 //! each quad sweeps one hex8, or six tets. Lengths are in metres.
 
-mod o_grid;
+pub(super) mod o_grid;
 mod prism_split;
 
 use std::collections::BTreeSet;

@@ -16,10 +16,15 @@
 //! [`fusiform_mesh`] meshes the paper's elongation specimen, a fusiform muscle (or a
 //! cylinder), with hex8, tet4 or tet10 of a target size, on an O-grid cross-section, with
 //! its own names (`origin`, `insertion`, `lateral`, `muscle`, ...; see there).
+//!
+//! [`swept_muscle_mesh`] sweeps the same O-grid along a 3-D centreline through control
+//! stations, with elliptical sections of varying semi-axes ([`SweptSolid`]): the
+//! quadriceps of the default knee.
 
 mod cooks_membrane;
 mod distort;
 mod fusiform;
+mod swept_muscle;
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
@@ -33,6 +38,7 @@ pub use fusiform::{
     PAPER_END_RADIUS, PAPER_LENGTH, PAPER_MID_RADIUS, SpecimenDivisions, SpecimenShape,
     SpecimenSpec, fusiform_mesh,
 };
+pub use swept_muscle::{Section, SweptMuscleSpec, SweptSolid, SweptStation, swept_muscle_mesh};
 
 use super::error::MeshError;
 use super::refs::{ElementRef, Face};

@@ -1,0 +1,153 @@
+//! The default anatomy of the knee scene (issue 8), built into the program: rigid femur,
+//! tibia and patella as closed triangle surfaces, the four quadriceps as hex8 meshes, the
+//! patellar tendon's attachments, and the knee's kinematics.
+//!
+//! - [`dimensions`]: the frame (x anterior, y proximal, z lateral; origin on the flexion
+//!   axis) and the landmark dimensions with their sources;
+//! - [`surface`]: [`TriangleSurface`], its closedness check, volume and winding number;
+//! - [`implicit`]: implicit primitives and marching tetrahedra;
+//! - [`bones`]: femur, tibia, patella;
+//! - [`kinematics`]: tibia rotation about the flexion axis, patellar tracking by
+//!   trochlear contact, tendon and quadriceps equilibrium;
+//! - [`path`]: the quadriceps' free path, wrapped over the trochlea;
+//! - [`muscles`]: VI, VL, VM and RF as swept solids and meshes, volume-matched to the
+//!   Visible Human;
+//! - [`moment_arms`]: musculotendon lengths and moment arms r = dL/dθ;
+//! - [`squat`]: θ(t) for 0° → 90° → 0° and the bones' [`RigidMotion`]s;
+//! - [`export`]: the anatomy at a flexion angle as STL and VTU files.
+//!
+//! No data file is read: every number is a documented constant (the Visible Human
+//! volumes and the OpenSim moment arms it was dimensioned from live in
+//! `../shared/data/knee_reference/` and are read only by the tests).
+//!
+//! [`RigidMotion`]: musclefem_core::solver::RigidMotion
+
+pub mod bones;
+pub mod dimensions;
+pub mod export;
+pub mod implicit;
+pub mod kinematics;
+pub mod moment_arms;
+pub mod muscles;
+pub mod path;
+pub mod squat;
+pub mod surface;
+
+use anyhow::{Context, Result};
+use nalgebra::Vector3;
+
+use musclefem_core::mesh::Mesh;
+
+pub use bones::Bones;
+pub use kinematics::{KneeKinematics, PatellaPose};
+pub use muscles::{Muscle, Quadriceps};
+pub use squat::{BoneMotions, Squat};
+pub use surface::TriangleSurface;
+
+use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
+
+/// How finely the muscles and bones are meshed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Resolution {
+    /// 4 × 4 O-grid cells inside 1 ring (32 per section), 12 layers: 384 hex8 per
+    /// muscle, 1536 in all; bones on a 3 mm grid at the knee (9 mm along the shafts).
+    Coarse,
+    /// 6 × 6 inside 2 rings (84 per section), 28 layers: 2352 per muscle, 9408 in all;
+    /// bones on a 2 mm grid at the knee (6 mm along the shafts).
+    Medium,
+    /// 8 × 8 inside 3 rings (160 per section), 56 layers: 8960 per muscle, 35 840 in
+    /// all; bones on a 1.5 mm grid at the knee (4.5 mm along the shafts).
+    Fine,
+}
+
+impl Resolution {
+    /// O-grid cells per side, rings and layers of every muscle's mesh.
+    pub fn muscle_divisions(self) -> (usize, usize, usize) {
+        match self {
+            Resolution::Coarse => (4, 1, 12),
+            Resolution::Medium => (6, 2, 28),
+            Resolution::Fine => (8, 3, 56),
+        }
+    }
+
+    /// Grid spacing of the bones' marching tetrahedra [m].
+    pub fn bone_spacing(self) -> f64 {
+        match self {
+            Resolution::Coarse => 3.0 * MM,
+            Resolution::Medium => 2.0 * MM,
+            Resolution::Fine => 1.5 * MM,
+        }
+    }
+}
+
+/// The patellar tendon: its attachments and rest length. The FE scene models it as
+/// nonlinear springs between the two attachments (not built here).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatellarTendon {
+    /// The apex of the patella [m], at the patella's 0° pose (global frame).
+    pub apex: Vector3<f64>,
+    /// The tibial tuberosity [m], at the tibia's 0° pose (global frame).
+    pub tuberosity: Vector3<f64>,
+    /// Rest length [m] (the apex–tuberosity distance the kinematics keeps).
+    pub length: f64,
+}
+
+/// The default knee: bones, muscles, patellar tendon and kinematics, every part in its
+/// pose at 0° of flexion in the global frame of [`dimensions`].
+#[derive(Clone, Debug)]
+pub struct Anatomy {
+    /// Femur, tibia and patella at 0°.
+    pub bones: Bones,
+    /// VI, VL, VM, RF (in [`Quadriceps::ALL`] order).
+    pub muscles: Vec<Muscle>,
+    pub patellar_tendon: PatellarTendon,
+    pub kinematics: KneeKinematics,
+    /// The patella's pose at 0° (the reference pose of the patella's surface and of its
+    /// rigid motion).
+    pub patella_reference: PatellaPose,
+    pub resolution: Resolution,
+}
+
+impl Anatomy {
+    /// The default right knee at `resolution`: the quadriceps' femur-fixed stations set
+    /// the patella's equilibrium at 0°, which places the muscles' insertions; then the
+    /// muscles are volume-matched and meshed, and the bones triangulated.
+    pub fn default_knee(resolution: Resolution) -> Result<Anatomy> {
+        let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
+        let reference = kinematics
+            .patella_pose(0.0)
+            .context("the patella's pose in extension")?;
+        let muscles = Quadriceps::ALL
+            .iter()
+            .map(|&m| Muscle::new(m, &reference, resolution))
+            .collect::<Result<Vec<_>>>()?;
+        let mut bones = Bones::new(resolution.bone_spacing())?;
+        bones.patella = bones.patella.transformed(&reference.isometry());
+        Ok(Anatomy {
+            bones,
+            patellar_tendon: PatellarTendon {
+                apex: reference.to_world(&APEX),
+                tuberosity: TUBEROSITY,
+                length: PATELLAR_TENDON_LENGTH,
+            },
+            muscles,
+            kinematics,
+            patella_reference: reference,
+            resolution,
+        })
+    }
+
+    /// The muscle `muscle`.
+    pub fn muscle(&self, muscle: Quadriceps) -> &Muscle {
+        self.muscles
+            .iter()
+            .find(|m| m.muscle == muscle)
+            .expect("the default knee has all four quadriceps")
+    }
+
+    /// The four muscles' meshes as one mesh with four blocks (see
+    /// [`muscles::combined_mesh`]).
+    pub fn muscle_mesh(&self) -> Mesh {
+        muscles::combined_mesh(&self.muscles)
+    }
+}

@@ -1,0 +1,87 @@
+//! Musculotendon lengths and knee-extensor moment arms of the quadriceps.
+//!
+//! The musculotendon path of a quadriceps runs from its origin along its centreline to
+//! its release station (femur-fixed, a constant length L_fixed), then freely to its
+//! insertion on the patella (straight, or wrapped over the trochlea: [`super::path`]),
+//! and on through the patellar tendon (apex to tuberosity, a constant ℓ):
+//!
+//! L(θ) = L_fixed + L_free(θ) + ℓ   [m].
+//!
+//! The knee-extensor moment arm is, by virtual work (the muscle's tension F does work
+//! −F dL, the knee moment M does M dθ, so M = F dL/dθ),
+//!
+//! r(θ) = dL/dθ   [m per rad],
+//!
+//! evaluated by central differences with a step of [`DIFFERENCE_STEP`] (the patella's
+//! pose re-solved at θ ± h), positive for an extensor (the muscle lengthens as the knee
+//! flexes). This is what OpenSim reports as the moment arm about the knee coordinate
+//! (Sherman, Seth & Delp 2013), so it compares with the Rajagopal–Lai–Uhlrich table.
+
+use anyhow::Result;
+
+use super::dimensions::PATELLAR_TENDON_LENGTH;
+use super::kinematics::{KneeKinematics, PatellaPose};
+use super::muscles::Muscle;
+use super::path::free_path;
+
+/// Step of the central differences for the moment arm [rad]: 0.5°.
+pub const DIFFERENCE_STEP: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
+/// A muscle's musculotendon length at one pose.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MusculotendonLength {
+    /// Total length L [m].
+    pub total: f64,
+    /// The free part, release station to insertion [m].
+    pub free: f64,
+    /// Whether the free part wraps over the trochlea.
+    pub wrapped: bool,
+}
+
+/// The musculotendon length of `muscle` with the patella at `patella`.
+pub fn musculotendon_length(
+    kinematics: &KneeKinematics,
+    muscle: &Muscle,
+    patella: &PatellaPose,
+) -> MusculotendonLength {
+    let pull = muscle.pull();
+    let free = free_path(
+        &pull.release,
+        &patella.to_world(&pull.insertion),
+        &kinematics.trochlea,
+    );
+    MusculotendonLength {
+        total: muscle.fixed_length + free.length + PATELLAR_TENDON_LENGTH,
+        free: free.length,
+        wrapped: free.wrapped,
+    }
+}
+
+/// The musculotendon lengths [m] of `muscles` at knee flexion `angle` [rad].
+pub fn lengths_at(
+    kinematics: &KneeKinematics,
+    muscles: &[Muscle],
+    angle: f64,
+) -> Result<Vec<MusculotendonLength>> {
+    let patella = kinematics.patella_pose(angle)?;
+    Ok(muscles
+        .iter()
+        .map(|m| musculotendon_length(kinematics, m, &patella))
+        .collect())
+}
+
+/// The knee-extensor moment arms r = dL/dθ [m] of `muscles` at knee flexion `angle`
+/// [rad] (central differences, see the module documentation).
+pub fn moment_arms_at(
+    kinematics: &KneeKinematics,
+    muscles: &[Muscle],
+    angle: f64,
+) -> Result<Vec<f64>> {
+    let ahead = lengths_at(kinematics, muscles, angle + DIFFERENCE_STEP)?;
+    let behind = lengths_at(kinematics, muscles, angle - DIFFERENCE_STEP)?;
+    Ok(ahead
+        .iter()
+        .zip(&behind)
+        .map(|(a, b)| (a.total - b.total) / (2.0 * DIFFERENCE_STEP))
+        .collect())
+}

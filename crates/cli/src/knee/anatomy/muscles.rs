@@ -1,0 +1,379 @@
+//! The four quadriceps as swept solids (`musclefem_core::mesh::generate::SweptSolid`)
+//! and their hex8 meshes.
+//!
+//! Each muscle is a list of control stations (centre, width direction, semi-axes, in
+//! millimetres below) from its origin to its insertion on the patella's base:
+//!
+//! - **vastus intermedius** (VI) on the anterior femoral shaft, from the
+//!   intertrochanteric region (y = 402 mm) down the front of the shaft, its section
+//!   widest across (z);
+//! - **vastus lateralis** (VL) from the greater trochanter (y = 420 mm) down the lateral
+//!   and posterolateral thigh, its width turned 20–40° from anteroposterior;
+//! - **vastus medialis** (VM) from the medial femur (y = 352 mm), bulkiest distally
+//!   (its oblique fibres), inserting on the patella's superomedial border;
+//! - **rectus femoris** (RF) from the anterior inferior iliac spine on the pelvis
+//!   (y = 482 mm, 37 mm above and 30 mm in front of the hip centre), crossing the hip and
+//!   running over the intermedius.
+//!
+//! The stations were laid out level by level (y = 390, 330, 270, 210, 150, 105 and
+//! 75 mm): the intermedius on the femur, the rectus on the intermedius, the lateralis
+//! and medialis against both the femur and the intermedius, each placed 2.5 mm from its
+//! neighbours in the horizontal plane so that, once the sections turn normal to the
+//! curved centrelines, adjacent muscles touch or nearly touch without overlapping (the
+//! cohesive contact will bond them); the semi-axes were then scaled so each muscle's
+//! volume ∫ π a b ds is the Visible Human Male's (Andreassen et al. 2023, Sci Data
+//! 10:34; the VHM's right rectus femoris is missing, its left one is used). The vasti
+//! lateralis and medialis get one more, smaller station at y = 58 mm so that their
+//! distal turn towards the patella stays gentle enough for their sections (curvature ×
+//! section extent below the overlap limit 1, which `SweptSolid` checks). The last
+//! station is placed
+//! on the patella at 0° of flexion (1 mm proximal to the insertion point on the base)
+//! and every muscle's semi-axes are rescaled at construction so the volume matches
+//! exactly. Fibers run along the centreline.
+
+use anyhow::{Context, Result};
+use nalgebra::Vector3;
+
+use musclefem_core::mesh::generate::{
+    SweptMuscleSpec, SweptSolid, SweptStation, swept_muscle_mesh,
+};
+use musclefem_core::mesh::{ElementRef, Face, Mesh};
+
+use super::Resolution;
+use super::dimensions::{MM, PATELLA_SEMI_AXES, mm};
+use super::kinematics::{PatellaPose, QuadricepsPull};
+
+/// The four heads of the quadriceps femoris.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Quadriceps {
+    VastusIntermedius,
+    VastusLateralis,
+    VastusMedialis,
+    RectusFemoris,
+}
+
+impl Quadriceps {
+    /// All four, in the order of the meshes' blocks.
+    pub const ALL: [Quadriceps; 4] = [
+        Quadriceps::VastusIntermedius,
+        Quadriceps::VastusLateralis,
+        Quadriceps::VastusMedialis,
+        Quadriceps::RectusFemoris,
+    ];
+
+    /// The block name: `vastus_intermedius`, ...
+    pub fn name(self) -> &'static str {
+        match self {
+            Quadriceps::VastusIntermedius => "vastus_intermedius",
+            Quadriceps::VastusLateralis => "vastus_lateralis",
+            Quadriceps::VastusMedialis => "vastus_medialis",
+            Quadriceps::RectusFemoris => "rectus_femoris",
+        }
+    }
+
+    /// The usual abbreviation: VI, VL, VM, RF.
+    pub fn abbreviation(self) -> &'static str {
+        match self {
+            Quadriceps::VastusIntermedius => "VI",
+            Quadriceps::VastusLateralis => "VL",
+            Quadriceps::VastusMedialis => "VM",
+            Quadriceps::RectusFemoris => "RF",
+        }
+    }
+
+    /// The Visible Human Male's muscle volume [m³] (Andreassen et al. 2023): right VI
+    /// 892.4, VL 1150.6, VM 738.0 cm³; left RF 404.7 cm³ (the right one is missing from
+    /// the data set).
+    pub fn visible_human_volume(self) -> f64 {
+        1e-6 * match self {
+            Quadriceps::VastusIntermedius => 892.4,
+            Quadriceps::VastusLateralis => 1150.6,
+            Quadriceps::VastusMedialis => 738.0,
+            Quadriceps::RectusFemoris => 404.7,
+        }
+    }
+
+    /// The insertion on the patella's base [m], in the patella's frame: on the
+    /// ellipsoid above the points (x, z) = VI (−4, 0) (deep), RF (4.5, 0) (superficial),
+    /// VL (0, 14) (superolateral), VM (0, −16) mm (superomedial).
+    pub fn insertion(self) -> Vector3<f64> {
+        let (x, z) = match self {
+            Quadriceps::VastusIntermedius => (-4.0, 0.0),
+            Quadriceps::RectusFemoris => (4.5, 0.0),
+            Quadriceps::VastusLateralis => (0.0, 14.0),
+            Quadriceps::VastusMedialis => (0.0, -16.0),
+        };
+        let [a, b, c] = PATELLA_SEMI_AXES.map(|s| s / MM);
+        let y = b * (1.0 - (x / c).powi(2) - (z / a).powi(2)).sqrt();
+        mm(x, y, z)
+    }
+
+    /// The muscle's pull on the patella: from its release station (the table's station
+    /// at [`RELEASE_HEIGHT`]) to its insertion, weighted by its volume. Only femur-fixed
+    /// and patella-fixed points, so it is known before the patella is placed.
+    pub fn pull(self) -> QuadricepsPull {
+        let (table, _) = self.table();
+        let release = table
+            .iter()
+            .find(|s| (s.0[1] * MM - RELEASE_HEIGHT).abs() < 1e-9)
+            .map(|s| mm(s.0[0], s.0[1], s.0[2]))
+            .expect("every table has a station at the release height");
+        QuadricepsPull {
+            release,
+            insertion: self.insertion(),
+            weight: self.visible_human_volume(),
+        }
+    }
+
+    /// The control stations from the origin down to the last femur-fixed one (mm in the
+    /// table; see the module documentation), and the insertion's section (width
+    /// direction, half-width, half-thickness [mm]).
+    fn table(self) -> (&'static [Station], ([f64; 3], f64, f64)) {
+        match self {
+            Quadriceps::VastusIntermedius => (VASTUS_INTERMEDIUS, ([0.0, 0.0, 1.0], 9.0, 3.5)),
+            Quadriceps::VastusLateralis => (VASTUS_LATERALIS, ([1.0, 0.0, 0.0], 7.0, 4.0)),
+            Quadriceps::VastusMedialis => (VASTUS_MEDIALIS, ([1.0, 0.0, 0.0], 7.0, 4.0)),
+            Quadriceps::RectusFemoris => (RECTUS_FEMORIS, ([0.0, 0.0, 1.0], 8.0, 3.5)),
+        }
+    }
+}
+
+/// A table row: centre [mm], width direction, half-width, half-thickness [mm].
+type Station = ([f64; 3], [f64; 3], f64, f64);
+
+const VASTUS_INTERMEDIUS: &[Station] = &[
+    ([37.0, 402.0, 46.0], [0.0, 0.0, 1.0], 10.0, 4.0),
+    ([40.7, 390.0, 42.9], [0.0, 0.0, 1.0], 18.0, 7.7),
+    ([50.2, 330.0, 38.5], [0.0, 0.0, 1.0], 38.6, 16.7),
+    ([57.5, 270.0, 32.1], [0.0, 0.0, 1.0], 51.5, 23.2),
+    ([59.8, 210.0, 24.7], [0.0, 0.0, 1.0], 54.1, 24.5),
+    ([58.2, 150.0, 17.3], [0.0, 0.0, 1.0], 48.9, 21.9),
+    ([51.2, 105.0, 10.5], [0.0, 0.0, 1.0], 36.1, 14.2),
+    ([48.7, 75.0, 4.6], [0.0, 0.0, 1.0], 23.2, 9.0),
+];
+
+const VASTUS_LATERALIS: &[Station] = &[
+    ([15.0, 420.0, 78.0], [1.0, 0.0, 0.3], 16.0, 7.0),
+    ([18.2, 390.0, 72.6], [0.940, 0.0, 0.342], 32.3, 15.1),
+    ([-2.3, 330.0, 66.9], [0.906, 0.0, 0.423], 47.3, 22.6),
+    ([-6.5, 270.0, 62.4], [0.866, 0.0, 0.500], 53.8, 26.9),
+    ([-5.4, 210.0, 56.0], [0.866, 0.0, 0.500], 53.8, 26.9),
+    ([2.0, 150.0, 49.7], [0.866, 0.0, 0.500], 47.3, 23.7),
+    ([19.4, 105.0, 46.0], [0.819, 0.0, 0.574], 34.4, 17.2),
+    ([37.8, 75.0, 40.6], [0.766, 0.0, 0.643], 21.5, 10.8),
+    ([43.5, 58.0, 27.0], [0.8, 0.0, 0.6], 12.0, 7.0),
+];
+
+const VASTUS_MEDIALIS: &[Station] = &[
+    ([27.0, 352.0, 4.0], [1.0, 0.0, -0.3], 9.0, 5.0),
+    ([20.8, 330.0, -0.3], [0.906, 0.0, -0.423], 27.3, 13.7),
+    ([14.6, 270.0, -10.5], [0.866, 0.0, -0.500], 34.2, 18.2),
+    ([13.6, 210.0, -21.9], [0.819, 0.0, -0.574], 38.7, 22.8),
+    ([15.5, 150.0, -34.0], [0.766, 0.0, -0.643], 41.0, 27.3),
+    ([21.3, 105.0, -40.6], [0.707, 0.0, -0.707], 38.7, 27.3),
+    ([34.0, 75.0, -38.0], [0.643, 0.0, -0.766], 25.0, 18.0),
+    ([42.0, 58.0, -29.0], [0.8, 0.0, -0.6], 14.0, 9.0),
+];
+
+const RECTUS_FEMORIS: &[Station] = &[
+    ([40.0, 482.0, 20.0], [0.0, 0.0, 1.0], 7.0, 5.0),
+    ([63.5, 390.0, 36.9], [0.0, 0.0, 1.0], 23.3, 12.8),
+    ([85.8, 330.0, 32.5], [0.0, 0.0, 1.0], 30.2, 16.3),
+    ([100.7, 270.0, 26.1], [0.0, 0.0, 1.0], 30.2, 17.4),
+    ([101.9, 210.0, 17.7], [0.0, 0.0, 1.0], 25.6, 15.1),
+    ([92.9, 150.0, 9.3], [0.0, 0.0, 1.0], 18.6, 10.5),
+    ([74.9, 105.0, 4.5], [0.0, 0.0, 1.0], 12.8, 7.0),
+    ([65.4, 75.0, 1.6], [0.0, 0.0, 1.0], 9.3, 5.2),
+];
+
+/// Height of the release station [m]: the musculotendon path is femur-fixed down to the
+/// station at y = 105 mm (where the muscles leave the femoral shaft for the
+/// suprapatellar region) and free from there to the patella.
+pub const RELEASE_HEIGHT: f64 = 105.0 * MM;
+
+/// One quadriceps: its solid, its mesh and the data of its musculotendon path.
+#[derive(Clone, Debug)]
+pub struct Muscle {
+    pub muscle: Quadriceps,
+    /// Control stations, origin first, the last one on the patella at 0°.
+    pub stations: Vec<SweptStation>,
+    /// The continuous solid through the stations.
+    pub solid: SweptSolid,
+    /// Index of the release station (the last femur-fixed point of the path).
+    pub release: usize,
+    /// Centreline length from the origin to the release station [m].
+    pub fixed_length: f64,
+    /// The hex8 mesh: block [`Quadriceps::name`], sets `origin`, `insertion`, `lateral`,
+    /// `outer`, `all` (see `swept_muscle_mesh`).
+    pub mesh: Mesh,
+}
+
+impl Muscle {
+    /// The muscle with its insertion placed on the patella at `patella` (its pose at 0°),
+    /// volume-matched to the Visible Human and meshed at `resolution`.
+    pub fn new(muscle: Quadriceps, patella: &PatellaPose, resolution: Resolution) -> Result<Self> {
+        let (table, (width, half_width, half_thickness)) = muscle.table();
+        let mut stations: Vec<SweptStation> = table
+            .iter()
+            .map(|&(c, w, a, b)| SweptStation {
+                centre: mm(c[0], c[1], c[2]),
+                width_direction: Vector3::from(w),
+                half_width: a * MM,
+                half_thickness: b * MM,
+            })
+            .collect();
+        let insertion = patella.to_world(&muscle.insertion()) + Vector3::new(0.0, MM, 0.0);
+        stations.push(SweptStation {
+            centre: insertion,
+            width_direction: Vector3::from(width),
+            half_width: half_width * MM,
+            half_thickness: half_thickness * MM,
+        });
+        // Scale the belly's semi-axes (not the end sections) until ∫πab ds is the VHM's.
+        let last = stations.len() - 1;
+        let target = muscle.visible_human_volume();
+        for _ in 0..8 {
+            let volume = SweptSolid::new(&stations)?.volume();
+            let scale = (target / volume).sqrt();
+            for s in &mut stations[1..last] {
+                s.half_width *= scale;
+                s.half_thickness *= scale;
+            }
+        }
+        let solid = SweptSolid::new(&stations)?;
+        let release = table
+            .iter()
+            .position(|s| (s.0[1] * MM - RELEASE_HEIGHT).abs() < 1e-9)
+            .context("no station at the release height")?;
+        let fixed_length = solid.station_arclengths()[release];
+        let (per_side, radial, axial) = resolution.muscle_divisions();
+        let mesh = swept_muscle_mesh(&SweptMuscleSpec {
+            name: muscle.name().to_string(),
+            stations: stations.clone(),
+            per_side,
+            radial,
+            axial,
+        })
+        .with_context(|| format!("meshing the {}", muscle.name()))?;
+        Ok(Self {
+            muscle,
+            stations,
+            solid,
+            release,
+            fixed_length,
+            mesh,
+        })
+    }
+
+    /// The pull of this muscle on the patella (see [`Quadriceps::pull`]).
+    pub fn pull(&self) -> QuadricepsPull {
+        self.muscle.pull()
+    }
+}
+
+/// The muscles' meshes as one mesh with a block per muscle (in the order given). Every
+/// set and surface of muscle `m` is renamed `<m>_<name>` (`vastus_lateralis_origin`,
+/// ...), and the element set `<m>` holds its elements.
+pub fn combined_mesh(muscles: &[Muscle]) -> Mesh {
+    let mut combined = Mesh::default();
+    for (b, muscle) in muscles.iter().enumerate() {
+        let offset = combined.nodes.len() as u32;
+        let mesh = &muscle.mesh;
+        for i in 0..mesh.nodes.len() {
+            combined.nodes.push(mesh.nodes.position(i));
+        }
+        let mut block = mesh.blocks[0].clone();
+        block.connectivity.iter_mut().for_each(|id| *id += offset);
+        let name = block.name.clone();
+        let moved = |e: &ElementRef| ElementRef::new(b as u32, e.element);
+        combined.element_sets.insert(
+            name.clone(),
+            (0..block.len() as u32)
+                .map(|e| ElementRef::new(b as u32, e))
+                .collect(),
+        );
+        for (set, ids) in &mesh.node_sets {
+            combined.node_sets.insert(
+                format!("{name}_{set}"),
+                ids.iter().map(|id| id + offset).collect(),
+            );
+        }
+        for (set, elements) in &mesh.element_sets {
+            combined.element_sets.insert(
+                format!("{name}_{set}"),
+                elements.iter().map(moved).collect(),
+            );
+        }
+        for (surface, faces) in &mesh.surfaces {
+            combined.surfaces.insert(
+                format!("{name}_{surface}"),
+                faces
+                    .iter()
+                    .map(|f| Face::new(moved(&f.element), f.face))
+                    .collect(),
+            );
+        }
+        combined.blocks.push(block);
+    }
+    combined
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn insertions_lie_on_the_patella_and_pulls_on_the_femur_side() {
+        let [a, b, c] = PATELLA_SEMI_AXES;
+        for m in Quadriceps::ALL {
+            let p = m.insertion();
+            let on = (p.x / c).powi(2) + (p.y / b).powi(2) + (p.z / a).powi(2);
+            assert!((on - 1.0).abs() < 1e-12, "{m:?}");
+            assert!(p.y > 0.7 * b, "{m:?} inserts on the base");
+            let pull = m.pull();
+            assert!((pull.release.y - RELEASE_HEIGHT).abs() < 1e-12);
+            assert!((pull.weight - m.visible_human_volume()).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn the_combined_mesh_keeps_every_muscle_and_its_names() {
+        let pose = PatellaPose {
+            centre: mm(46.4, 27.0, 0.0),
+            flexion: 0.0,
+            groove_coordinate: 0.0,
+        };
+        let muscles: Vec<Muscle> = Quadriceps::ALL
+            .iter()
+            .map(|&m| Muscle::new(m, &pose, Resolution::Coarse).unwrap())
+            .collect();
+        let mesh = combined_mesh(&muscles);
+        mesh.validate().unwrap();
+        assert_eq!(mesh.blocks.len(), 4);
+        let total: f64 = muscles.iter().map(|m| m.mesh.total_volume().unwrap()).sum();
+        assert!((mesh.total_volume().unwrap() - total).abs() < 1e-12 * total);
+        for (b, muscle) in muscles.iter().enumerate() {
+            let name = muscle.muscle.name();
+            assert_eq!(mesh.blocks[b].name, name);
+            assert_eq!(
+                mesh.element_set(name).unwrap().len(),
+                muscle.mesh.element_count()
+            );
+            // The insertion nodes of the combined mesh are the muscle's, moved by its
+            // offset.
+            let own = muscle.mesh.node_set("insertion").unwrap();
+            let combined = mesh.node_set(&format!("{name}_insertion")).unwrap();
+            assert_eq!(own.len(), combined.len());
+            for (&i, &j) in own.iter().zip(combined) {
+                assert_eq!(
+                    muscle.mesh.nodes.position(i as usize),
+                    mesh.nodes.position(j as usize)
+                );
+            }
+            for surface in ["origin", "insertion", "outer"] {
+                let faces = mesh.surface(&format!("{name}_{surface}")).unwrap();
+                assert!(faces.iter().all(|f| f.element.block == b as u32));
+            }
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! The knee flexion–extension scene of the paper (seed §2.4, issue 8): a squat with the
+//! four quadriceps between the femur/pelvis and the patella.
+//!
+//! - [`anatomy`]: the default anatomy built into the program (bones, quadriceps meshes,
+//!   patellar tendon, kinematics), its moment arms, and the squat's bone motions
+//!   ([`Anatomy::default_knee`]).
+//!
+//! Contact, cohesion and the finite-element run of the scene are built on top of these.
+
+pub mod anatomy;
+
+pub use anatomy::{Anatomy, BoneMotions, PatellarTendon, Quadriceps, Resolution, Squat};
