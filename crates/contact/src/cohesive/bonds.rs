@@ -6,19 +6,22 @@
 //! surface (at the closest point of the closest triangle; ties go to the lowest triangle
 //! index, so the choice is deterministic), and carries the law's damage history κ.
 //!
-//! At positions x: separation δ = x_s − x_m [m], local separation δ_loc = Rᵀ δ with
-//! R = [n s t] the current frame of the triangle (`triangle::frame`), traction
+//! At positions x: separation δ = x_s − x_m [m], local separation δ_loc = Rᵀ δ − δ_ref
+//! with R = [n s t] the current frame of the triangle (`triangle::frame`) and δ_ref =
+//! (g₀, 0, 0) the normal gap at formation (a bond forms stress-free: a node bonded across
+//! an initial gap of 2 mm is not pulled across it; the gap is its rest state), traction
 //! t = R t_law(δ_loc) [Pa] and the force on the secondary node f_s = A t [N] (it enters
 //! like an internal force, M a + f_int + f_c = f_ext: an opened bond pulls s back toward
 //! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
 //! triangle; a rigid main takes it on the body. The stiffness blocks,
 //! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s, hold
-//! the frame R fixed.
+//! the frame R fixed, except for the rest gap's turn with the triangle (see
+//! [`Bond::reference_separation`]).
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use rayon::prelude::*;
 
-use super::frame::frame;
+use super::frame::{frame, normal_derivatives};
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
 use super::slide::evaluate_sliding;
@@ -42,6 +45,11 @@ pub struct Bond {
     pub normal: Vector3<f64>,
     /// Committed damage history κ [m].
     pub history: f64,
+    /// The bond's rest state δ_ref [m], in the local frame: (g₀, 0, 0) with g₀ the
+    /// signed normal gap (x_s − x_m)·n at formation (bonds form at the closest point, so
+    /// x_s − x_m is normal to the face; at an edge or a vertex only its normal part is
+    /// kept).
+    pub reference_separation: Vector3<f64>,
 }
 
 /// One bond at the positions of the last force evaluation.
@@ -127,13 +135,17 @@ pub fn form_bonds(
                 }
             }
             let (triangle, projection, distance2) = best?;
-            (distance2.sqrt() <= tolerance).then(|| Bond {
-                node,
-                area: areas[i],
-                triangle,
-                coordinates: Vector3::from(projection.barycentric),
-                normal: projection.normal,
-                history: 0.0,
+            (distance2.sqrt() <= tolerance).then(|| {
+                let gap = (x - projection.point).dot(&projection.normal);
+                Bond {
+                    node,
+                    area: areas[i],
+                    triangle,
+                    coordinates: Vector3::from(projection.barycentric),
+                    normal: projection.normal,
+                    history: 0.0,
+                    reference_separation: Vector3::new(gap, 0.0, 0.0),
+                }
             })
         })
         .collect();
@@ -179,12 +191,23 @@ impl Bond {
     ) -> BondState {
         let [a, b, c] = vertices;
         let rotation = frame(a, b, c, &self.normal);
-        let separation = rotation.transpose() * (x - self.main_point(vertices));
+        let separation =
+            rotation.transpose() * (x - self.main_point(vertices)) - self.reference_separation;
         let response = law.evaluate(&separation, self.history);
         let traction = rotation * response.traction;
         let coupling = if with_stiffness {
             let stiffness = self.area * rotation * response.tangent * rotation.transpose();
-            point_coupling(&stiffness, &self.coordinates)
+            let mut coupling = point_coupling(&stiffness, &self.coordinates);
+            // The rest gap turns with the triangle: f_s ∋ −A (R C Rᵀ) g₀ n, whose
+            // derivative with respect to the corners is −(R C Rᵀ A) g₀ ∂n/∂x_k.
+            let rest_gap = self.reference_separation.x;
+            if rest_gap != 0.0 {
+                let turning = normal_derivatives(vertices);
+                for k in 0..3 {
+                    coupling[1 + k] -= rest_gap * stiffness * turning[k];
+                }
+            }
+            coupling
         } else {
             [Matrix3::zeros(); 4]
         };

@@ -35,6 +35,25 @@ pub fn frame(
     Matrix3::from_columns(&[n, s, t])
 }
 
+/// ∂n/∂x_k of the unit normal n = a₁ × a₂ / |a₁ × a₂| of triangle (x₀, x₁, x₂)
+/// (a₁ = x₁ − x₀, a₂ = x₂ − x₀) for k = 0, 1, 2 [1/m]: with P = I − n⊗n,
+/// ∂n/∂x₁ = −P [a₂]× / |a|, ∂n/∂x₂ = P [a₁]× / |a|, ∂n/∂x₀ = −∂n/∂x₁ − ∂n/∂x₂.
+/// Zero for a degenerate triangle (its normal is the fallback, a constant).
+pub fn normal_derivatives(corners: &[Vector3<f64>; 3]) -> [Matrix3<f64>; 3] {
+    let a1 = corners[1] - corners[0];
+    let a2 = corners[2] - corners[0];
+    let cross = a1.cross(&a2);
+    let length = cross.norm();
+    if !(length > 0.0 && length.is_finite()) {
+        return [Matrix3::zeros(); 3];
+    }
+    let n = cross / length;
+    let p = (Matrix3::identity() - n * n.transpose()) / length;
+    let d1 = -p * a2.cross_matrix();
+    let d2 = p * a1.cross_matrix();
+    [-d1 - d2, d1, d2]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -59,5 +78,34 @@ mod tests {
         );
         assert_eq!(Vector3::from(degenerate.column(0)), Vector3::<f64>::y());
         assert!((degenerate.determinant() - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_normal_derivatives_match_central_differences() {
+        let corners = [
+            Vector3::new(0.1, -0.2, 0.3),
+            Vector3::new(1.2, 0.1, 0.2),
+            Vector3::new(0.3, 0.9, 0.7),
+        ];
+        let normal = |c: &[Vector3<f64>; 3]| {
+            frame(&c[0], &c[1], &c[2], &Vector3::x())
+                .column(0)
+                .into_owned()
+        };
+        let derivatives = normal_derivatives(&corners);
+        let h = 1e-7;
+        for k in 0..3 {
+            for j in 0..3 {
+                let (mut plus, mut minus) = (corners, corners);
+                plus[k][j] += h;
+                minus[k][j] -= h;
+                let fd = (normal(&plus) - normal(&minus)) / (2.0 * h);
+                let exact = derivatives[k].column(j).into_owned();
+                assert!(
+                    (fd - exact).norm() < 1e-8,
+                    "corner {k}, axis {j}: {fd} vs {exact}"
+                );
+            }
+        }
     }
 }

@@ -120,6 +120,40 @@ fn an_opened_bond_pulls_its_node_back_and_the_main_nodes_take_the_reaction() {
 }
 
 #[test]
+fn a_bond_formed_across_a_gap_rests_at_that_gap_in_both_modes() {
+    for mode in [TangentialMode::FreeSlide, TangentialMode::Elastic] {
+        // Node 3 starts 3 mm above the main triangle and bonds within 5 mm.
+        let mut x = reference();
+        x[3].z = 0.003;
+        let mesh = mesh(&x);
+        let (top, bottom) = surfaces(&mesh);
+        let gap_settings = CohesiveSettings {
+            bond_tolerance: 0.005,
+            ..settings(mode)
+        };
+        let mut interface =
+            CohesiveInterface::new("glue", &top, bottom, &mesh, &gap_settings).unwrap();
+        assert_eq!(interface.bond_count(), 1);
+        // Node 3's tributary area, a third of its (slightly tilted) triangle.
+        let area = interface.bonded_reference_area();
+        assert!((area - 0.5).abs() < 1e-2);
+        let f = all_forces(&mut interface, 0.0, &x);
+        // Zero to round-off (forces of the next checks are ~1 N).
+        assert!(f.iter().all(|&v| v.abs() < 1e-13), "{mode:?}: {f:?}");
+        assert!(interface.report().stored_energy < 1e-25);
+        // Opening by 4 mm from the rest gap: f_s = A K δ with δ = 0.004 (not 0.007).
+        x[3].z += 0.004;
+        let f = all_forces(&mut interface, 0.0, &x);
+        assert!((f[11] - area * 4.0).abs() < 1e-12, "{mode:?}: {}", f[11]);
+        // Pressing 1 mm below the rest gap pushes back.
+        x[3].z = 0.002;
+        let f = all_forces(&mut interface, 0.0, &x);
+        assert!((f[11] + area).abs() < 1e-12, "{mode:?}: {}", f[11]);
+        check_stiffness(&mut interface, 0.0, &x);
+    }
+}
+
+#[test]
 fn damage_waits_for_commit_and_never_heals() {
     let mut interface = deformable(&settings(TangentialMode::Elastic));
     let mut x = reference();

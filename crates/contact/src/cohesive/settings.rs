@@ -41,7 +41,8 @@ pub struct CohesiveSettings {
     /// Shear response: [`TangentialMode::Elastic`] or [`TangentialMode::FreeSlide`].
     pub tangential: TangentialMode,
     /// A secondary node bonds if it lies within this distance of the main surface in the
-    /// reference configuration [m].
+    /// reference configuration [m]. The bond forms stress-free: its separation is
+    /// measured from where the node lay then, so an initial gap is the bond's rest state.
     pub bond_tolerance: f64,
 }
 

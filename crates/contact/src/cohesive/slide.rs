@@ -9,8 +9,9 @@
 //! The bond (its node, area and damage) stays with the secondary node: the damage of a
 //! bond is that of the secondary surface's patch, wherever it slides.
 //!
-//! A sliding bond's separation is the signed gap g to its triangle (re-projected at every
-//! force evaluation, so line-search trials see the gap of their positions) and its
+//! A sliding bond's separation is its signed gap g to its triangle (re-projected at every
+//! force evaluation, so line-search trials see the gap of their positions) less the gap
+//! at formation (the bond's rest state), and its
 //! traction acts along the direction ν of the gap ([`evaluate_sliding`]): the triangle's
 //! normal n over the face, the unit vector from the closest point to the node over an
 //! interior edge or vertex (the gradient of the distance, continuous across a convex
@@ -174,7 +175,10 @@ pub fn evaluate_sliding(
             projection.normal,
         ),
     };
-    let response = law.evaluate(&Vector3::new(gap, 0.0, 0.0), bond.history);
+    // The law sees the opening from the bond's rest state, the gap at formation; the
+    // geometry (how ν turns about a pivot) sees the gap itself.
+    let opening = gap - bond.reference_separation.x;
+    let response = law.evaluate(&Vector3::new(opening, 0.0, 0.0), bond.history);
     let traction = response.traction.x;
     let scalars = (bond.area * traction, bond.area * response.tangent[(0, 0)]);
     let (coupling, coordinate_gradients) = match pivot {
@@ -190,7 +194,7 @@ pub fn evaluate_sliding(
         coupling,
         coordinate_gradients,
         traction: -traction * direction,
-        separation: Vector3::new(gap, 0.0, 0.0),
+        separation: Vector3::new(opening, 0.0, 0.0),
         coordinates,
         history: response.history,
         damage: response.damage,
@@ -236,6 +240,7 @@ mod tests {
             coordinates: Vector3::new(1.0, 0.0, 0.0),
             normal: Vector3::z(),
             history: 0.0,
+            reference_separation: Vector3::zeros(),
         };
         // Slide 13.5 units along x: the walk crosses the strip in one search.
         positions[node as usize] = Vector3::new(13.7, 0.6, 0.5);
