@@ -1,6 +1,6 @@
 //! PNG charts: one or more panels (side by side, or in a grid), each with any number of
-//! named line series, a title, axis labels with units and a legend; and pictures of
-//! direction fields in 3-D as arrows ([`glyphs`]).
+//! named line series, a title, axis labels with units and a legend; grouped bar charts
+//! ([`bars`]); and pictures of direction fields in 3-D as arrows ([`glyphs`]).
 //!
 //! Text is drawn with DejaVu Sans, bundled in the crate (`assets/DejaVuSans.ttf`, licence
 //! in `assets/DejaVuSans-LICENSE.txt`) and registered with plotters' `ab_glyph` backend
@@ -18,8 +18,10 @@ use plotters::style::{FontStyle, register_font};
 use crate::OutputError;
 use crate::atomic::PendingFile;
 
+pub mod bars;
 pub mod glyphs;
 
+pub use bars::{BarChart, BarPanel, BarSeries, stage_bar_png};
 pub use glyphs::{GlyphView, PrincipalAxes, stage_glyph_png};
 
 /// Font family under which the bundled font is registered (plotters' default family, so
