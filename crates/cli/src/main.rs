@@ -21,6 +21,7 @@ use musclefem_materials as _;
 mod commands;
 mod elongate_command;
 mod fibers_command;
+mod knee_command;
 mod scene_run;
 mod summary;
 
@@ -64,6 +65,11 @@ enum Command {
     /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last
     /// complete frame.
     Run(RunArgs),
+    /// The knee squat (seed §2.4): knee flexion 0° → 90° → 0° with the four quadriceps
+    /// (VI, VL, VM, RF) tied to femur, pelvis and patella, bonded to each other and the
+    /// femur; passive and/or active (50 % from 35° of flexion). Writes peak_stress.csv
+    /// (vm95 per muscle at 30°, 45°, 60°, 90°), peak_stress.png, frames and histories.
+    Knee(knee_command::KneeArgs),
 }
 
 #[derive(Debug, Args)]
@@ -147,6 +153,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => scene_run::run(&args),
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
+        Some(Command::Knee(args)) => knee_command::knee(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

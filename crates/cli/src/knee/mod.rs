@@ -5,8 +5,10 @@
 //!   patellar tendon, kinematics), its moment arms, and the squat's bone motions
 //!   ([`Anatomy::default_knee`]).
 //!
-//! Contact, cohesion and the finite-element run of the scene are built on top of these.
+//! - [`simulation`]: the finite-element squat on that anatomy (or user meshes), with
+//!   fibers, cohesive and contact interactions, and the muscles' peak stresses.
 
 pub mod anatomy;
+pub mod simulation;
 
 pub use anatomy::{Anatomy, BoneMotions, PatellarTendon, Quadriceps, Resolution, Squat};

@@ -7,9 +7,9 @@
 //! index, so the choice is deterministic), and carries the law's damage history κ.
 //!
 //! At positions x: separation δ = x_s − x_m [m], local separation δ_loc = Rᵀ δ − δ_ref
-//! with R = [n s t] the current frame of the triangle (`triangle::frame`) and δ_ref =
-//! (g₀, 0, 0) the normal gap at formation (a bond forms stress-free: a node bonded across
-//! an initial gap of 2 mm is not pulled across it; the gap is its rest state), traction
+//! with R = [n s t] the current frame of the triangle (`triangle::frame`) and δ_ref the
+//! local separation at formation (a bond forms stress-free: a node bonded across an
+//! initial gap of 2 mm is not pulled across it; the gap is its rest state), traction
 //! t = R t_law(δ_loc) [Pa] and the force on the secondary node f_s = A t [N] (it enters
 //! like an internal force, M a + f_int + f_c = f_ext: an opened bond pulls s back toward
 //! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
@@ -45,10 +45,10 @@ pub struct Bond {
     pub normal: Vector3<f64>,
     /// Committed damage history κ [m].
     pub history: f64,
-    /// The bond's rest state δ_ref [m], in the local frame: (g₀, 0, 0) with g₀ the
-    /// signed normal gap (x_s − x_m)·n at formation (bonds form at the closest point, so
-    /// x_s − x_m is normal to the face; at an edge or a vertex only its normal part is
-    /// kept).
+    /// The bond's rest state δ_ref = Rᵀ (x_s − x_m) at formation [m], in the local frame:
+    /// (g₀, 0, 0) with g₀ the signed gap for a node over the face; with in-plane parts for
+    /// a node that bonded to an edge or a vertex. A sliding bond uses the gap it measures
+    /// at formation instead (see `super::slide`).
     pub reference_separation: Vector3<f64>,
 }
 
@@ -136,7 +136,8 @@ pub fn form_bonds(
             }
             let (triangle, projection, distance2) = best?;
             (distance2.sqrt() <= tolerance).then(|| {
-                let gap = (x - projection.point).dot(&projection.normal);
+                let [a, b, c] = main.corners(triangle as usize, positions, &placement);
+                let rotation = frame(&a, &b, &c, &projection.normal);
                 Bond {
                     node,
                     area: areas[i],
@@ -144,7 +145,7 @@ pub fn form_bonds(
                     coordinates: Vector3::from(projection.barycentric),
                     normal: projection.normal,
                     history: 0.0,
-                    reference_separation: Vector3::new(gap, 0.0, 0.0),
+                    reference_separation: rotation.transpose() * (x - projection.point),
                 }
             })
         })
@@ -199,7 +200,8 @@ impl Bond {
             let stiffness = self.area * rotation * response.tangent * rotation.transpose();
             let mut coupling = point_coupling(&stiffness, &self.coordinates);
             // The rest gap turns with the triangle: f_s ∋ −A (R C Rᵀ) g₀ n, whose
-            // derivative with respect to the corners is −(R C Rᵀ A) g₀ ∂n/∂x_k.
+            // derivative with respect to the corners is −(R C Rᵀ A) g₀ ∂n/∂x_k (the turn
+            // of the in-plane rest offsets of edge and vertex bonds is left out).
             let rest_gap = self.reference_separation.x;
             if rest_gap != 0.0 {
                 let turning = normal_derivatives(vertices);

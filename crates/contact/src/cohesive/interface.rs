@@ -120,7 +120,7 @@ impl CohesiveInterface {
         }
         let neighbours = (settings.tangential == TangentialMode::FreeSlide)
             .then(|| Neighbours::new(main.triangles()));
-        Ok(CohesiveInterface {
+        let mut interface = CohesiveInterface {
             name: name.to_string(),
             secondary: secondary.name.clone(),
             law,
@@ -128,7 +128,27 @@ impl CohesiveInterface {
             main,
             bonds,
             neighbours,
-        })
+        };
+        if interface.neighbours.is_some() {
+            // A sliding bond measures its gap as the distance to an edge or a vertex it
+            // pivots about, not along the face normal: its rest gap is the gap it
+            // measures at the start.
+            for bond in &mut interface.bonds {
+                bond.reference_separation = Vector3::zeros();
+            }
+            interface
+                .forces(
+                    0.0,
+                    &positions,
+                    false,
+                    &mut vec![Vector3::zeros(); positions.len()],
+                )
+                .expect("evaluating cohesive bonds cannot fail");
+            for (bond, state) in interface.bonds.iter_mut().zip(&interface.states) {
+                bond.reference_separation = Vector3::new(state.separation.x, 0.0, 0.0);
+            }
+        }
+        Ok(interface)
     }
 
     /// The names of the secondary and main surfaces.

@@ -1,0 +1,366 @@
+//! Running one squat (passive or active) with either solver: the model, its interactions,
+//! the muscles' vm95 at every recorded instant, and the caller's hook (frames, history,
+//! progress, Ctrl-C) at each.
+
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+
+use nalgebra::Vector3;
+
+use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::solver::element_fields::PartFields;
+use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
+use musclefem_core::solver::implicit::{ImplicitHistoryRow, ImplicitSettings, run_implicit_with};
+use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_fibers::FiberField;
+
+use super::super::anatomy::Squat;
+use super::interactions::{InteractionSummary, knee_interactions};
+use super::model::{Activation, KneeGeometry, KneeModel};
+use super::peak_stress::{
+    ElementRegions, PeakStressRow, StressSample, peak_stress_rows, percentile,
+};
+use crate::elongation::Solver;
+
+/// How a squat is run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SquatSettings {
+    pub squat: Squat,
+    pub solver: Solver,
+    /// Implicit: the (largest) increment [s]; explicit: the mass-scaling target step [s].
+    pub time_step: f64,
+    /// Explicit: time between recorded instants [s] (implicit: every increment).
+    pub record_interval: f64,
+    /// Implicit: Newton's relative residual and correction tolerances.
+    pub residual_tolerance: f64,
+    pub correction_tolerance: f64,
+}
+
+/// Default squat duration [s]: 1 s down to 90°, 1 s back up.
+pub const DEFAULT_SQUAT_DURATION: f64 = 2.0;
+
+/// Default implicit increment [s]: resolves the activation's rise (1/S = 20 ms) and
+/// keeps the knee's turn per increment below 2.2°.
+pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
+
+/// Default mass-scaling target step of the explicit solver [s].
+pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
+
+impl SquatSettings {
+    /// The recommended settings of `solver` for the default squat.
+    pub fn recommended(solver: Solver) -> Self {
+        SquatSettings {
+            squat: Squat::to_ninety_degrees(DEFAULT_SQUAT_DURATION),
+            solver,
+            time_step: match solver {
+                Solver::Implicit => DEFAULT_IMPLICIT_INCREMENT,
+                Solver::Explicit => DEFAULT_MASS_SCALING_STEP,
+            },
+            record_interval: DEFAULT_IMPLICIT_INCREMENT,
+            residual_tolerance: 1e-10,
+            correction_tolerance: 1e-6,
+        }
+    }
+}
+
+/// What a squat is about to run on, for the caller's outputs.
+pub struct SquatStart<'a> {
+    /// The muscles' mesh, with fibers.
+    pub mesh: &'a musclefem_core::mesh::Mesh,
+    /// Names of the rigid ties (origins, insertions) and interactions, in solver order.
+    pub rigid_ties: Vec<String>,
+    pub interactions: Vec<String>,
+    pub solver: Solver,
+}
+
+/// What a caller sees of a running squat. `recorded` and `progress` may stop the run.
+pub trait SquatWatcher {
+    /// The model is built and the solver about to start.
+    fn start(&mut self, _start: &SquatStart) -> Result<()> {
+        Ok(())
+    }
+    /// A recorded instant: its sample, the solver's snapshot and the element fields.
+    fn recorded(
+        &mut self,
+        sample: &StressSample,
+        snapshot: &Snapshot,
+        fields: &[PartFields],
+    ) -> ControlFlow<()>;
+    /// Simulated time reached [s].
+    fn progress(&mut self, _time: f64) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+    /// The solver's history row of a recorded instant (before `recorded`).
+    fn implicit_row(&mut self, _row: &ImplicitHistoryRow) {}
+    fn explicit_row(&mut self, _row: &HistoryRow) {}
+}
+
+/// The result of one squat.
+pub struct SquatRun {
+    pub activation: Activation,
+    pub samples: Vec<StressSample>,
+    pub rows: Vec<PeakStressRow>,
+    pub interactions: Vec<InteractionSummary>,
+    pub elements: usize,
+    pub nodes: usize,
+    pub solve_time: Duration,
+    /// Increments (implicit) or steps (explicit).
+    pub steps: usize,
+    /// Implicit: Newton iterations in all and increments cut.
+    pub newton_iterations: Option<usize>,
+    pub cuts: Option<usize>,
+    /// Explicit: mass added by mass scaling over the physical mass, largest
+    /// |W_int + W_visc + W_c + K − W_ext| over the largest energy.
+    pub added_mass_fraction: Option<f64>,
+    pub energy_error: Option<f64>,
+}
+
+/// Run the squat of `activation` on `geometry` with `fibers`.
+pub fn run_squat(
+    geometry: &KneeGeometry,
+    fibers: &FiberField,
+    activation: Activation,
+    settings: &SquatSettings,
+    watcher: &mut dyn SquatWatcher,
+) -> Result<SquatRun> {
+    let model = KneeModel::new(geometry, fibers, activation, &settings.squat)?;
+    let mut built = knee_interactions(geometry, &model.mesh, model.material.as_ref())?;
+    let regions: Vec<ElementRegions> = (0..model.mesh.blocks.len())
+        .map(|b| {
+            let block = &model.mesh.blocks[b];
+            let offset = fibers.block_offsets[b];
+            ElementRegions::new(
+                fibers.potential[offset..offset + block.len()].to_vec(),
+                &block.connectivity,
+                block.shape.nodes_per_element(),
+                &built.interface_nodes,
+            )
+        })
+        .collect();
+    watcher.start(&SquatStart {
+        mesh: &model.mesh,
+        rigid_ties: model
+            .loads
+            .rigid_ties
+            .iter()
+            .map(|t| t.name.clone())
+            .collect(),
+        interactions: built
+            .interactions
+            .iter()
+            .map(|i| i.name().to_string())
+            .collect(),
+        solver: settings.solver,
+    })?;
+    let mut recorder = Recorder {
+        mesh: &model.mesh,
+        reference_volumes: reference_volumes(&model.mesh),
+        regions: &regions,
+        squat: &settings.squat,
+        samples: Vec::new(),
+        watcher,
+        error: None,
+        largest_energy: 0.0,
+        energy_error: 0.0,
+    };
+    let duration = settings.squat.duration;
+    let context = || {
+        format!(
+            "{} {} squat ({} elements)",
+            settings.solver.name(),
+            activation.name(),
+            model.mesh.element_count()
+        )
+    };
+    let started = Instant::now();
+    let (steps, newton_iterations, cuts, added_mass_fraction) = match settings.solver {
+        Solver::Implicit => {
+            let increments = (duration / settings.time_step).round().max(1.0) as usize;
+            let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
+            solver_settings.residual_tolerance = settings.residual_tolerance;
+            solver_settings.correction_tolerance = settings.correction_tolerance;
+            let result = run_implicit_with(
+                &model.mesh,
+                &model.parts,
+                &model.loads,
+                &mut built.interactions,
+                &solver_settings,
+                &mut recorder,
+            );
+            let result =
+                finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
+            let iterations = result.steps.iter().map(|s| s.iterations).sum();
+            (
+                result.history.len(),
+                Some(iterations),
+                Some(result.cuts),
+                None,
+            )
+        }
+        Solver::Explicit => {
+            let mut solver_settings = ExplicitSettings::new(duration);
+            solver_settings.mass_scaling_time_step = Some(settings.time_step);
+            solver_settings.history_interval = settings.record_interval;
+            let result = run_explicit_with(
+                &model.mesh,
+                &model.parts,
+                &model.loads,
+                &mut built.interactions,
+                &solver_settings,
+                &mut recorder,
+            );
+            let result =
+                finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
+            (result.steps, None, None, Some(result.added_mass_fraction))
+        }
+    };
+    let solve_time = started.elapsed();
+    let muscles = &geometry.muscles;
+    let rows = peak_stress_rows(&recorder.samples, muscles, &settings.squat, activation)?;
+    let energy_error = added_mass_fraction
+        .map(|_| recorder.energy_error / recorder.largest_energy.max(f64::MIN_POSITIVE));
+    Ok(SquatRun {
+        activation,
+        samples: std::mem::take(&mut recorder.samples),
+        rows,
+        interactions: built.summaries,
+        elements: model.mesh.element_count(),
+        nodes: model.mesh.node_count(),
+        solve_time,
+        steps,
+        newton_iterations,
+        cuts,
+        added_mass_fraction,
+        energy_error,
+    })
+}
+
+/// The solver's result, unless the recorder stopped it with an error of its own.
+fn finish<T>(result: Result<T>, recorder: &mut Recorder) -> Result<T> {
+    match recorder.error.take() {
+        Some(error) => Err(error),
+        None => result,
+    }
+}
+
+/// Turns the solvers' recorded instants into stress samples.
+struct Recorder<'a> {
+    mesh: &'a Mesh,
+    /// Volume of every element in the reference configuration, block after block [m³].
+    reference_volumes: Vec<f64>,
+    regions: &'a [ElementRegions],
+    squat: &'a Squat,
+    samples: Vec<StressSample>,
+    watcher: &'a mut dyn SquatWatcher,
+    error: Option<anyhow::Error>,
+    /// Explicit: the largest energy and the largest balance error so far [J].
+    largest_energy: f64,
+    energy_error: f64,
+}
+
+/// The volume of every element of `mesh`, block after block [m³].
+fn reference_volumes(mesh: &Mesh) -> Vec<f64> {
+    let zero = vec![Vector3::zeros(); mesh.node_count()];
+    element_map(mesh, &zero, |shape, coords| shape.volume(coords))
+}
+
+/// `measure(shape, corner positions)` of every element at displacement `u`.
+fn element_map(
+    mesh: &Mesh,
+    u: &[Vector3<f64>],
+    measure: impl Fn(ElementShape, &[Vector3<f64>]) -> f64 + Sync,
+) -> Vec<f64> {
+    mesh.blocks
+        .iter()
+        .flat_map(|block| {
+            block
+                .elements()
+                .map(|nodes| {
+                    let coords: Vec<Vector3<f64>> = nodes
+                        .iter()
+                        .map(|&n| mesh.nodes.position(n as usize) + u[n as usize])
+                        .collect();
+                    measure(block.shape, &coords)
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+impl Recorder<'_> {
+    /// min over elements of min det J × reference-element volume / element volume.
+    fn min_jacobian_ratio(&self, displacement: &[Vector3<f64>]) -> f64 {
+        element_map(self.mesh, displacement, |shape, coords| {
+            shape.min_jacobian_volume(coords)
+        })
+        .iter()
+        .zip(&self.reference_volumes)
+        .map(|(j, v)| j / v)
+        .fold(f64::INFINITY, f64::min)
+    }
+
+    fn record(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        let fields = match snapshot.element_fields() {
+            Ok(fields) => fields,
+            Err(e) => {
+                self.error = Some(anyhow::Error::from(e).context("the muscles' stresses"));
+                return ControlFlow::Break(());
+            }
+        };
+        let mut sample = StressSample {
+            time: snapshot.time,
+            flexion: self.squat.flexion_at(snapshot.time),
+            vm95: Vec::with_capacity(fields.len()),
+            location: Vec::with_capacity(fields.len()),
+            min_jacobian_ratio: self.min_jacobian_ratio(snapshot.displacement),
+        };
+        for part in &fields {
+            let von_mises = part.von_mises();
+            let vm95 = percentile(&von_mises, 0.95).unwrap_or(0.0);
+            sample.vm95.push(vm95);
+            sample
+                .location
+                .push(self.regions[part.block].locate(&von_mises, vm95));
+        }
+        let flow = self.watcher.recorded(&sample, snapshot, &fields);
+        self.samples.push(sample);
+        flow
+    }
+}
+
+impl Observer<ImplicitHistoryRow> for Recorder<'_> {
+    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.watcher.implicit_row(row);
+        self.record(snapshot)?;
+        self.watcher.progress(row.time)
+    }
+}
+
+impl Observer<HistoryRow> for Recorder<'_> {
+    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
+        let energies = [
+            row.internal_energy,
+            row.kinetic_energy,
+            row.external_work,
+            row.viscous_energy,
+            row.interaction_work.abs(),
+        ];
+        self.largest_energy = energies.iter().fold(self.largest_energy, |a, &b| a.max(b));
+        let balance =
+            row.internal_energy + row.viscous_energy + row.interaction_work + row.kinetic_energy
+                - row.external_work;
+        self.energy_error = self.energy_error.max(balance.abs());
+        self.watcher.explicit_row(row);
+        self.record(snapshot)
+    }
+
+    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        if steps.is_multiple_of(200) {
+            self.watcher.progress(time)
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}

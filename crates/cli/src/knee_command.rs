@@ -1,0 +1,470 @@
+//! `musclefem knee`: the squat with the four quadriceps, passive and active, and their
+//! peak stresses (seed §2.4, Fig. 6).
+//!
+//! Writes, under `--out DIR`:
+//! - `peak_stress.csv` (`muscle,knee_angle_deg,phase,activation,vm95_pa`) and
+//!   `peak_stress.png` (one panel per muscle, bars per knee angle: passive and active,
+//!   in flexion and in extension);
+//! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
+//!   fibers, activation), `history.csv` (the solver's convergence and energies, forces
+//!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
+//!   instant) and `run.log`;
+//! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use musclefem::elongation::Solver;
+use musclefem::knee::anatomy::export::write_anatomy;
+use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
+use musclefem::knee::simulation::{
+    Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
+    SquatWatcher, StressSample, run_squat,
+};
+use musclefem::knee::{Anatomy, Quadriceps, Resolution};
+use musclefem_core::solver::element_fields::PartFields;
+use musclefem_core::solver::explicit::HistoryRow;
+use musclefem_core::solver::implicit::ImplicitHistoryRow;
+use musclefem_core::solver::observer::Snapshot;
+use musclefem_io::output::{
+    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
+};
+use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
+pub struct KneeArgs {
+    /// Only the passive squat.
+    #[arg(long)]
+    pub passive: bool,
+    /// Only the active squat (50 % activation from 35° of flexion on).
+    #[arg(long)]
+    pub active: bool,
+    /// Both (the default).
+    #[arg(long)]
+    pub both: bool,
+    /// Solver: implicit (quasi-static Newton with step cutting, recommended: the squat
+    /// is slow) or explicit (central differences with mass scaling).
+    #[arg(long, value_enum, default_value = "implicit")]
+    pub solver: Solver,
+    /// Mesh resolution of the default anatomy (coarse: 384 hex8 per muscle, medium: 2352,
+    /// fine: 8960).
+    #[arg(long, value_enum, default_value = "coarse")]
+    pub resolution: Resolution,
+    /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
+    /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
+    /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
+    /// DIR/femur.stl replaces the default femur if present. The bones move as in the
+    /// default knee.
+    #[arg(long, value_name = "DIR")]
+    pub anatomy: Option<PathBuf>,
+    /// Duration of the squat 0° → 90° → 0° [s].
+    #[arg(long, value_name = "SECONDS", default_value_t = musclefem::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
+    pub duration: f64,
+    /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.02 s
+    /// implicit, 2e-5 s explicit).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_step: Option<f64>,
+    /// Time between frames [s] (0: no frames).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.1)]
+    pub frame_interval: f64,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/knee")]
+    pub out: PathBuf,
+    /// Replace the results of a previous run in the output directory.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl KneeArgs {
+    fn activations(&self) -> Vec<Activation> {
+        match (self.passive, self.active) {
+            (true, false) => vec![Activation::Passive],
+            (false, true) => vec![Activation::Active],
+            _ => vec![Activation::Passive, Activation::Active],
+        }
+    }
+}
+
+pub fn knee(args: &KneeArgs) -> Result<()> {
+    let started = Instant::now();
+    let mut settings = SquatSettings::recommended(args.solver);
+    if !(args.duration.is_finite() && args.duration > 0.0) {
+        bail!("--duration {} s must be positive", args.duration);
+    }
+    settings.squat.duration = args.duration;
+    if let Some(step) = args.time_step {
+        if !(step.is_finite() && step > 0.0 && step < args.duration) {
+            bail!("--time-step {step} s must be positive and below the duration");
+        }
+        settings.time_step = step;
+    }
+    let anatomy = Anatomy::default_knee(args.resolution).context("the default knee")?;
+    let geometry = match &args.anatomy {
+        None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
+        Some(directory) => musclefem::knee::simulation::files::geometry_from_directory(
+            directory,
+            &anatomy,
+            &settings.squat,
+        )?,
+    };
+    let existing = if args.force {
+        ExistingResults::Replace
+    } else {
+        ExistingResults::Refuse
+    };
+    // Refuse before any work if earlier results are in the way.
+    for file in ["peak_stress.csv", "peak_stress.png"] {
+        let path = args.out.join(file);
+        if path.exists() && !args.force {
+            bail!(
+                "{} exists: use --force to replace a previous run",
+                path.display()
+            );
+        }
+    }
+    if args.anatomy.is_none() {
+        write_anatomy(&anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
+            .context("writing the anatomy")?;
+    }
+    let fibers = geometry.fibers()?;
+    println!(
+        "knee squat 0° → 90° → 0° in {} s, {} solver, {} muscle elements ({}), fibers in {:.2?}",
+        settings.squat.duration,
+        args.solver.name(),
+        geometry.mesh.element_count(),
+        match &args.anatomy {
+            Some(d) => format!("from {}", d.display()),
+            None => format!("default anatomy, {:?} resolution", args.resolution).to_lowercase(),
+        },
+        fibers.solve_time + fibers.setup_time,
+    );
+    let activations = args.activations();
+    let bar = progress_bar(settings.squat.duration * activations.len() as f64);
+    let mut runs = Vec::new();
+    for (k, &activation) in activations.iter().enumerate() {
+        let directory = args.out.join(activation.name());
+        let mut output = RunDirectory::create(&directory, existing)
+            .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+        let mut watcher = Outputs {
+            directory: &mut output,
+            mesh: None,
+            history: None,
+            vm95: Vec::new(),
+            interval: args.frame_interval,
+            next_frame: 0.0,
+            error: None,
+            bar: &bar,
+            time_offset: settings.squat.duration * k as f64,
+        };
+        let result = run_squat(&geometry, &fibers, activation, &settings, &mut watcher);
+        if let Some(error) = watcher.error.take() {
+            bar.finish_and_clear();
+            return Err(error).context("writing the outputs failed");
+        }
+        let run = match result {
+            Ok(run) => run,
+            Err(e) => {
+                bar.finish_and_clear();
+                return Err(e);
+            }
+        };
+        if let Some(history) = watcher.history.take() {
+            history.finish()?;
+        }
+        write_vm95(
+            &directory.join("vm95.csv"),
+            &geometry.muscles,
+            &watcher.vm95,
+        )?;
+        output.write_run_log(&run_log(&run, args, &settings).timing("solve", run.solve_time))?;
+        bar.suspend(|| print_run(&run));
+        runs.push(run);
+    }
+    bar.finish_and_clear();
+    let rows: Vec<PeakStressRow> = runs.iter().flat_map(|r| r.rows.clone()).collect();
+    let csv = args.out.join("peak_stress.csv");
+    let chart = args.out.join("peak_stress.png");
+    stage_peak_stress_csv(&csv, &rows)?.commit()?;
+    stage_bar_png(
+        &chart,
+        &peak_stress_chart(&rows, &geometry.muscles, &settings),
+    )?
+    .commit()?;
+    print_table(&rows, &geometry.muscles, &activations);
+    println!(
+        "wrote {}, {} and the runs' frames and histories under {} in {:.1?}",
+        csv.display(),
+        chart.display(),
+        args.out.display(),
+        started.elapsed()
+    );
+    Ok(())
+}
+
+/// Frames, history and vm95 samples of one run, and the progress bar.
+struct Outputs<'a> {
+    directory: &'a mut RunDirectory,
+    /// The muscles' mesh (given at the start of the run).
+    mesh: Option<musclefem_core::mesh::Mesh>,
+    history: Option<HistoryWriter>,
+    vm95: Vec<StressSample>,
+    interval: f64,
+    next_frame: f64,
+    error: Option<anyhow::Error>,
+    bar: &'a ProgressBar,
+    /// Simulated time of the runs before this one [s] (for the bar).
+    time_offset: f64,
+}
+
+impl Outputs<'_> {
+    fn fail(&mut self, error: impl Into<anyhow::Error>) -> ControlFlow<()> {
+        self.error = Some(error.into());
+        ControlFlow::Break(())
+    }
+}
+
+impl SquatWatcher for Outputs<'_> {
+    fn start(&mut self, start: &SquatStart) -> Result<()> {
+        let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
+            .with_interactions(start.interactions.clone());
+        self.history = Some(match start.solver {
+            Solver::Implicit => self.directory.implicit_history(&columns)?,
+            Solver::Explicit => self.directory.explicit_history(&columns)?,
+        });
+        self.mesh = Some(start.mesh.clone());
+        Ok(())
+    }
+
+    fn recorded(
+        &mut self,
+        sample: &StressSample,
+        snapshot: &Snapshot,
+        fields: &[PartFields],
+    ) -> ControlFlow<()> {
+        self.vm95.push(sample.clone());
+        if self.interval <= 0.0 || sample.time < self.next_frame - 1e-9 {
+            return ControlFlow::Continue(());
+        }
+        self.next_frame = sample.time + self.interval;
+        let Some(mesh) = &self.mesh else {
+            return ControlFlow::Continue(());
+        };
+        let arrays = ElementFieldArrays::gather(mesh, fields);
+        let frame = arrays.attach(Frame::new(snapshot.time, mesh, snapshot.displacement));
+        match self.directory.write_frame(&frame) {
+            Ok(_) => ControlFlow::Continue(()),
+            Err(e) => self.fail(e),
+        }
+    }
+
+    fn progress(&mut self, time: f64) -> ControlFlow<()> {
+        self.bar
+            .set_position((1e3 * (self.time_offset + time)) as u64);
+        ControlFlow::Continue(())
+    }
+
+    fn implicit_row(&mut self, row: &ImplicitHistoryRow) {
+        if let Some(history) = &mut self.history
+            && let Err(e) = history.push_implicit(row)
+        {
+            self.error = Some(e.into());
+        }
+    }
+
+    fn explicit_row(&mut self, row: &HistoryRow) {
+        if let Some(history) = &mut self.history
+            && let Err(e) = history.push_explicit(row)
+        {
+            self.error = Some(e.into());
+        }
+    }
+}
+
+fn progress_bar(duration: f64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new((1e3 * duration) as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos} / {len} ms of squat [{elapsed_precise}, ETA {eta}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
+/// Jacobian ratio (positive: no element inverted).
+fn write_vm95(path: &Path, muscles: &[Quadriceps], samples: &[StressSample]) -> Result<()> {
+    let mut header = "time_s,knee_angle_deg".to_string();
+    for m in muscles {
+        header.push_str(&format!(",{}_vm95_pa", m.abbreviation()));
+    }
+    header.push_str(",min_jacobian_ratio");
+    let rows = samples.iter().map(|s| {
+        let mut row = vec![s.time, s.flexion.to_degrees()];
+        row.extend(&s.vm95);
+        row.push(s.min_jacobian_ratio);
+        row
+    });
+    let text = musclefem_io::csv::format_table(&header, rows);
+    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
+    Ok(())
+}
+
+fn run_log(run: &SquatRun, args: &KneeArgs, settings: &SquatSettings) -> RunLog {
+    let mut text = format!(
+        "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
+        run.activation.name(),
+        args.solver.name(),
+        settings.squat.duration,
+        settings.time_step,
+        run.elements,
+        run.nodes,
+        run.steps,
+    );
+    if let (Some(iterations), Some(cuts)) = (run.newton_iterations, run.cuts) {
+        text.push_str(&format!(
+            "newton_iterations = {iterations}\ncuts = {cuts}\n"
+        ));
+    }
+    for s in &run.interactions {
+        text.push_str(&format!(
+            "interaction {} = {}, {} nodes, {:.2} cm²\n",
+            s.name,
+            s.kind,
+            s.nodes,
+            1e4 * s.area
+        ));
+    }
+    RunLog::new(text)
+}
+
+fn print_run(run: &SquatRun) {
+    let solver = match (run.newton_iterations, run.cuts) {
+        (Some(iterations), Some(cuts)) => {
+            format!(
+                "{} increments, {iterations} Newton iterations, {cuts} cuts",
+                run.steps
+            )
+        }
+        _ => format!(
+            "{} steps, mass scaling added {:.2e} of the mass, energy balance within {:.2} %",
+            run.steps,
+            run.added_mass_fraction.unwrap_or(0.0),
+            100.0 * run.energy_error.unwrap_or(0.0)
+        ),
+    };
+    println!(
+        "{} squat: {} elements, {solver}, in {:.1?}",
+        run.activation.name(),
+        run.elements,
+        run.solve_time
+    );
+    let bonds: Vec<String> = run
+        .interactions
+        .iter()
+        .filter(|s| s.kind == "cohesive")
+        .map(|s| format!("{} ({} bonds)", s.name, s.nodes))
+        .collect();
+    println!("  cohesive: {}", bonds.join(", "));
+    for row in run
+        .rows
+        .iter()
+        .filter(|r| r.angle_degrees == 90.0 && r.phase == Phase::Flexion)
+    {
+        println!(
+            "  {} at 90°: vm95 {:.1} kPa, elements above it at: {}",
+            row.muscle.abbreviation(),
+            1e-3 * row.vm95,
+            row.location.describe()
+        );
+    }
+}
+
+/// The vm95 table: one line per muscle and angle, passive and active in both phases.
+fn print_table(rows: &[PeakStressRow], muscles: &[Quadriceps], activations: &[Activation]) {
+    let value = |m: Quadriceps, angle: f64, phase: Phase, a: Activation| {
+        rows.iter()
+            .find(|r| {
+                r.muscle == m && r.angle_degrees == angle && r.phase == phase && r.activation == a
+            })
+            .map_or("-".to_string(), |r| format!("{:.1}", 1e-3 * r.vm95))
+    };
+    let mut header = "muscle  angle".to_string();
+    for phase in [Phase::Flexion, Phase::Extension] {
+        for &a in activations {
+            header.push_str(&format!(
+                "  {:>19}",
+                format!("{} {}", a.name(), phase.name())
+            ));
+        }
+    }
+    println!("vm95 [kPa]\n{header}");
+    for &m in muscles {
+        for angle in TABLE_ANGLES_DEGREES {
+            let mut line = format!("{:<6}  {:>4}°", m.abbreviation(), angle);
+            for phase in [Phase::Flexion, Phase::Extension] {
+                for &a in activations {
+                    line.push_str(&format!("  {:>19}", value(m, angle, phase, a)));
+                }
+            }
+            println!("{line}");
+        }
+    }
+}
+
+/// One panel per muscle; per angle, a bar per (activation, phase).
+fn peak_stress_chart(
+    rows: &[PeakStressRow],
+    muscles: &[Quadriceps],
+    settings: &SquatSettings,
+) -> BarChart {
+    let mut chart = BarChart::new(format!(
+        "95th-percentile von Mises stress of the quadriceps, squat 0° → 90° → 0° in {} s",
+        settings.squat.duration
+    ))
+    .with_columns(2);
+    for &m in muscles {
+        let mut panel = BarPanel::new(
+            m.abbreviation(),
+            "vm95 [kPa]",
+            TABLE_ANGLES_DEGREES.iter().map(|a| format!("{a}°")),
+        )
+        .with_x_label("knee flexion angle")
+        .with_legend(LegendPosition::UpperLeft);
+        for phase in [Phase::Flexion, Phase::Extension] {
+            for activation in [Activation::Passive, Activation::Active] {
+                let values: Vec<f64> = TABLE_ANGLES_DEGREES
+                    .iter()
+                    .map(|&angle| {
+                        rows.iter()
+                            .find(|r| {
+                                r.muscle == m
+                                    && r.angle_degrees == angle
+                                    && r.phase == phase
+                                    && r.activation == activation
+                            })
+                            .map_or(f64::NAN, |r| 1e-3 * r.vm95)
+                    })
+                    .collect();
+                if values.iter().any(|v| v.is_finite()) {
+                    panel = panel.with_series(BarSeries::new(
+                        format!("{}, {}", activation.name(), phase.name()),
+                        values,
+                    ));
+                }
+            }
+        }
+        chart = chart.with_panel(panel);
+    }
+    chart
+}

@@ -1,0 +1,200 @@
+//! `musclefem knee` end to end on the coarse default knee: the passive and the active
+//! squat 0° → 90° → 0° complete with the implicit solver converged at every increment and
+//! no inverted element, the peak-stress table has every muscle, angle, phase and
+//! activation, activation raises every muscle's vm95 at 45°, 60° and 90°, the passive
+//! muscles come back unloaded, and the outputs are all there.
+
+#[path = "support/run.rs"]
+mod support;
+
+use std::collections::HashMap;
+
+use support::{musclefem, test_dir, text};
+
+use musclefem::elongation::Solver;
+use musclefem::knee::simulation::interactions::knee_interactions;
+use musclefem::knee::simulation::{Activation, KneeGeometry, KneeModel, SquatSettings};
+use musclefem::knee::{Anatomy, Resolution};
+use nalgebra::Vector3;
+
+/// The rows of a CSV as (header fields, rows of fields).
+fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let content = std::fs::read_to_string(path).unwrap();
+    let mut lines = content.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn the_coarse_squat_runs_passive_and_active_and_activation_raises_every_peak_stress() {
+    let dir = test_dir("knee_squat", "both");
+    let output = musclefem(&dir, &["knee", "--resolution", "coarse", "--out", "out"]);
+    let stdout = text(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        text(&output.stderr)
+    );
+    let out = dir.join("out");
+
+    // The table: 4 muscles × 4 angles × 2 phases × 2 activations.
+    let (header, rows) = read_csv(&out.join("peak_stress.csv"));
+    assert_eq!(
+        header.join(","),
+        "muscle,knee_angle_deg,phase,activation,vm95_pa"
+    );
+    assert_eq!(rows.len(), 32);
+    let mut vm95: HashMap<(String, String, String, String), f64> = HashMap::new();
+    for row in &rows {
+        let value: f64 = row[4].parse().unwrap();
+        assert!(value.is_finite() && value > 0.0, "{row:?}");
+        vm95.insert(
+            (
+                row[0].clone(),
+                row[1].clone(),
+                row[2].clone(),
+                row[3].clone(),
+            ),
+            value,
+        );
+    }
+    for muscle in ["VI", "VL", "VM", "RF"] {
+        for angle in ["45", "60", "90"] {
+            let at = |activation: &str| {
+                vm95[&(
+                    muscle.to_string(),
+                    angle.to_string(),
+                    "flexion".to_string(),
+                    activation.to_string(),
+                )]
+            };
+            assert!(
+                at("active") > at("passive"),
+                "{muscle} at {angle}°: active {} ≤ passive {}",
+                at("active"),
+                at("passive")
+            );
+        }
+        // Stretch grows with flexion: the passive peak stress rises from 30° to 90°.
+        let passive = |angle: &str| {
+            vm95[&(
+                muscle.to_string(),
+                angle.to_string(),
+                "flexion".to_string(),
+                "passive".to_string(),
+            )]
+        };
+        assert!(passive("30") < passive("60") && passive("60") < passive("90"));
+    }
+
+    for activation in ["passive", "active"] {
+        let run = out.join(activation);
+        // Every increment converged (the implicit history has one row per increment up to
+        // the end) and no element inverted on the way.
+        let (header, samples) = read_csv(&run.join("vm95.csv"));
+        assert_eq!(header.last().unwrap(), "min_jacobian_ratio");
+        let last_time: f64 = samples.last().unwrap()[0].parse().unwrap();
+        assert!(
+            (last_time - 2.0).abs() < 1e-9,
+            "{activation}: ended at {last_time}"
+        );
+        let min_jacobian = samples
+            .iter()
+            .map(|r| r.last().unwrap().parse::<f64>().unwrap())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            min_jacobian > 0.0,
+            "{activation}: an element inverted ({min_jacobian})"
+        );
+        let (history_header, history) = read_csv(&run.join("history.csv"));
+        assert_eq!(history_header[2], "iterations");
+        assert_eq!(history.len(), samples.len());
+        assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
+        if activation == "passive" {
+            // Passive muscles and undamaged bonds are elastic: back at 0° they are
+            // unloaded again (vm95 below 1 % of its peak).
+            for m in 2..6 {
+                let values: Vec<f64> = samples.iter().map(|r| r[m].parse().unwrap()).collect();
+                let peak = values.iter().fold(0.0f64, |a, &b| a.max(b));
+                assert!(
+                    *values.last().unwrap() < 0.01 * peak,
+                    "{}: {} of a peak {peak}",
+                    header[m],
+                    values.last().unwrap()
+                );
+            }
+        }
+    }
+    let png = std::fs::read(out.join("peak_stress.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // Where the peaks are is reported per muscle at 90°.
+    for muscle in ["VI", "VL", "VM", "RF"] {
+        assert!(
+            stdout.contains(&format!("{muscle} at 90°: vm95"))
+                && stdout.contains("elements above it at:"),
+            "{stdout}"
+        );
+    }
+}
+
+#[test]
+fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free() {
+    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+    let settings = SquatSettings::recommended(Solver::Implicit);
+    let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat).unwrap();
+    let fibers = geometry.fibers().unwrap();
+    let model = KneeModel::new(&geometry, &fibers, Activation::Passive, &settings.squat).unwrap();
+    let mut built = knee_interactions(&geometry, &model.mesh, model.material.as_ref()).unwrap();
+    let names: Vec<&str> = built.summaries.iter().map(|s| s.name.as_str()).collect();
+    for expected in [
+        "VL-VI", "VM-VI", "RF-VI", "VI-femur", "VL-femur", "VM-femur",
+    ] {
+        assert!(names.contains(&expected), "{names:?}");
+    }
+    assert_eq!(names.iter().filter(|n| n.ends_with("-contact")).count(), 4);
+    // At 0° every interaction rests: no force anywhere, though the muscles start 1–4 mm
+    // apart.
+    let positions: Vec<Vector3<f64>> = (0..model.mesh.node_count())
+        .map(|i| model.mesh.nodes.position(i))
+        .collect();
+    for interaction in &mut built.interactions {
+        let mut force = vec![Vector3::zeros(); positions.len()];
+        interaction.search(0.0, &positions).unwrap();
+        interaction
+            .forces(0.0, &positions, false, &mut force)
+            .unwrap();
+        let largest = force.iter().map(|f| f.norm()).fold(0.0, f64::max);
+        assert!(largest < 1e-12, "{}: {largest} N", interaction.name());
+    }
+    // Every muscle's fibers run from its origin to its insertion.
+    assert_eq!(fibers.direction.len(), model.mesh.element_count());
+    assert!(
+        fibers
+            .direction
+            .iter()
+            .all(|d| (d.norm() - 1.0).abs() < 1e-9)
+    );
+}
+
+#[test]
+fn bad_knee_arguments_are_refused_before_any_output() {
+    let dir = test_dir("knee_squat", "errors");
+    let output = musclefem(&dir, &["knee", "--duration", "-1", "--out", "out"]);
+    assert!(!output.status.success());
+    assert!(text(&output.stderr).contains("--duration -1 s must be positive"));
+    assert!(!dir.join("out").exists());
+    std::fs::create_dir_all(dir.join("empty")).unwrap();
+    let output = musclefem(&dir, &["knee", "--anatomy", "empty", "--out", "out2"]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("neither muscles.msh nor muscles.inp"),
+        "{}",
+        text(&output.stderr)
+    );
+    let output = musclefem(&dir, &["knee", "--passive", "--active"]);
+    assert!(!output.status.success());
+    assert!(text(&output.stderr).contains("cannot be used with"));
+}
