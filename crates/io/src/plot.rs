@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use musclefem_materials::driver::UniaxialRow;
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
@@ -336,24 +336,32 @@ fn draw_panel<'a>(
         }
     }
 
-    let position = match panel.legend {
+    if panel.series.iter().any(|s| !s.label.is_empty()) {
+        draw_legend(&mut chart, panel.legend)?;
+    }
+    Ok(())
+}
+
+/// Draw the legend of `chart`'s labelled series at `legend` (nothing if hidden).
+pub(crate) fn draw_legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    legend: LegendPosition,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let position = match legend {
         LegendPosition::UpperLeft => SeriesLabelPosition::UpperLeft,
         LegendPosition::UpperRight => SeriesLabelPosition::UpperRight,
         LegendPosition::LowerLeft => SeriesLabelPosition::LowerLeft,
         LegendPosition::LowerRight => SeriesLabelPosition::LowerRight,
         LegendPosition::Hidden => return Ok(()),
     };
-    if panel.series.iter().any(|s| !s.label.is_empty()) {
-        chart
-            .configure_series_labels()
-            .position(position)
-            .margin(10)
-            .label_font((FONT_FAMILY, 15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()?;
-    }
-    Ok(())
+    chart
+        .configure_series_labels()
+        .position(position)
+        .margin(10)
+        .label_font((FONT_FAMILY, 15))
+        .background_style(WHITE.mix(0.9))
+        .border_style(RGBColor(160, 160, 160))
+        .draw()
 }
 
 #[cfg(test)]

@@ -358,23 +358,8 @@ fn draw_panel<DB: DrawingBackend>(
         }
     }
 
-    let position = match panel.legend {
-        LegendPosition::UpperLeft => SeriesLabelPosition::UpperLeft,
-        LegendPosition::UpperRight => SeriesLabelPosition::UpperRight,
-        LegendPosition::LowerLeft => SeriesLabelPosition::LowerLeft,
-        LegendPosition::LowerRight => SeriesLabelPosition::LowerRight,
-        LegendPosition::Hidden => return Ok(()),
-    };
     if panel.series.iter().any(|s| !s.label.is_empty()) {
-        chart
-            .configure_series_labels()
-            .position(position)
-            .margin(10)
-            .label_font((FONT_FAMILY, 15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()
-            .map_err(|e| e.to_string())?;
+        super::draw_legend(&mut chart, panel.legend).map_err(|e| e.to_string())?;
     }
     Ok(())
 }
