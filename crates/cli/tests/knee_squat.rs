@@ -97,7 +97,7 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
             "{activation}: an element inverted ({min_jacobian})"
         );
         let (history_header, history) = read_csv(&run.join("history.csv"));
-        assert_eq!(history_header[2], "iterations");
+        assert_eq!(history_header[2], "newton_iterations");
         assert_eq!(history.len(), samples.len());
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
         {
