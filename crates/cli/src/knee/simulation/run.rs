@@ -278,11 +278,12 @@ fn element_map(
             block
                 .elements()
                 .map(|nodes| {
-                    let coords: Vec<Vector3<f64>> = nodes
-                        .iter()
-                        .map(|&n| mesh.nodes.position(n as usize) + u[n as usize])
-                        .collect();
-                    measure(block.shape, &coords)
+                    // At most 10 nodes (tet10): no allocation per element.
+                    let mut coords = [Vector3::zeros(); 10];
+                    for (c, &n) in coords.iter_mut().zip(nodes) {
+                        *c = mesh.nodes.position(n as usize) + u[n as usize];
+                    }
+                    measure(block.shape, &coords[..nodes.len()])
                 })
                 .collect::<Vec<_>>()
         })

@@ -13,13 +13,12 @@
 pub(super) mod o_grid;
 mod prism_split;
 
-use std::collections::BTreeSet;
 use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
 use super::add_mid_edge_nodes;
-use crate::mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
+use crate::mesh::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
 use o_grid::{UnitSection, polygon_area, ring_thickness};
 use prism_split::tets;
 
@@ -451,35 +450,9 @@ fn finish(
     axial: usize,
 ) -> Result<Mesh, MeshError> {
     block.fiber_direction = vec![Vector3::z(); block.len()];
-    let shape = block.shape;
     let mut mesh = Mesh::new(nodes, vec![block]);
     let per_layer = section.node_count();
-    // The layer of a corner node (mid-edge nodes come after all corner nodes).
-    let layer = |id: u32| id as usize / per_layer;
-
-    let outer = mesh.boundary_faces()?;
-    let (mut origin, mut insertion, mut lateral) = (Vec::new(), Vec::new(), Vec::new());
-    for &face in &outer {
-        let ids = mesh.face_nodes(face)?;
-        let corners = &ids[..shape.face_shape(face.face as usize).corner_count()];
-        if corners.iter().all(|&id| layer(id) == 0) {
-            origin.push(face);
-        } else if corners.iter().all(|&id| layer(id) == axial) {
-            insertion.push(face);
-        } else {
-            lateral.push(face);
-        }
-    }
-    for (name, faces) in [
-        ("origin", origin),
-        ("insertion", insertion),
-        ("lateral", lateral),
-    ] {
-        let nodes = face_nodes(&mesh, &faces)?;
-        mesh.node_sets.insert(name.to_string(), nodes);
-        mesh.surfaces.insert(name.to_string(), faces);
-    }
-    mesh.surfaces.insert("outer".to_string(), outer);
+    super::end_sets::insert_end_sets(&mut mesh, per_layer, axial)?;
 
     // Every node of the mid layer, mid-edge nodes included, has exactly its z.
     let z_mid = mesh.nodes.z[(axial / 2) * per_layer];
@@ -495,20 +468,7 @@ fn finish(
     ] {
         mesh.node_sets.insert(name.to_string(), vec![id]);
     }
-    let all = (0..mesh.blocks[0].len() as u32)
-        .map(|e| ElementRef::new(0, e))
-        .collect();
-    mesh.element_sets.insert("all".to_string(), all);
     Ok(mesh)
-}
-
-/// The nodes of `faces`, sorted and without repeats.
-fn face_nodes(mesh: &Mesh, faces: &[Face]) -> Result<Vec<u32>, MeshError> {
-    let mut set = BTreeSet::new();
-    for &face in faces {
-        set.extend(mesh.face_nodes(face)?.iter().copied());
-    }
-    Ok(set.into_iter().collect())
 }
 
 fn invalid(reason: String) -> MeshError {

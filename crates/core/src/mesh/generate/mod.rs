@@ -23,6 +23,7 @@
 
 mod cooks_membrane;
 mod distort;
+mod end_sets;
 mod fusiform;
 mod swept_muscle;
 

@@ -32,13 +32,12 @@
 
 mod centreline;
 
-use std::collections::BTreeSet;
 use std::f64::consts::PI;
 
 use nalgebra::Vector3;
 
 use super::fusiform::o_grid::{UnitSection, polygon_area};
-use crate::mesh::{ElementBlock, ElementRef, ElementShape, Mesh, MeshError, Nodes};
+use crate::mesh::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
 use centreline::{Centreline, invert};
 
 const GENERATOR: &str = "swept_muscle_mesh";
@@ -427,40 +426,8 @@ fn finish(
     per_layer: usize,
     axial: usize,
 ) -> Result<Mesh, MeshError> {
-    let shape = block.shape;
     let mut mesh = Mesh::new(nodes, vec![block]);
-    let layer = |id: u32| id as usize / per_layer;
-    let outer = mesh.boundary_faces()?;
-    let (mut origin, mut insertion, mut lateral) = (Vec::new(), Vec::new(), Vec::new());
-    for &face in &outer {
-        let ids = mesh.face_nodes(face)?;
-        let corners = &ids[..shape.face_shape(face.face as usize).corner_count()];
-        if corners.iter().all(|&id| layer(id) == 0) {
-            origin.push(face);
-        } else if corners.iter().all(|&id| layer(id) == axial) {
-            insertion.push(face);
-        } else {
-            lateral.push(face);
-        }
-    }
-    for (name, faces) in [
-        ("origin", origin),
-        ("insertion", insertion),
-        ("lateral", lateral),
-    ] {
-        let mut set = BTreeSet::new();
-        for &face in &faces {
-            set.extend(mesh.face_nodes(face)?.iter().copied());
-        }
-        mesh.node_sets
-            .insert(name.to_string(), set.into_iter().collect());
-        mesh.surfaces.insert(name.to_string(), faces);
-    }
-    mesh.surfaces.insert("outer".to_string(), outer);
-    let all = (0..mesh.blocks[0].len() as u32)
-        .map(|e| ElementRef::new(0, e))
-        .collect();
-    mesh.element_sets.insert("all".to_string(), all);
+    super::end_sets::insert_end_sets(&mut mesh, per_layer, axial)?;
     Ok(mesh)
 }
 

@@ -1,6 +1,7 @@
 use std::collections::HashMap;
 
 use super::*;
+use crate::mesh::{ElementRef, Face};
 
 const MM: f64 = 1e-3;
 
