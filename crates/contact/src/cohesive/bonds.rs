@@ -15,13 +15,14 @@
 //! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
 //! triangle; a rigid main takes it on the body. The stiffness blocks,
 //! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s, hold
-//! the frame R fixed, except for the rest gap's turn with the triangle (see
-//! [`Bond::reference_separation`]).
+//! the frame R fixed, except for the turn of the rest state R δ_ref with the triangle
+//! (see [`Bond::reference_separation`]); for the elastic law (C = K I) that is exact:
+//! f_s = A K (δ − R δ_ref).
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use rayon::prelude::*;
 
-use super::frame::{frame, normal_derivatives};
+use super::frame::{frame, turned_vector_derivatives};
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
 use super::slide::evaluate_sliding;
@@ -199,14 +200,14 @@ impl Bond {
         let coupling = if with_stiffness {
             let stiffness = self.area * rotation * response.tangent * rotation.transpose();
             let mut coupling = point_coupling(&stiffness, &self.coordinates);
-            // The rest gap turns with the triangle: f_s ∋ −A (R C Rᵀ) g₀ n, whose
-            // derivative with respect to the corners is −(R C Rᵀ A) g₀ ∂n/∂x_k (the turn
-            // of the in-plane rest offsets of edge and vertex bonds is left out).
-            let rest_gap = self.reference_separation.x;
-            if rest_gap != 0.0 {
-                let turning = normal_derivatives(vertices);
+            // The rest state turns with the triangle: f_s ∋ −A (R C Rᵀ) R δ_ref, whose
+            // derivative with respect to the corners is −(A R C Rᵀ) ∂(R δ_ref)/∂x_k: the
+            // rest gap along the turning normal and, for edge and vertex bonds, the
+            // in-plane rest offsets along the turning s and t.
+            if self.reference_separation != Vector3::zeros() {
+                let turning = turned_vector_derivatives(vertices, &self.reference_separation);
                 for k in 0..3 {
-                    coupling[1 + k] -= rest_gap * stiffness * turning[k];
+                    coupling[1 + k] -= stiffness * turning[k];
                 }
             }
             coupling

@@ -54,6 +54,37 @@ pub fn normal_derivatives(corners: &[Vector3<f64>; 3]) -> [Matrix3<f64>; 3] {
     [-d1 - d2, d1, d2]
 }
 
+/// ∂(R δ)/∂x_k [1 per m of δ] for k = 0, 1, 2 of a fixed local vector δ = (δ_n, δ_s, δ_t)
+/// turned by the frame R = [n s t] of triangle (x₀, x₁, x₂) ([`frame`]):
+/// δ_n ∂n/∂x_k + δ_s ∂s/∂x_k + δ_t ∂t/∂x_k, with ([`normal_derivatives`] for ∂n)
+/// - s = u/|u|, u = x₁ − x₀ (in the plane, so n·u = 0):
+///   ∂s = (I − s⊗s)/|u| (P ∂u − n ⊗ (∂nᵀ u)), P = I − n⊗n, ∂u/∂x₀ = −I, ∂u/∂x₁ = I;
+/// - t = n × s: ∂t = −[s]× ∂n + [n]× ∂s.
+///
+/// Zero for a degenerate triangle (its frame is built from the fallback normal, a constant).
+pub fn turned_vector_derivatives(
+    corners: &[Vector3<f64>; 3],
+    local: &Vector3<f64>,
+) -> [Matrix3<f64>; 3] {
+    let dn = normal_derivatives(corners);
+    let u = corners[1] - corners[0];
+    let length = u.norm();
+    if dn.iter().all(|m| m.iter().all(|&x| x == 0.0)) || !(length > 0.0) {
+        return [Matrix3::zeros(); 3];
+    }
+    let r = frame(&corners[0], &corners[1], &corners[2], &Vector3::x());
+    let n: Vector3<f64> = r.column(0).into_owned();
+    let s: Vector3<f64> = r.column(1).into_owned();
+    let project_normal = Matrix3::identity() - n * n.transpose();
+    let project_s = (Matrix3::identity() - s * s.transpose()) / length;
+    let du = [-Matrix3::identity(), Matrix3::identity(), Matrix3::zeros()];
+    std::array::from_fn(|k| {
+        let ds = project_s * (project_normal * du[k] - n * (u.transpose() * dn[k]));
+        let dt = -s.cross_matrix() * dn[k] + n.cross_matrix() * ds;
+        dn[k] * local.x + ds * local.y + dt * local.z
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -78,6 +109,32 @@ mod tests {
         );
         assert_eq!(Vector3::from(degenerate.column(0)), Vector3::<f64>::y());
         assert!((degenerate.determinant() - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_turned_vector_derivatives_match_central_differences() {
+        let corners = [
+            Vector3::new(0.1, -0.2, 0.3),
+            Vector3::new(1.2, 0.1, 0.2),
+            Vector3::new(0.3, 0.9, 0.7),
+        ];
+        let local = Vector3::new(0.3, -0.7, 0.45);
+        let turned = |c: &[Vector3<f64>; 3]| frame(&c[0], &c[1], &c[2], &Vector3::x()) * local;
+        let derivatives = turned_vector_derivatives(&corners, &local);
+        let h = 1e-7;
+        for k in 0..3 {
+            for j in 0..3 {
+                let (mut plus, mut minus) = (corners, corners);
+                plus[k][j] += h;
+                minus[k][j] -= h;
+                let fd = (turned(&plus) - turned(&minus)) / (2.0 * h);
+                let exact = derivatives[k].column(j).into_owned();
+                assert!(
+                    (fd - exact).norm() < 1e-8,
+                    "corner {k}, axis {j}: {fd} vs {exact}"
+                );
+            }
+        }
     }
 
     #[test]

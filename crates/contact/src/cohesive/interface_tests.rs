@@ -153,6 +153,45 @@ fn a_bond_formed_across_a_gap_rests_at_that_gap_in_both_modes() {
     }
 }
 
+/// A node that bonds past the main triangle's edge (rest state with in-plane parts) keeps
+/// a consistent stiffness while the main triangle moves, tilts and stretches: its rest
+/// offset turns with the triangle's frame, in-plane parts included.
+#[test]
+fn an_edge_bond_across_a_gap_has_a_consistent_stiffness_as_the_main_turns() {
+    let mut x = reference();
+    // Beyond the hypotenuse x + y = 1, 2 mm above the plane: the closest point is on it.
+    x[3] = Vector3::new(0.6, 0.5, 0.002);
+    let mesh = mesh(&x);
+    let (top, bottom) = surfaces(&mesh);
+    // Elastic range throughout (as in the knee, where damage starts at 30 mm): the law
+    // is K δ, and the force A K (δ − R δ_ref) depends on the frame only through R δ_ref.
+    let edge_settings = CohesiveSettings {
+        bond_tolerance: 0.1,
+        initiation_separation: 1.0,
+        failure_separation: 3.0,
+        ..settings(TangentialMode::Elastic)
+    };
+    let mut interface =
+        CohesiveInterface::new("glue", &top, bottom, &mesh, &edge_settings).unwrap();
+    assert_eq!(interface.bond_count(), 1);
+    assert!(
+        all_forces(&mut interface, 0.0, &x)
+            .iter()
+            .all(|&v| v.abs() < 1e-12)
+    );
+    // Turning the whole pair rigidly leaves the bond at rest.
+    let turn = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), 0.4)
+        * nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), 0.3);
+    let turned: Vec<Vector3<f64>> = x.iter().map(|p| turn * p).collect();
+    let f = all_forces(&mut interface, 0.0, &turned);
+    assert!(f.iter().all(|&v| v.abs() < 1e-12), "{f:?}");
+    x[0] += Vector3::new(0.01, -0.02, 0.005);
+    x[1] += Vector3::new(0.03, 0.01, 0.1);
+    x[2] += Vector3::new(-0.02, 0.04, -0.05);
+    x[3] += Vector3::new(0.008, -0.006, 0.012);
+    check_stiffness(&mut interface, 0.0, &x);
+}
+
 #[test]
 fn damage_waits_for_commit_and_never_heals() {
     let mut interface = deformable(&settings(TangentialMode::Elastic));
