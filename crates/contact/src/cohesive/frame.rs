@@ -69,7 +69,9 @@ pub fn turned_vector_derivatives(
     let dn = normal_derivatives(corners);
     let u = corners[1] - corners[0];
     let length = u.norm();
-    if dn.iter().all(|m| m.iter().all(|&x| x == 0.0)) || !(length > 0.0) {
+    // A degenerate triangle (no normal derivative) or a collapsed first edge.
+    let degenerate = dn.iter().all(|m| m.iter().all(|&x| x == 0.0));
+    if degenerate || length.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return [Matrix3::zeros(); 3];
     }
     let r = frame(&corners[0], &corners[1], &corners[2], &Vector3::x());
