@@ -45,7 +45,9 @@ pub struct KneeArgs {
     pub passive: bool,
     /// Only the active squat (50 % activation from 35° of flexion on). Known problem: with
     /// the implicit solver it stalls where the activation starts (t ≈ 0.43 s), its
-    /// increments cut to ~1e-4 s with 15-20 Newton iterations each.
+    /// increments cut to ~1e-4 s, and stops with an error after 50 such increments: the
+    /// muscles' end layers, as soft as the belly, stretch by 30-40 % when activated (see
+    /// the README).
     #[arg(long)]
     pub active: bool,
     /// Both, passive then active (see --active).

@@ -30,8 +30,10 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-/// musclefem: 3D simulation of active skeletal muscle (today: the material library and a
-/// material-point driver). Without a subcommand, runs `demo`.
+/// musclefem: 3D finite-element simulation of active skeletal muscle (Hill-type and
+/// neo-Hookean materials and plugins, explicit and implicit solvers, flow-based fibers,
+/// contact and cohesive interfaces, the single-muscle tests and the knee squat). Without a
+/// subcommand, runs `demo`.
 #[derive(Debug, Parser)]
 #[command(name = "musclefem", version)]
 struct Cli {

@@ -2,6 +2,7 @@
 //! the muscles' vm95 at every recorded instant, and the caller's hook (frames, history,
 //! progress, Ctrl-C) at each.
 
+use std::collections::VecDeque;
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
@@ -164,6 +165,7 @@ pub fn run_squat(
         error: None,
         largest_energy: 0.0,
         energy_error: 0.0,
+        stall: StallDetector::default(),
     };
     let duration = settings.squat.duration;
     let context = || {
@@ -258,7 +260,16 @@ struct Recorder<'a> {
     /// Explicit: the largest energy and the largest balance error so far [J].
     largest_energy: f64,
     energy_error: f64,
+    /// Implicit: stops a run that no longer advances.
+    stall: StallDetector,
 }
+
+/// Implicit increments over which a stall is judged.
+const STALL_WINDOW: usize = 50;
+
+/// A stall: the last [`STALL_WINDOW`] increments advanced the squat by less than this
+/// fraction of its duration (on average 1/100 of the default 0.02 s increment at T = 2 s).
+const STALL_FRACTION: f64 = 0.005;
 
 /// The volume of every element of `mesh`, block after block [m³].
 fn reference_volumes(mesh: &Mesh) -> Vec<f64> {
@@ -331,10 +342,48 @@ impl Recorder<'_> {
     }
 }
 
+/// Watches the end times of the implicit increments for a stall: the last
+/// [`STALL_WINDOW`] increments advancing the squat by less than [`STALL_FRACTION`] of its
+/// duration, after which the run would go on for hours.
+#[derive(Debug, Default)]
+struct StallDetector {
+    recent_times: VecDeque<f64>,
+}
+
+impl StallDetector {
+    /// Notes a converged increment ending at `time` [s]; the error message on a stall.
+    fn advance(&mut self, time: f64, squat: &Squat) -> Option<String> {
+        self.recent_times.push_back(time);
+        if self.recent_times.len() <= STALL_WINDOW {
+            return None;
+        }
+        let first = self.recent_times.pop_front().unwrap_or(time);
+        let advanced = time - first;
+        if advanced >= STALL_FRACTION * squat.duration || time >= squat.duration {
+            return None;
+        }
+        Some(format!(
+            "the implicit solver stalled at t = {time:.4} s (knee flexion {:.1}°): its last \
+             {STALL_WINDOW} increments advanced the squat by {:.2} ms, {:.2} % of it. In the \
+             active squat this happens at the activation's onset: the activated muscles \
+             straighten by centimetres against the soft cohesive bonds, a motion Newton's \
+             method follows only in tiny increments. Try the explicit solver \
+             (--solver explicit)",
+            squat.flexion_at(time).to_degrees(),
+            1e3 * advanced,
+            100.0 * advanced / squat.duration,
+        ))
+    }
+}
+
 impl Observer<ImplicitHistoryRow> for Recorder<'_> {
     fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
         self.watcher.implicit_row(row);
         self.record(snapshot)?;
+        if let Some(message) = self.stall.advance(row.time, self.squat) {
+            self.error = Some(anyhow::anyhow!(message));
+            return ControlFlow::Break(());
+        }
         self.watcher.progress(row.time)
     }
 }
@@ -363,5 +412,37 @@ impl Observer<HistoryRow> for Recorder<'_> {
         } else {
             ControlFlow::Continue(())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default squat's increments (20 ms, 8 cut to 10 ms) never look like a stall;
+    /// 1e-4 s increments (those of the stalled active run) are one after 50 of them.
+    #[test]
+    fn a_run_that_no_longer_advances_is_a_stall() {
+        let squat = Squat::to_ninety_degrees(DEFAULT_SQUAT_DURATION);
+        let mut detector = StallDetector::default();
+        let mut time = 0.0;
+        for increment in 0..200 {
+            time += if increment % 25 < 8 { 0.01 } else { 0.02 };
+            assert_eq!(detector.advance(time, &squat), None, "at {time} s");
+        }
+        let mut detector = StallDetector::default();
+        let mut time = 0.4292;
+        for _ in 0..STALL_WINDOW {
+            time += 1e-4;
+            assert_eq!(detector.advance(time, &squat), None);
+        }
+        time += 1e-4;
+        let message = detector.advance(time, &squat).expect("a stall");
+        assert!(
+            message.contains("stalled at t = 0.4343 s")
+                && message.contains("advanced the squat by 5.00 ms")
+                && message.contains("--solver explicit"),
+            "{message}"
+        );
     }
 }
