@@ -39,6 +39,8 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
         "{stdout}\n{}",
         text(&output.stderr)
     );
+    // Without --solver the passive squat runs implicitly, and says so.
+    assert!(stdout.contains("implicit solver (passive)"), "{stdout}");
     let out = dir.join("out");
 
     // The table: 4 muscles × 4 angles × 2 phases × 2 activations.
