@@ -45,8 +45,8 @@ pub struct KneeArgs {
     pub passive: bool,
     /// Only the active squat (50 % activation from 35° of flexion on), with the explicit
     /// solver unless --solver says otherwise. The implicit solver stalls where the
-    /// activation starts (t ≈ 0.43 s) and stops with an error: the muscles' end layers,
-    /// as soft as the belly, stretch by 30-40 % when activated (see the README).
+    /// activation starts (t ≈ 0.43 s), where the activated muscles deform by
+    /// centimetres, and stops with an error (see the README).
     #[arg(long)]
     pub active: bool,
     /// Both, passive then active (see --active).

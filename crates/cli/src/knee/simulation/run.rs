@@ -365,10 +365,10 @@ impl StallDetector {
         Some(format!(
             "the implicit solver stalled at t = {time:.4} s (knee flexion {:.1}°): its last \
              {STALL_WINDOW} increments advanced the squat by {:.2} ms, {:.2} % of it. In the \
-             active squat this happens at the activation's onset: the bellies shorten and \
-             the muscles' end layers, as soft as the belly, stretch by 30-40 %, which \
-             Newton's method follows only in tiny increments. The explicit solver \
-             (--solver explicit, the default for the active squat) runs through it",
+             active squat this happens at the activation's onset, where the muscles \
+             deform by centimetres (their bellies shorten, their soft end layers stretch by \
+             30-40 %), which Newton's method follows only in tiny increments. The explicit \
+             solver (--solver explicit, the default for the active squat) runs through it",
             squat.flexion_at(time).to_degrees(),
             1e3 * advanced,
             100.0 * advanced / squat.duration,
