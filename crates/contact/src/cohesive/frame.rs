@@ -113,23 +113,26 @@ mod tests {
         assert!((degenerate.determinant() - 1.0).abs() < 1e-15);
     }
 
-    #[test]
-    fn the_turned_vector_derivatives_match_central_differences() {
-        let corners = [
-            Vector3::new(0.1, -0.2, 0.3),
-            Vector3::new(1.2, 0.1, 0.2),
-            Vector3::new(0.3, 0.9, 0.7),
-        ];
-        let local = Vector3::new(0.3, -0.7, 0.45);
-        let turned = |c: &[Vector3<f64>; 3]| frame(&c[0], &c[1], &c[2], &Vector3::x()) * local;
-        let derivatives = turned_vector_derivatives(&corners, &local);
+    /// The test triangle of the derivative checks.
+    const CORNERS: [Vector3<f64>; 3] = [
+        Vector3::new(0.1, -0.2, 0.3),
+        Vector3::new(1.2, 0.1, 0.2),
+        Vector3::new(0.3, 0.9, 0.7),
+    ];
+
+    /// `derivatives[k]` (column j: ∂/∂x_k,j) of `value` at [`CORNERS`] against central
+    /// differences.
+    fn check_corner_derivatives(
+        value: impl Fn(&[Vector3<f64>; 3]) -> Vector3<f64>,
+        derivatives: &[Matrix3<f64>; 3],
+    ) {
         let h = 1e-7;
         for k in 0..3 {
             for j in 0..3 {
-                let (mut plus, mut minus) = (corners, corners);
+                let (mut plus, mut minus) = (CORNERS, CORNERS);
                 plus[k][j] += h;
                 minus[k][j] -= h;
-                let fd = (turned(&plus) - turned(&minus)) / (2.0 * h);
+                let fd = (value(&plus) - value(&minus)) / (2.0 * h);
                 let exact = derivatives[k].column(j).into_owned();
                 assert!(
                     (fd - exact).norm() < 1e-8,
@@ -140,31 +143,23 @@ mod tests {
     }
 
     #[test]
+    fn the_turned_vector_derivatives_match_central_differences() {
+        let local = Vector3::new(0.3, -0.7, 0.45);
+        check_corner_derivatives(
+            |c| frame(&c[0], &c[1], &c[2], &Vector3::x()) * local,
+            &turned_vector_derivatives(&CORNERS, &local),
+        );
+    }
+
+    #[test]
     fn the_normal_derivatives_match_central_differences() {
-        let corners = [
-            Vector3::new(0.1, -0.2, 0.3),
-            Vector3::new(1.2, 0.1, 0.2),
-            Vector3::new(0.3, 0.9, 0.7),
-        ];
-        let normal = |c: &[Vector3<f64>; 3]| {
-            frame(&c[0], &c[1], &c[2], &Vector3::x())
-                .column(0)
-                .into_owned()
-        };
-        let derivatives = normal_derivatives(&corners);
-        let h = 1e-7;
-        for k in 0..3 {
-            for j in 0..3 {
-                let (mut plus, mut minus) = (corners, corners);
-                plus[k][j] += h;
-                minus[k][j] -= h;
-                let fd = (normal(&plus) - normal(&minus)) / (2.0 * h);
-                let exact = derivatives[k].column(j).into_owned();
-                assert!(
-                    (fd - exact).norm() < 1e-8,
-                    "corner {k}, axis {j}: {fd} vs {exact}"
-                );
-            }
-        }
+        check_corner_derivatives(
+            |c| {
+                frame(&c[0], &c[1], &c[2], &Vector3::x())
+                    .column(0)
+                    .into_owned()
+            },
+            &normal_derivatives(&CORNERS),
+        );
     }
 }
