@@ -127,6 +127,13 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         bail!("--time-step {step} s must be positive and below the duration");
     }
     let activations = args.activations();
+    if args.time_step.is_some() && args.solver.is_none() && activations.len() > 1 {
+        bail!(
+            "--time-step with --both needs --solver: the passive and active runs default to \
+             different solvers, whose steps differ (implicit increment 0.02 s, explicit \
+             mass-scaling step 2e-5 s)"
+        );
+    }
     // The squat (duration, angles) is the same for every run.
     let settings = args.settings(activations[0]);
     let anatomy = Anatomy::default_knee(args.resolution).context("the default knee")?;

@@ -202,4 +202,15 @@ fn bad_knee_arguments_are_refused_before_any_output() {
     let output = musclefem(&dir, &["knee", "--passive", "--active"]);
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("cannot be used with"));
+    let output = musclefem(
+        &dir,
+        &["knee", "--both", "--time-step", "0.01", "--out", "out3"],
+    );
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("--time-step with --both needs --solver"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.join("out3").exists());
 }
