@@ -17,8 +17,17 @@
 //! Candidate lists are stored per chunk of [`CHUNK`] consecutive secondary nodes, filled in
 //! parallel, each in a fixed order (the tree's traversal order, which does not depend on
 //! the thread count), into buffers kept from one search to the next.
+//!
+//! **Verlet margin.** The tree is queried with a box of half-width s + m (s the search
+//! distance, m = [`VERLET_MARGIN`] × s), and a search reuses the lists of the last query
+//! while the secondary nodes (in the tree's frame) and the main side's vertices have moved,
+//! since that query, by at most δ_s and δ_m with δ_s + δ_m ≤ m: a triangle whose box now
+//! comes within s of a node came within s + δ_s + δ_m ≤ s + m of it at the query. The
+//! lists then hold a superset of the triangles within s, so the closest one among them is
+//! the same. An explicit step moves nodes by micrometres against margins of millimetres:
+//! the tree is queried once in thousands of steps.
 
-use nalgebra::{Isometry3, Point3, Vector3};
+use nalgebra::{Point3, Vector3};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume as _};
 use parry3d_f64::math::Vector;
 use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy, BvhLeafUpdateStatus, BvhWorkspace};
@@ -36,11 +45,16 @@ pub const FATTENING: f64 = 0.5;
 /// The tree is rebuilt when its cost exceeds this multiple of the cost after the last build.
 pub const REBUILD_RATIO: f64 = 1.5;
 
+/// The Verlet margin m as a fraction of the search distance (see the module docs).
+pub const VERLET_MARGIN: f64 = 0.5;
+
 /// Counts of the tree updates since the start.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BroadphaseStatistics {
     /// Searches done.
     pub searches: usize,
+    /// Searches that queried the tree (the others reused the lists within the margin).
+    pub queries: usize,
     /// Builds from scratch (the first one included).
     pub builds: usize,
     /// Refits (some leaf had moved out of its fattened box).
@@ -52,6 +66,10 @@ pub struct BroadphaseStatistics {
 struct CandidateChunk {
     offsets: Vec<u32>,
     triangles: Vec<u32>,
+    /// Each candidate's box distance from its node at the query [m].
+    distances: Vec<f64>,
+    /// One node's (distance, triangle) pairs while they are sorted.
+    scratch: Vec<(f64, u32)>,
 }
 
 /// The BVH of a main surface and the candidate triangles of each secondary node.
@@ -61,8 +79,14 @@ pub struct Broadphase {
     bvh: Bvh,
     workspace: BvhWorkspace,
     built_cost: f64,
+    /// Each main triangle's box at the last query (rigid: in the body frame, fixed).
     boxes: Vec<Aabb>,
     chunks: Vec<CandidateChunk>,
+    /// The secondary nodes in the tree's frame now, and at the last query [m].
+    points: Vec<Vector3<f64>>,
+    queried_points: Vec<Vector3<f64>>,
+    /// A deformable main side's vertices at the last query [m].
+    queried_main: Vec<Vector3<f64>>,
     statistics: BroadphaseStatistics,
 }
 
@@ -97,6 +121,9 @@ impl Broadphase {
             built_cost: 0.0,
             boxes: Vec::new(),
             chunks: Vec::new(),
+            points: Vec::new(),
+            queried_points: Vec::new(),
+            queried_main: Vec::new(),
             statistics: BroadphaseStatistics::default(),
         }
     }
@@ -112,7 +139,9 @@ impl Broadphase {
     }
 
     /// Finds the candidate triangles of every node of `secondary` (global ids) against
-    /// `target` at nodal `positions` [m] and `time` [s].
+    /// `target` at nodal `positions` [m] and `time` [s]: every triangle whose box comes
+    /// within the search distance of the node, and possibly others within the margin.
+    /// Queries the tree only when the nodes have moved too far since the last query.
     pub fn search(
         &mut self,
         target: &ContactTarget,
@@ -135,26 +164,71 @@ impl Broadphase {
                 }
                 Some(rigid.motion.isometry_at(time).inverse())
             }
-            ContactTarget::Deformable(surface) => {
-                self.boxes.clear();
-                self.boxes.extend(
-                    (0..surface.triangles.len())
-                        .map(|t| triangle_box(&surface.corners(t, positions))),
-                );
-                self.update_tree();
-                None
-            }
+            ContactTarget::Deformable(_) => None,
         };
-        self.query(frame.as_ref(), positions, secondary);
+        self.points.clear();
+        self.points.extend(secondary.iter().map(|&n| {
+            let x = positions[n as usize];
+            frame.map_or(x, |iso| iso.transform_point(&Point3::from(x)).coords)
+        }));
+        let secondary_motion = largest_motion(&self.points, &self.queried_points);
+        let main_motion = match target {
+            ContactTarget::Deformable(surface) => largest_motion_of(
+                surface.nodes.iter().map(|&n| positions[n as usize]),
+                &self.queried_main,
+            ),
+            ContactTarget::Rigid(_) => 0.0,
+        };
+        if secondary_motion + main_motion <= VERLET_MARGIN * self.search_distance {
+            return;
+        }
+        if let ContactTarget::Deformable(surface) = target {
+            self.boxes.clear();
+            self.boxes.extend(
+                (0..surface.triangles.len()).map(|t| triangle_box(&surface.corners(t, positions))),
+            );
+            self.update_tree();
+            self.queried_main.clear();
+            self.queried_main
+                .extend(surface.nodes.iter().map(|&n| positions[n as usize]));
+        }
+        self.query();
+        std::mem::swap(&mut self.points, &mut self.queried_points);
+        self.statistics.queries += 1;
+    }
+
+    /// The distance [m] from `x` (in the body frame) to the box of triangle `t` of a rigid
+    /// main side: a lower bound of the distance to the triangle.
+    /// Only for a rigid main side, whose boxes never change (a deformable one's are those
+    /// of the last query).
+    #[inline]
+    pub fn rigid_box_distance(&self, t: usize, x: &Vector3<f64>) -> f64 {
+        box_distance(&self.boxes[t], x)
     }
 
     /// The candidate triangles of secondary node number `i` (its index in the list given to
-    /// [`Self::search`]), in a fixed order.
+    /// [`Self::search`]), nearest box (at the last query) first, ties by triangle index.
     #[inline]
     pub fn candidates(&self, i: usize) -> &[u32] {
         let chunk = &self.chunks[i / CHUNK];
         let k = i % CHUNK;
         &chunk.triangles[chunk.offsets[k] as usize..chunk.offsets[k + 1] as usize]
+    }
+
+    /// The distance [m] from secondary node number `i` to the box of each of its
+    /// [`candidates`](Self::candidates), both where they were at the last query:
+    /// nondecreasing.
+    #[inline]
+    pub fn candidate_box_distances(&self, i: usize) -> &[f64] {
+        let chunk = &self.chunks[i / CHUNK];
+        let k = i % CHUNK;
+        &chunk.distances[chunk.offsets[k] as usize..chunk.offsets[k + 1] as usize]
+    }
+
+    /// Where secondary node number `i` was at the last query, in the tree's frame [m].
+    #[inline]
+    pub fn queried_point(&self, i: usize) -> Vector3<f64> {
+        self.queried_points[i]
     }
 
     /// Total number of (node, triangle) candidates of the last search.
@@ -203,34 +277,68 @@ impl Broadphase {
         cost
     }
 
-    fn query(
-        &mut self,
-        frame: Option<&Isometry3<f64>>,
-        positions: &[Vector3<f64>],
-        secondary: &[u32],
-    ) {
-        let chunk_count = secondary.len().div_ceil(CHUNK);
+    /// Fills the candidate lists of the nodes at `self.points` (the tree's frame), with
+    /// boxes of half-width s + m.
+    fn query(&mut self) {
+        let chunk_count = self.points.len().div_ceil(CHUNK);
         self.chunks
             .resize_with(chunk_count, CandidateChunk::default);
         let bvh = &self.bvh;
-        let half = Vector::splat(self.search_distance);
+        let half = Vector::splat((1.0 + VERLET_MARGIN) * self.search_distance);
+        let boxes = &self.boxes;
         self.chunks
             .par_iter_mut()
-            .zip(secondary.par_chunks(CHUNK))
-            .for_each(|(chunk, nodes)| {
+            .zip(self.points.par_chunks(CHUNK))
+            .for_each(|(chunk, points)| {
                 chunk.offsets.clear();
                 chunk.triangles.clear();
+                chunk.distances.clear();
                 chunk.offsets.push(0);
-                for &n in nodes {
-                    let x = positions[n as usize];
-                    let x = frame.map_or(x, |iso| iso.transform_point(&Point3::from(x)).coords);
-                    let p = vector(&x);
+                for x in points {
+                    let p = vector(x);
                     let query = Aabb::new(p - half, p + half);
-                    chunk.triangles.extend(bvh.intersect_aabb(&query));
+                    chunk.scratch.clear();
+                    chunk.scratch.extend(
+                        bvh.intersect_aabb(&query)
+                            .map(|t| (box_distance(&boxes[t as usize], x), t)),
+                    );
+                    chunk
+                        .scratch
+                        .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                    chunk.triangles.extend(chunk.scratch.iter().map(|c| c.1));
+                    chunk.distances.extend(chunk.scratch.iter().map(|c| c.0));
                     chunk.offsets.push(chunk.triangles.len() as u32);
                 }
             });
     }
+}
+
+/// The distance [m] from `x` to `b`.
+fn box_distance(b: &Aabb, x: &Vector3<f64>) -> f64 {
+    let gap = |v: f64, low: f64, high: f64| (low - v).max(v - high).max(0.0);
+    let dx = gap(x.x, b.mins.x, b.maxs.x);
+    let dy = gap(x.y, b.mins.y, b.maxs.y);
+    let dz = gap(x.z, b.mins.z, b.maxs.z);
+    (dx * dx + dy * dy + dz * dz).sqrt()
+}
+
+/// The largest distance between `now[i]` and `then[i]` [m]; infinite when the lists differ
+/// in length (nothing was queried yet, or other nodes).
+fn largest_motion(now: &[Vector3<f64>], then: &[Vector3<f64>]) -> f64 {
+    largest_motion_of(now.iter().copied(), then)
+}
+
+fn largest_motion_of(
+    now: impl ExactSizeIterator<Item = Vector3<f64>>,
+    then: &[Vector3<f64>],
+) -> f64 {
+    if now.len() != then.len() || then.is_empty() {
+        return f64::INFINITY;
+    }
+    now.zip(then)
+        .map(|(a, b)| (a - b).norm_squared())
+        .fold(0.0, f64::max)
+        .sqrt()
 }
 
 #[cfg(test)]
@@ -313,6 +421,49 @@ mod tests {
         assert_eq!(broadphase.statistics().builds, 1);
     }
 
+    /// Nodes that move by less than the Verlet margin keep their candidate lists, which
+    /// stay complete; a larger motion queries the tree again.
+    #[test]
+    fn small_motions_reuse_complete_candidate_lists() {
+        let sphere = RigidSurface::sphere("ball", Vector3::zeros(), 1.0, 3).unwrap();
+        let target = ContactTarget::Rigid(sphere.clone());
+        let start = points(300, 3.0, Vector3::repeat(-1.5));
+        let secondary: Vec<u32> = (0..start.len() as u32).collect();
+        let search_distance = 0.1;
+        let mut broadphase = Broadphase::new(search_distance);
+        let margin = VERLET_MARGIN * search_distance;
+        // Moves along (1, 1, 1)/√3 from the start, in units of the margin: the first three
+        // stay within it, the last goes past it.
+        let moves = [0.0, 0.3, 1.0, 1.6];
+        for (step, amount) in moves.into_iter().enumerate() {
+            let shift = Vector3::repeat(amount * margin / 3f64.sqrt());
+            let positions: Vec<Vector3<f64>> = start.iter().map(|p| p + shift).collect();
+            broadphase.search(&target, 0.0, &positions, &secondary);
+            let corners = || {
+                sphere
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|v| sphere.vertices[v as usize]))
+            };
+            let mut found = 0;
+            for (i, x) in positions.iter().enumerate() {
+                for t in near(corners(), x, search_distance) {
+                    assert!(
+                        broadphase.candidates(i).contains(&t),
+                        "step {step}: node {i} misses triangle {t}"
+                    );
+                    found += 1;
+                }
+            }
+            assert!(
+                found > 100,
+                "step {step}: the test must find pairs: {found}"
+            );
+        }
+        let statistics = broadphase.statistics();
+        assert_eq!((statistics.searches, statistics.queries), (4, 2));
+    }
+
     /// A deformable surface that moves: small motions leave the tree, larger ones refit it,
     /// and the candidates stay complete.
     #[test]
@@ -350,6 +501,8 @@ mod tests {
         }
         let statistics = broadphase.statistics();
         assert_eq!(statistics.searches, 4);
+        // The 1 mm shear stays within the 25 mm Verlet margin: its search reused the lists.
+        assert_eq!(statistics.queries, 3);
         // The 1 mm shear stays inside the fattened leaves (no refit); the others do not.
         assert!(
             statistics.refits >= 2 && statistics.refits <= 3,

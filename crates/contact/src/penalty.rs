@@ -249,10 +249,22 @@ impl PenaltyContact {
                     *contact = match (target, &frame) {
                         (ContactTarget::Rigid(rigid), Some(iso)) => {
                             let body = iso.inverse_transform_point(&Point3::from(x)).coords;
-                            let corners =
-                                |t: usize| rigid.triangles[t].map(|v| rigid.vertices[v as usize]);
-                            let mut c =
-                                closest(&body, broadphase.candidates(i), rim, |_| false, corners);
+                            // The candidates come nearest box first, at the query; the node
+                            // has moved by `moved` since, so the box distances now are at
+                            // least those minus `moved`.
+                            let moved = (body - broadphase.queried_point(i)).norm();
+                            let queried = broadphase.candidate_box_distances(i);
+                            let mut c = closest(
+                                &body,
+                                broadphase.candidates(i),
+                                rim,
+                                |_| false,
+                                Bounds {
+                                    box_distance: |t| broadphase.rigid_box_distance(t, &body),
+                                    rest_farther: |k, best| queried[k] - moved > best,
+                                },
+                                |t| rigid.triangles[t].map(|v| rigid.vertices[v as usize]),
+                            );
                             let rotation = iso.rotation.to_rotation_matrix().into_inner();
                             c.offset = rotation * c.offset;
                             c.geometry = c.geometry.rotated(&rotation);
@@ -263,6 +275,10 @@ impl PenaltyContact {
                             broadphase.candidates(i),
                             rim,
                             |t| main.triangles[t].contains(&node),
+                            Bounds {
+                                box_distance: |t| box_distance(&x, &main.corners(t, positions)),
+                                rest_farther: |_, _| false,
+                            },
                             |t| main.corners(t, positions),
                         ),
                         (ContactTarget::Rigid(_), None) => {
@@ -294,30 +310,48 @@ impl PenaltyContact {
     }
 }
 
+/// The distance [m] from `x` to the box of the triangle of `corners`.
+fn box_distance(x: &Vector3<f64>, corners: &[Vector3<f64>; 3]) -> f64 {
+    let low = corners[0].inf(&corners[1]).inf(&corners[2]);
+    let high = corners[0].sup(&corners[1]).sup(&corners[2]);
+    (x - x.sup(&low).inf(&high)).norm()
+}
+
+/// Lower bounds that let [`closest`] skip candidates without measuring them.
+struct Bounds<B, R> {
+    /// `box_distance(t)` ≤ the distance from x to triangle t [m].
+    box_distance: B,
+    /// `rest_farther(k, d)`: every candidate from number k on is farther than d [m].
+    rest_farther: R,
+}
+
 /// The closest point of `x` over the `candidates` (skipping those `skip` says), the
-/// smallest |x − x_m|² winning, ties to the lowest triangle index; active when g < 0 and
-/// the closest point is not on the rim.
+/// smallest |x − x_m| winning, ties to the lowest triangle index; active when g < 0 and
+/// the closest point is not on the rim. A candidate is measured (`corners`, then the
+/// closest feature) only when the `bounds` do not put it farther than the best so far.
 fn closest(
     x: &Vector3<f64>,
     candidates: &[u32],
     (rim_edges, rim_vertices): (&[u8], &[u8]),
     skip: impl Fn(usize) -> bool,
+    bounds: Bounds<impl Fn(usize) -> f64, impl Fn(usize, f64) -> bool>,
     corners: impl Fn(usize) -> [Vector3<f64>; 3],
 ) -> NodeContact {
-    // Squared distances: a triangle whose box is farther than the best so far is skipped;
-    // only the winner gets its normal and gap.
+    // Squared distances, with the best one's triangle and corners.
     let mut best: Option<(f64, u32, [Vector3<f64>; 3])> = None;
-    for &t in candidates {
-        if skip(t as usize) {
+    for (k, &t) in candidates.iter().enumerate() {
+        if let Some((d2, _, _)) = best {
+            let d = d2.sqrt();
+            if (bounds.rest_farther)(k, d) {
+                break;
+            }
+            if skip(t as usize) || (bounds.box_distance)(t as usize) > d {
+                continue;
+            }
+        } else if skip(t as usize) {
             continue;
         }
         let c = corners(t as usize);
-        let low = c[0].inf(&c[1]).inf(&c[2]);
-        let high = c[0].sup(&c[1]).sup(&c[2]);
-        let bound = (x - x.sup(&low).inf(&high)).norm_squared();
-        if best.as_ref().is_some_and(|(d, _, _)| bound > *d) {
-            continue;
-        }
         let (weights, _) = closest_feature(x, &c);
         let distance =
             (x - (c[0] * weights[0] + c[1] * weights[1] + c[2] * weights[2])).norm_squared();
@@ -458,5 +492,110 @@ impl Interaction for PenaltyContact {
                 values: force,
             },
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use musclefem_core::mesh::generate::box_of_hexes;
+    use musclefem_core::solver::{RigidMotion, RigidRotation};
+    use musclefem_materials::Amplitude;
+    use nalgebra::Unit;
+
+    use super::*;
+    use crate::rigid_surface::RigidSurface;
+
+    /// The closest point over all triangles by brute force: (squared distance, triangle).
+    fn brute_force(x: &Vector3<f64>, corners: &[[Vector3<f64>; 3]]) -> (f64, usize) {
+        let mut best = (f64::INFINITY, usize::MAX);
+        for (t, c) in corners.iter().enumerate() {
+            let (w, _) = closest_feature(x, c);
+            let d = (x - (c[0] * w[0] + c[1] * w[1] + c[2] * w[2])).norm_squared();
+            if d < best.0 {
+                best = (d, t);
+            }
+        }
+        best
+    }
+
+    /// With the candidate lists reused (nodes and a turning sphere moved since the query,
+    /// within the Verlet margin), every node within the search distance finds the same
+    /// closest triangle and gap as a search over all triangles.
+    #[test]
+    fn reused_candidates_give_the_brute_force_closest_point_on_a_moving_sphere() {
+        let mesh = box_of_hexes([1.0, 1.0, 1.0], [5, 5, 5]).unwrap();
+        let secondary = DeformableSurface::from_mesh_surface(&mesh, "outer").unwrap();
+        let motion = RigidMotion {
+            translation: [Some(Amplitude::ramp(1.0, 0.3).unwrap()), None, None],
+            rotation: Some(RigidRotation {
+                center: Vector3::new(0.0, 0.1, 0.0),
+                axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 0.5)),
+                angle: Amplitude::ramp(1.0, 0.5).unwrap(),
+            }),
+        };
+        let sphere = RigidSurface::sphere("ball", Vector3::zeros(), 1.0, 3)
+            .unwrap()
+            .with_motion(motion.clone());
+        let search_distance = 0.1;
+        let mut contact = PenaltyContact::new("test", secondary.clone(), sphere.clone(), 1e6)
+            .unwrap()
+            .with_search_distance(search_distance)
+            .unwrap();
+        // Each surface node at a reproducible point near the sphere (radius 0.92–1.08),
+        // placed in the sphere's frame at time `t`, then moved by `shift`.
+        let place = |t: f64, shift: f64| {
+            let iso = motion.isometry_at(t);
+            let mut positions = vec![Vector3::zeros(); mesh.node_count()];
+            for (i, &n) in secondary.nodes.iter().enumerate() {
+                let f = |a: f64| ((i as f64 + 1.0) * a).fract();
+                let direction = Vector3::new(
+                    f(0.754877666) - 0.5,
+                    f(0.569840291) - 0.5,
+                    f(0.362345) - 0.5,
+                )
+                .normalize();
+                let body = direction * (0.92 + 0.16 * f(0.2718281));
+                positions[n as usize] =
+                    iso.transform_point(&Point3::from(body)).coords + Vector3::repeat(shift);
+            }
+            positions
+        };
+        let (start, later) = (0.5, 0.52);
+        contact.search(start, &place(start, 0.0)).unwrap();
+        let positions = place(later, 0.01);
+        contact.search(later, &positions).unwrap();
+        let statistics = contact.broadphase().statistics();
+        assert_eq!(
+            (statistics.searches, statistics.queries),
+            (2, 1),
+            "the second search must reuse the lists"
+        );
+        let mut force = vec![Vector3::zeros(); mesh.node_count()];
+        contact
+            .forces(later, &positions, false, &mut force)
+            .unwrap();
+
+        let iso = motion.isometry_at(later);
+        let corners: Vec<[Vector3<f64>; 3]> = sphere
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| sphere.vertices[v as usize]))
+            .collect();
+        let mut compared = 0;
+        for (i, &n) in secondary.nodes.iter().enumerate() {
+            let body = iso
+                .inverse_transform_point(&Point3::from(positions[n as usize]))
+                .coords;
+            let (distance2, triangle) = brute_force(&body, &corners);
+            if distance2.sqrt() > search_distance {
+                continue;
+            }
+            let found = &contact.contacts[i];
+            assert_eq!(found.triangle as usize, triangle, "node {n}");
+            let gap = project_on_triangle(&body, &corners[triangle]).gap;
+            assert_eq!(found.gap, gap, "node {n}");
+            compared += 1;
+        }
+        assert!(compared > 50, "the test must compare nodes: {compared}");
     }
 }
