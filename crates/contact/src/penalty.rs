@@ -48,11 +48,14 @@ use rayon::prelude::*;
 
 use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
 
-use crate::broadphase::{Broadphase, CHUNK};
+use crate::broadphase::Broadphase;
 use crate::error::ContactError;
 use crate::projection::{Feature, closest_feature, project_on_triangle};
 use crate::surface::{ContactTarget, DeformableSurface};
 use stiffness::FeatureGeometry;
+
+/// Secondary nodes per parallel task of the closest-point evaluation.
+const EVALUATION_CHUNK: usize = 32;
 
 /// The default search distance is this fraction of the secondary surface's element size.
 pub const DEFAULT_SEARCH_FACTOR: f64 = 0.5;
@@ -239,11 +242,11 @@ impl PenaltyContact {
         let rim = (rim_edges.as_slice(), self.rim_vertices.as_slice());
         let nodes = &self.secondary.nodes;
         self.contacts
-            .par_chunks_mut(CHUNK)
+            .par_chunks_mut(EVALUATION_CHUNK)
             .enumerate()
             .for_each(|(chunk, contacts)| {
                 for (k, contact) in contacts.iter_mut().enumerate() {
-                    let i = chunk * CHUNK + k;
+                    let i = chunk * EVALUATION_CHUNK + k;
                     let node = nodes[i];
                     let x = positions[node as usize];
                     *contact = match (target, &frame) {
@@ -257,6 +260,7 @@ impl PenaltyContact {
                             let mut c = closest(
                                 &body,
                                 broadphase.candidates(i),
+                                contact.triangle,
                                 rim,
                                 |_| false,
                                 Bounds {
@@ -273,6 +277,7 @@ impl PenaltyContact {
                         (ContactTarget::Deformable(main), _) => closest(
                             &x,
                             broadphase.candidates(i),
+                            contact.triangle,
                             rim,
                             |t| main.triangles[t].contains(&node),
                             Bounds {
@@ -328,18 +333,34 @@ struct Bounds<B, R> {
 /// The closest point of `x` over the `candidates` (skipping those `skip` says), the
 /// smallest |x − x_m| winning, ties to the lowest triangle index; active when g < 0 and
 /// the closest point is not on the rim. A candidate is measured (`corners`, then the
-/// closest feature) only when the `bounds` do not put it farther than the best so far.
+/// closest feature) only when the `bounds` do not put it farther than the best so far;
+/// the `previous` winner (`u32::MAX`: none) first.
 fn closest(
     x: &Vector3<f64>,
     candidates: &[u32],
+    previous: u32,
     (rim_edges, rim_vertices): (&[u8], &[u8]),
     skip: impl Fn(usize) -> bool,
     bounds: Bounds<impl Fn(usize) -> f64, impl Fn(usize, f64) -> bool>,
     corners: impl Fn(usize) -> [Vector3<f64>; 3],
 ) -> NodeContact {
-    // Squared distances, with the best one's triangle and corners.
-    let mut best: Option<(f64, u32, [Vector3<f64>; 3])> = None;
+    let measure = |t: u32| {
+        let c = corners(t as usize);
+        let (weights, _) = closest_feature(x, &c);
+        let distance =
+            (x - (c[0] * weights[0] + c[1] * weights[1] + c[2] * weights[2])).norm_squared();
+        (distance, t, c)
+    };
+    // Squared distances, with the best one's triangle and corners; the last winner, still
+    // a candidate, is measured first (it usually wins again).
+    let first =
+        (previous != u32::MAX && !skip(previous as usize) && candidates.contains(&previous))
+            .then_some(previous);
+    let mut best: Option<(f64, u32, [Vector3<f64>; 3])> = first.map(measure);
     for (k, &t) in candidates.iter().enumerate() {
+        if Some(t) == first {
+            continue;
+        }
         if let Some((d2, _, _)) = best {
             let d = d2.sqrt();
             if (bounds.rest_farther)(k, d) {
@@ -351,15 +372,12 @@ fn closest(
         } else if skip(t as usize) {
             continue;
         }
-        let c = corners(t as usize);
-        let (weights, _) = closest_feature(x, &c);
-        let distance =
-            (x - (c[0] * weights[0] + c[1] * weights[1] + c[2] * weights[2])).norm_squared();
+        let candidate = measure(t);
         let better = best
             .as_ref()
-            .is_none_or(|(d, bt, _)| distance < *d || (distance == *d && t < *bt));
+            .is_none_or(|(d, bt, _)| candidate.0 < *d || (candidate.0 == *d && t < *bt));
         if better {
-            best = Some((distance, t, c));
+            best = Some(candidate);
         }
     }
     let Some((_, t, c)) = best else {
@@ -519,8 +537,9 @@ mod tests {
     }
 
     /// With the candidate lists reused (nodes and a turning sphere moved since the query,
-    /// within the Verlet margin), every node within the search distance finds the same
-    /// closest triangle and gap as a search over all triangles.
+    /// within the Verlet margin) and the last winners measured first, every node within
+    /// the search distance finds the same closest triangle and gap as a search over all
+    /// triangles.
     #[test]
     fn reused_candidates_give_the_brute_force_closest_point_on_a_moving_sphere() {
         let mesh = box_of_hexes([1.0, 1.0, 1.0], [5, 5, 5]).unwrap();
@@ -561,7 +580,13 @@ mod tests {
             positions
         };
         let (start, later) = (0.5, 0.52);
-        contact.search(start, &place(start, 0.0)).unwrap();
+        let mut force = vec![Vector3::zeros(); mesh.node_count()];
+        // The first evaluation leaves each node's winner, measured first by the second.
+        let positions = place(start, 0.0);
+        contact.search(start, &positions).unwrap();
+        contact
+            .forces(start, &positions, false, &mut force)
+            .unwrap();
         let positions = place(later, 0.01);
         contact.search(later, &positions).unwrap();
         let statistics = contact.broadphase().statistics();
@@ -570,7 +595,6 @@ mod tests {
             (2, 1),
             "the second search must reuse the lists"
         );
-        let mut force = vec![Vector3::zeros(); mesh.node_count()];
         contact
             .forces(later, &positions, false, &mut force)
             .unwrap();
