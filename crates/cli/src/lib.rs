@@ -3,6 +3,8 @@
 //!
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
 
 pub mod elongation;
 pub mod knee;
+pub mod sweep;
