@@ -113,13 +113,20 @@ fn a_grid_sweep_records_every_run_resumes_and_ranks_the_parameters() {
         assert_eq!(second[run], first[run]);
     }
     assert_eq!(second[5][..5], first[5][..5]);
-    assert_eq!(second[5][7..9], first[5][7..9], "a rerun gives the same stresses");
+    assert_eq!(
+        second[5][7..9],
+        first[5][7..9],
+        "a rerun gives the same stresses"
+    );
 
     // Another design in the same directory is refused, naming the file.
     let other = sweep(&dir, &["--vary", "sigma0=5e5,6e5", "--out", "study"]);
     assert!(!other.status.success());
     let error = text(&other.stderr);
-    assert!(error.contains("sweep.csv") && error.contains("another sweep"), "{error}");
+    assert!(
+        error.contains("sweep.csv") && error.contains("another sweep"),
+        "{error}"
+    );
 }
 
 #[test]
@@ -165,9 +172,6 @@ fn bad_sweeps_are_refused_with_the_flag_named() {
         let error = text(&out.stderr);
         assert!(error.contains(expected), "{args:?}: {error}");
     }
-    let scene = musclefem(
-        &dir,
-        &["sweep", "--base", "knee.toml", "--vary", "b=1,2"],
-    );
+    let scene = musclefem(&dir, &["sweep", "--base", "knee.toml", "--vary", "b=1,2"]);
     assert!(text(&scene.stderr).contains("not supported yet"));
 }

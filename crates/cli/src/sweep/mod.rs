@@ -127,14 +127,19 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
                     values: design[run].clone(),
                     outcome,
                 });
-                PendingFile::stage_bytes(&table_path, table::format_table(&names, &records).as_bytes())?
-                    .commit()?;
+                PendingFile::stage_bytes(
+                    &table_path,
+                    table::format_table(&names, &records).as_bytes(),
+                )?
+                .commit()?;
                 bar.inc(1);
                 Ok(())
             })
     })?;
     bar.finish_and_clear();
-    let records = records.into_inner().map_err(|_| anyhow!("a run panicked"))?;
+    let records = records
+        .into_inner()
+        .map_err(|_| anyhow!("a run panicked"))?;
     report(&records, &table_path);
     write_sensitivities(args, mode, &axes, &records)
 }
@@ -238,7 +243,12 @@ const SENSITIVITY_PNG: &str = "sensitivity.png";
 
 /// `sensitivity.csv` (parameter, output, sensitivity) and `sensitivity.png` from the
 /// finished runs, and the ranking on the terminal.
-fn write_sensitivities(args: &SweepArgs, mode: Mode, axes: &[Axis], records: &[Record]) -> Result<()> {
+fn write_sensitivities(
+    args: &SweepArgs,
+    mode: Mode,
+    axes: &[Axis],
+    records: &[Record],
+) -> Result<()> {
     let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
     let mut outputs = Vec::new();
     for (k, (column, output)) in OUTPUTS.iter().enumerate() {
@@ -277,8 +287,10 @@ fn write_sensitivities(args: &SweepArgs, mode: Mode, axes: &[Axis], records: &[R
     }
     let finished = records.iter().filter(|r| r.outcome.is_finished()).count();
     let title = format!("{} elongation, {finished} finished runs", mode.name());
-    let series: Vec<(&str, Vec<Option<f64>>)> =
-        outputs.iter().map(|(_, name, s)| (*name, s.clone())).collect();
+    let series: Vec<(&str, Vec<Option<f64>>)> = outputs
+        .iter()
+        .map(|(_, name, s)| (*name, s.clone()))
+        .collect();
     let chart = sensitivity::sensitivity_chart(&title, &names, &series);
     let csv_path = args.out.join(SENSITIVITY_CSV);
     let png_path = args.out.join(SENSITIVITY_PNG);
@@ -289,7 +301,11 @@ fn write_sensitivities(args: &SweepArgs, mode: Mode, axes: &[Axis], records: &[R
     for file in staged {
         file.commit()?;
     }
-    println!("sensitivities: {} and {}", csv_path.display(), png_path.display());
+    println!(
+        "sensitivities: {} and {}",
+        csv_path.display(),
+        png_path.display()
+    );
     Ok(())
 }
 

@@ -112,7 +112,9 @@ pub fn parse_table(text: &str, path: &Path, names: &[String]) -> Result<Vec<Reco
 
 fn parse_row(line: &str, parameters: usize) -> Result<Record> {
     // The error column comes last and may hold commas: split off the others only.
-    let cells: Vec<&str> = line.splitn(parameters + TRAILING_COLUMNS.len() + 1, ',').collect();
+    let cells: Vec<&str> = line
+        .splitn(parameters + TRAILING_COLUMNS.len() + 1, ',')
+        .collect();
     if cells.len() != parameters + TRAILING_COLUMNS.len() + 1 {
         bail!(
             "{} cells, expected {}",

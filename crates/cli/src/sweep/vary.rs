@@ -15,7 +15,11 @@ impl Axis {
     /// Smallest and largest value.
     pub fn range(&self) -> (f64, f64) {
         let lo = self.values.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = self.values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let hi = self
+            .values
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
         (lo, hi)
     }
 }
@@ -26,7 +30,10 @@ pub fn parse_axes(tokens: &[String]) -> Result<Vec<Axis>> {
     for token in tokens {
         let axis = parse_axis(token)?;
         if axes.iter().any(|a| a.name == axis.name) {
-            bail!("--vary '{token}': parameter '{}' is varied more than once", axis.name);
+            bail!(
+                "--vary '{token}': parameter '{}' is varied more than once",
+                axis.name
+            );
         }
         axes.push(axis);
     }
@@ -64,8 +71,13 @@ pub fn parse_axis(token: &str) -> Result<Axis> {
         if lo >= hi {
             bail!("--vary '{token}': LO must be below HI");
         }
+        // The ends exactly as given, the values between rounded.
         (0..count)
-            .map(|i| lo + (hi - lo) * i as f64 / (count - 1) as f64)
+            .map(|i| match i {
+                0 => lo,
+                i if i == count - 1 => hi,
+                i => lo + (hi - lo) * i as f64 / (count - 1) as f64,
+            })
             .collect()
     } else {
         spec.split(',').map(number).collect::<Result<Vec<f64>>>()?
@@ -86,8 +98,9 @@ mod tests {
         assert_eq!(list.name, "sigma0");
         assert_eq!(list.values, vec![5e5, 7e5, 9e5]);
         let range = parse_axis("D=1e-9:5e-9:3").unwrap();
-        assert_eq!(range.values, vec![1e-9, 3e-9, 5e-9]);
+        assert_eq!(range.values.len(), 3);
         assert_eq!(range.range(), (1e-9, 5e-9));
+        approx::assert_relative_eq!(range.values[1], 3e-9, max_relative = 1e-15);
     }
 
     #[test]
