@@ -76,6 +76,10 @@ enum Command {
     /// sample) of varied Hill parameters, several runs at a time; writes sweep.csv (one row
     /// per run, resumable) and the normalised sensitivities (sensitivity.csv, .png).
     Sweep(musclefem::sweep::SweepArgs),
+    /// Least-squares fit of Hill parameters to a measured stress-strain curve through the
+    /// elongation test; writes fit.csv (values, 95 % confidence intervals), fit_curve.csv,
+    /// fit.txt (residual) and fit.png (data against the fit).
+    Fit(musclefem::fit::FitArgs),
 }
 
 #[derive(Debug, Args)]
@@ -161,6 +165,7 @@ fn main() -> ExitCode {
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         Some(Command::Knee(args)) => knee_command::knee(&args),
         Some(Command::Sweep(args)) => musclefem::sweep::sweep(&args),
+        Some(Command::Fit(args)) => musclefem::fit::fit(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),
