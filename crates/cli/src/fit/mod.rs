@@ -272,7 +272,7 @@ fn unknowns(args: &FitArgs) -> Result<Vec<Unknown>> {
                     parse_number(lo, "--bound", name)?,
                     parse_number(hi, "--bound", name)?,
                 );
-                if !(lo < hi) {
+                if lo >= hi {
                     bail!("--bound {name}={text}: LO must be below HI");
                 }
                 (lo, hi)
@@ -446,14 +446,13 @@ const FILES: [&str; 4] = ["fit.csv", "fit_curve.csv", "fit.txt", "fit.png"];
 impl Outputs {
     fn new(args: &FitArgs) -> Result<Self> {
         let dir = args.out.clone();
-        if !args.force {
-            if let Some(existing) = FILES.iter().map(|f| dir.join(f)).find(|p| p.exists()) {
-                bail!(
-                    "{} exists: a previous fit is in {} (use --force to replace it)",
-                    existing.display(),
-                    dir.display()
-                );
-            }
+        let existing = FILES.iter().map(|f| dir.join(f)).find(|p| p.exists());
+        if let (false, Some(existing)) = (args.force, existing) {
+            bail!(
+                "{} exists: a previous fit is in {} (use --force to replace it)",
+                existing.display(),
+                dir.display()
+            );
         }
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("creating the output directory {}", dir.display()))?;

@@ -23,9 +23,10 @@ use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition};
 pub fn normalised_sensitivities(runs: &[(Vec<f64>, f64)]) -> Option<Vec<Option<f64>>> {
     let count = runs.len();
     let parameters = runs.first()?.0.len();
-    let mean = |f: &dyn Fn(&(Vec<f64>, f64)) -> f64| runs.iter().map(f).sum::<f64>() / count as f64;
-    let mean_output = mean(&|r| r.1);
-    let means: Vec<f64> = (0..parameters).map(|j| mean(&|r| r.0[j])).collect();
+    let mean_output = runs.iter().map(|r| r.1).sum::<f64>() / count as f64;
+    let means: Vec<f64> = (0..parameters)
+        .map(|j| runs.iter().map(|r| r.0[j]).sum::<f64>() / count as f64)
+        .collect();
     let varied: Vec<usize> = (0..parameters)
         .filter(|&j| runs.iter().any(|r| r.0[j] != runs[0].0[j]) && means[j] != 0.0)
         .collect();
