@@ -8,7 +8,8 @@
 //! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs);
 //! - [`run`]: one run and its [`run::Outcome`] (a failure is an outcome, not an abort);
 //! - [`table`]: `sweep.csv`, rewritten after every run, read back to resume;
-//! - [`sensitivity`]: the sensitivities and their chart.
+//! - [`sensitivity`]: the sensitivities and their chart;
+//! - `distributed` (cargo feature `mpi`): the runs shared among MPI ranks under `mpirun`.
 
 pub mod grid;
 pub mod latin_hypercube;
@@ -16,6 +17,9 @@ pub mod run;
 pub mod sensitivity;
 pub mod table;
 pub mod vary;
+
+#[cfg(feature = "mpi")]
+pub mod distributed;
 
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
@@ -77,71 +81,129 @@ const OUTPUTS: [(&str, &str); 2] = [
 ];
 
 pub fn sweep(args: &SweepArgs) -> Result<()> {
-    let mode = base_mode(&args.base)?;
-    let axes = vary::parse_axes(&args.vary)?;
-    check_parameter_names(&axes)?;
-    let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
-    let design = match args.samples {
-        Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
-        Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
-        None => grid::full_factorial(&axes),
-    };
-    let jobs = match args.jobs {
-        Some(0) => bail!("--jobs 0: at least one run must run at a time"),
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    let base = args.options.test(mode, BTreeMap::new());
-    let table_path = args.out.join(SWEEP_CSV);
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating the output directory {}", args.out.display()))?;
-    let done = previous_records(&table_path, &names, &design, args.force)?;
-    let pending: Vec<usize> = (0..design.len())
-        .filter(|run| !done.iter().any(|r| r.run == *run))
-        .collect();
-    println!(
-        "{} elongation ({}): {} runs, {} already in {}, {} to run, {jobs} at a time",
-        mode.name(),
-        args.options.describe(),
-        design.len(),
-        done.len(),
-        table_path.display(),
-        pending.len()
-    );
+    let plan = Plan::new(args)?;
+    #[cfg(feature = "mpi")]
+    if let Some(universe) = distributed::start()? {
+        return distributed::sweep(args, &plan, &universe);
+    }
+    let done = plan.previous_records(args.force)?;
+    let pending = plan.pending(&done);
+    plan.announce(done.len(), pending.len(), "");
+    let records = plan.run_share(&pending, done, true)?;
+    plan.finish(args, &records)
+}
 
-    let records = Mutex::new(done);
-    let bar = progress_bar(pending.len());
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
-        .build()
-        .context("starting the worker threads")?;
-    pool.install(|| {
-        pending
-            .par_iter()
-            .with_max_len(1)
-            .try_for_each(|&run| -> Result<()> {
-                let outcome = run_sample(&base, &names, &design[run]);
-                let mut records = records.lock().map_err(|_| anyhow!("a run panicked"))?;
-                records.push(Record {
-                    run,
-                    values: design[run].clone(),
-                    outcome,
-                });
-                PendingFile::stage_bytes(
-                    &table_path,
-                    table::format_table(&names, &records).as_bytes(),
-                )?
-                .commit()?;
-                bar.inc(1);
-                Ok(())
-            })
-    })?;
-    bar.finish_and_clear();
-    let records = records
-        .into_inner()
-        .map_err(|_| anyhow!("a run panicked"))?;
-    report(&records, &table_path);
-    write_sensitivities(args, mode, &axes, &records)
+/// What a sweep runs: the base test, the varied parameters and the list of runs.
+pub struct Plan {
+    mode: Mode,
+    axes: Vec<Axis>,
+    names: Vec<String>,
+    /// Parameter values of each run, in run order.
+    design: Vec<Vec<f64>>,
+    /// Runs at a time (in each process).
+    jobs: usize,
+    base: crate::elongation::ElongationTest,
+    table_path: PathBuf,
+    options: String,
+}
+
+impl Plan {
+    fn new(args: &SweepArgs) -> Result<Plan> {
+        let mode = base_mode(&args.base)?;
+        let axes = vary::parse_axes(&args.vary)?;
+        check_parameter_names(&axes)?;
+        let design = match args.samples {
+            Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
+            Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
+            None => grid::full_factorial(&axes),
+        };
+        let jobs = match args.jobs {
+            Some(0) => bail!("--jobs 0: at least one run must run at a time"),
+            Some(n) => n,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        Ok(Plan {
+            mode,
+            names: axes.iter().map(|a| a.name.clone()).collect(),
+            axes,
+            design,
+            jobs,
+            base: args.options.test(mode, BTreeMap::new()),
+            table_path: args.out.join(SWEEP_CSV),
+            options: args.options.describe(),
+        })
+    }
+
+    /// Create the output directory and read the rows of a previous run of this sweep.
+    fn previous_records(&self, force: bool) -> Result<Vec<Record>> {
+        if let Some(dir) = self.table_path.parent() {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("creating the output directory {}", dir.display()))?;
+        }
+        previous_records(&self.table_path, &self.names, &self.design, force)
+    }
+
+    /// The runs not in `done`, in run order.
+    fn pending(&self, done: &[Record]) -> Vec<usize> {
+        (0..self.design.len())
+            .filter(|run| !done.iter().any(|r| r.run == *run))
+            .collect()
+    }
+
+    fn announce(&self, done: usize, pending: usize, processes: &str) {
+        println!(
+            "{} elongation ({}): {} runs, {done} already in {}, {pending} to run{processes}, {} \
+             at a time",
+            self.mode.name(),
+            self.options,
+            self.design.len(),
+            self.table_path.display(),
+            self.jobs
+        );
+    }
+
+    /// Run `runs`, `jobs` at a time, adding their records to `records`; with `write`,
+    /// rewrite sweep.csv after each.
+    fn run_share(&self, runs: &[usize], records: Vec<Record>, write: bool) -> Result<Vec<Record>> {
+        let records = Mutex::new(records);
+        let bar = progress_bar(runs.len());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs)
+            .build()
+            .context("starting the worker threads")?;
+        pool.install(|| {
+            runs.par_iter()
+                .with_max_len(1)
+                .try_for_each(|&run| -> Result<()> {
+                    let outcome = run_sample(&self.base, &self.names, &self.design[run]);
+                    let mut records = records.lock().map_err(|_| anyhow!("a run panicked"))?;
+                    records.push(Record {
+                        run,
+                        values: self.design[run].clone(),
+                        outcome,
+                    });
+                    if write {
+                        self.write_table(&records)?;
+                    }
+                    bar.inc(1);
+                    Ok(())
+                })
+        })?;
+        bar.finish_and_clear();
+        records.into_inner().map_err(|_| anyhow!("a run panicked"))
+    }
+
+    fn write_table(&self, records: &[Record]) -> Result<()> {
+        let text = table::format_table(&self.names, records);
+        PendingFile::stage_bytes(&self.table_path, text.as_bytes())?.commit()?;
+        Ok(())
+    }
+
+    /// The summary on the terminal and the sensitivities.
+    fn finish(&self, args: &SweepArgs, records: &[Record]) -> Result<()> {
+        report(records, &self.table_path);
+        write_sensitivities(args, self.mode, &self.axes, records)
+    }
 }
 
 /// The elongation mode named by `--base`.
