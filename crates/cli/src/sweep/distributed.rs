@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use mpi::environment::Universe;
 use mpi::traits::*;
 
-use super::table::{self, Record};
+use super::table;
 use super::{Plan, SweepArgs};
 
 /// Environment variables set by the MPI launchers (OpenMPI's mpirun, MPICH/Hydra, Slurm's
@@ -37,27 +37,20 @@ pub fn sweep(args: &SweepArgs, plan: &Plan, universe: &Universe) -> Result<()> {
     let root = world.process_at_rank(0);
     // Rank 0 reads (or with --force removes) the previous table and tells the others
     // which runs are done.
-    let done = if rank == 0 {
+    let (done, done_runs) = if rank == 0 {
         let done = plan.previous_records(args.force)?;
         let runs: Vec<u64> = done.iter().map(|r| r.run as u64).collect();
         for other in 1..size {
             world.process_at_rank(other).send(&runs[..]);
         }
-        done
+        let runs: Vec<usize> = runs.into_iter().map(|r| r as usize).collect();
+        (done, runs)
     } else {
         let (runs, _) = root.receive_vec::<u64>();
-        runs.into_iter()
-            .map(|run| Record {
-                run: run as usize,
-                values: Vec::new(),
-                outcome: super::run::Outcome::Failed {
-                    wall_time: 0.0,
-                    error: String::new(),
-                },
-            })
-            .collect()
+        let runs: Vec<usize> = runs.into_iter().map(|r| r as usize).collect();
+        (Vec::new(), runs)
     };
-    let pending = plan.pending(&done);
+    let pending = plan.pending(&done_runs);
     let share: Vec<usize> = pending
         .iter()
         .enumerate()
@@ -66,7 +59,7 @@ pub fn sweep(args: &SweepArgs, plan: &Plan, universe: &Universe) -> Result<()> {
         .collect();
     if rank == 0 {
         plan.announce(
-            done.len(),
+            done_runs.len(),
             pending.len(),
             &format!(" over {size} MPI ranks"),
         );

@@ -87,7 +87,8 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         return distributed::sweep(args, &plan, &universe);
     }
     let done = plan.previous_records(args.force)?;
-    let pending = plan.pending(&done);
+    let done_runs: Vec<usize> = done.iter().map(|r| r.run).collect();
+    let pending = plan.pending(&done_runs);
     plan.announce(done.len(), pending.len(), "");
     let records = plan.run_share(&pending, done, true)?;
     plan.finish(args, &records)
@@ -143,10 +144,10 @@ impl Plan {
         previous_records(&self.table_path, &self.names, &self.design, force)
     }
 
-    /// The runs not in `done`, in run order.
-    fn pending(&self, done: &[Record]) -> Vec<usize> {
+    /// The runs not in `done` (run numbers), in run order.
+    fn pending(&self, done: &[usize]) -> Vec<usize> {
         (0..self.design.len())
-            .filter(|run| !done.iter().any(|r| r.run == *run))
+            .filter(|run| !done.contains(run))
             .collect()
     }
 
