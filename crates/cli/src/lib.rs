@@ -2,7 +2,11 @@
 //! tests, benchmarks and the parametric studies.
 //!
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
+//! - [`fit`]: least-squares calibration of Hill parameters to a measured curve (`musclefem fit`).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
 
 pub mod elongation;
+pub mod fit;
 pub mod knee;
+pub mod sweep;

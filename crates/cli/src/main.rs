@@ -72,6 +72,14 @@ enum Command {
     /// femur; passive and/or active (50 % from 35° of flexion). Writes peak_stress.csv
     /// (vm95 per muscle at 30°, 45°, 60°, 90°), peak_stress.png, frames and histories.
     Knee(knee_command::KneeArgs),
+    /// Parametric study of the elongation tests: every combination (or a Latin-hypercube
+    /// sample) of varied Hill parameters, several runs at a time; writes sweep.csv (one row
+    /// per run, resumable) and the normalised sensitivities (sensitivity.csv, .png).
+    Sweep(musclefem::sweep::SweepArgs),
+    /// Least-squares fit of Hill parameters to a measured stress-strain curve through the
+    /// elongation test; writes fit.csv (values, 95 % confidence intervals), fit_curve.csv,
+    /// fit.txt (residual) and fit.png (data against the fit).
+    Fit(musclefem::fit::FitArgs),
 }
 
 #[derive(Debug, Args)]
@@ -156,6 +164,8 @@ fn main() -> ExitCode {
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         Some(Command::Knee(args)) => knee_command::knee(&args),
+        Some(Command::Sweep(args)) => musclefem::sweep::sweep(&args),
+        Some(Command::Fit(args)) => musclefem::fit::fit(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

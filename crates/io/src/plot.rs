@@ -52,12 +52,15 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
-/// One named curve: (x, y) points joined by straight lines. Non-finite points are skipped.
+/// One named curve: (x, y) points joined by straight lines, or drawn as separate dots
+/// (measured data). Non-finite points are skipped.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     /// Legend entry ("" for none).
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// Dots at the points instead of a line through them.
+    pub markers: bool,
 }
 
 impl Series {
@@ -65,7 +68,14 @@ impl Series {
         Series {
             label: label.into(),
             points: points.into_iter().collect(),
+            markers: false,
         }
+    }
+
+    /// The same points drawn as dots.
+    pub fn with_markers(mut self) -> Self {
+        self.markers = true;
+        self
     }
 }
 
@@ -328,11 +338,20 @@ fn draw_panel<'a>(
             .iter()
             .copied()
             .filter(|(x, y)| x.is_finite() && y.is_finite());
-        let drawn = chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?;
-        if !series.label.is_empty() {
-            drawn.label(series.label.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
-            });
+        if series.markers {
+            let drawn = chart.draw_series(finite.map(|p| Circle::new(p, 3, color.filled())))?;
+            if !series.label.is_empty() {
+                drawn
+                    .label(series.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
+            }
+        } else {
+            let drawn = chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?;
+            if !series.label.is_empty() {
+                drawn.label(series.label.as_str()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
+                });
+            }
         }
     }
 
@@ -421,6 +440,7 @@ mod tests {
             figure = figure.with_panel(
                 Panel::new(format!("panel {i}"), "x [m]", "y [Pa]")
                     .with_series(Series::new("", [(1.0, 2.0), (f64::NAN, 3.0)]))
+                    .with_series(Series::new("dots", [(1.0, 2.5), (2.0, 3.0)]).with_markers())
                     .with_legend(LegendPosition::LowerRight),
             );
         }

@@ -9,9 +9,11 @@
 //! - [`specimen`]: the specimen meshes and their reference length and area;
 //! - [`setup`]: the mesh, the Hill muscle part, the end conditions and solver settings;
 //! - [`run`]: [`run_elongation`], which runs one test and returns its [`Curve`];
-//! - [`curve`]: the curve, `curve.csv`, and the stress at a strain.
+//! - [`curve`]: the curve, `curve.csv`, and the stress at a strain;
+//! - [`options`]: the command-line choice of specimen, mesh and solver for `sweep` and `fit`.
 
 pub mod curve;
+pub mod options;
 pub mod protocol;
 pub mod run;
 pub mod setup;

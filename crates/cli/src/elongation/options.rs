@@ -1,0 +1,66 @@
+//! The command-line choice of an elongation test's specimen, mesh, element and solver,
+//! shared by the parametric commands (`musclefem sweep`, `musclefem fit`). The defaults are
+//! those of `musclefem elongate`.
+
+use std::collections::BTreeMap;
+
+use super::{DEFAULT_MESH_SIZE, ElementChoice, ElongationTest, Grips, Mode, Shape, Solver};
+
+#[derive(Debug, Clone, clap::Args)]
+pub struct TestOptions {
+    /// Solver: implicit (quasi-static Newton) or explicit (central differences with mass
+    /// scaling).
+    #[arg(long, value_enum, default_value = "implicit")]
+    pub solver: Solver,
+    /// Element technology.
+    #[arg(long, value_enum, default_value = "hex8-fbar")]
+    pub element: ElementChoice,
+    /// Target element edge length [mm].
+    #[arg(long, value_name = "MM", default_value_t = 1e3 * DEFAULT_MESH_SIZE)]
+    pub mesh_size: f64,
+    /// Specimen: the 50 mm fusiform muscle, or a cylinder of its mid-belly diameter
+    /// (homogeneous deformation with sliding grips: a coarse mesh is then enough).
+    #[arg(long, value_enum, default_value = "fusiform")]
+    pub shape: Shape,
+    /// Fixed grips clamp the end faces; sliding grips prescribe only their axial motion.
+    #[arg(long, value_enum, default_value = "fixed")]
+    pub grips: Grips,
+    /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.025 s
+    /// implicit, 1e-5 s explicit).
+    #[arg(long, value_name = "SECONDS")]
+    pub time_step: Option<f64>,
+}
+
+impl TestOptions {
+    /// The test of `mode` with these options and the Hill `parameters` overriding Table 1.
+    pub fn test(&self, mode: Mode, parameters: BTreeMap<String, f64>) -> ElongationTest {
+        ElongationTest {
+            mode,
+            solver: self.solver,
+            element: self.element,
+            mesh_size: 1e-3 * self.mesh_size,
+            shape: self.shape,
+            grips: self.grips,
+            parameters,
+            time_step: self.time_step,
+            ..ElongationTest::recommended(mode)
+        }
+    }
+
+    /// One line for logs and chart titles, e.g. "fusiform, hex8-fbar, 4 mm, fixed grips,
+    /// implicit".
+    pub fn describe(&self) -> String {
+        use clap::ValueEnum;
+        let name = |v: Option<clap::builder::PossibleValue>| {
+            v.map_or_else(String::new, |v| v.get_name().to_string())
+        };
+        format!(
+            "{}, {}, {} mm, {} grips, {}",
+            self.shape.name(),
+            name(self.element.to_possible_value()),
+            self.mesh_size,
+            name(self.grips.to_possible_value()),
+            self.solver.name(),
+        )
+    }
+}

@@ -1,0 +1,148 @@
+//! The measured curve a fit is made to: two columns of a CSV file, chosen by header name
+//! and scaled to engineering strain [1] and engineering stress [Pa]. Points outside the
+//! test's stretching range 0 < strain ≤ 20 % are left out (and counted): at zero strain
+//! the active test holds while it activates, so a curve written by `musclefem elongate`
+//! has many stresses there.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+
+/// Which columns hold the curve, and their units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Columns {
+    /// Header name of the strain column, e.g. "engineering_strain".
+    pub strain: String,
+    /// Header name of the stress column, e.g. "engineering_stress_pa".
+    pub stress: String,
+    /// Strain [1] = value × this (0.01 for percent).
+    pub strain_scale: f64,
+    /// Stress [Pa] = value × this (e.g. 7000 for percent of σ₀ = 700 kPa).
+    pub stress_scale: f64,
+}
+
+/// The points used, sorted by strain, and how many were left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeasuredCurve {
+    /// Engineering strain [1].
+    pub strain: Vec<f64>,
+    /// Engineering stress [Pa].
+    pub stress: Vec<f64>,
+    /// Points outside (0, `max_strain`].
+    pub left_out: usize,
+}
+
+/// Read `path`, keeping the points with strain in (0, `max_strain`].
+pub fn read_curve(path: &Path, columns: &Columns, max_strain: f64) -> Result<MeasuredCurve> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading --data {}", path.display()))?;
+    parse_curve(&text, path, columns, max_strain)
+}
+
+/// [`read_curve`] on the file's text.
+pub fn parse_curve(
+    text: &str,
+    path: &Path,
+    columns: &Columns,
+    max_strain: f64,
+) -> Result<MeasuredCurve> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((_, header)) = lines.next() else {
+        bail!("{}: empty (expected a header line)", path.display());
+    };
+    let names: Vec<String> = header.split(',').map(unquote).collect();
+    let find = |name: &str, flag: &str| -> Result<usize> {
+        names.iter().position(|n| n == name).with_context(|| {
+            format!(
+                "{}: no column '{name}' (see {flag}); the header has {}",
+                path.display(),
+                names.join(", ")
+            )
+        })
+    };
+    let strain_at = find(&columns.strain, "--strain-column")?;
+    let stress_at = find(&columns.stress, "--stress-column")?;
+    let mut points = Vec::new();
+    let mut left_out = 0;
+    for (index, line) in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let cell = |at: usize| -> Result<f64> {
+            let raw = cells.get(at).map(|c| unquote(c)).unwrap_or_default();
+            raw.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .with_context(|| {
+                    format!(
+                        "{} line {}: '{raw}' in column '{}' is not a finite number",
+                        path.display(),
+                        index + 1,
+                        names[at]
+                    )
+                })
+        };
+        let strain = columns.strain_scale * cell(strain_at)?;
+        let stress = columns.stress_scale * cell(stress_at)?;
+        if strain > 0.0 && strain <= max_strain * (1.0 + 1e-12) {
+            points.push((strain, stress));
+        } else {
+            left_out += 1;
+        }
+    }
+    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(MeasuredCurve {
+        strain: points.iter().map(|p| p.0).collect(),
+        stress: points.iter().map(|p| p.1).collect(),
+        left_out,
+    })
+}
+
+fn unquote(cell: &str) -> String {
+    cell.trim().trim_matches('"').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn percent() -> Columns {
+        Columns {
+            strain: "Strain".into(),
+            stress: "ta".into(),
+            strain_scale: 0.01,
+            stress_scale: 7000.0,
+        }
+    }
+
+    #[test]
+    fn columns_by_name_scaled_sorted_and_out_of_range_points_left_out() {
+        let text = "\"Strain\",\"other\",\"ta\"\n12.5,9,2\n-3,9,0\n\n5,9,1\n25,9,4\n0,9,3\n";
+        let curve = parse_curve(text, Path::new("d.csv"), &percent(), 0.2).unwrap();
+        assert_eq!(curve.strain, vec![0.05, 0.125]);
+        assert_eq!(curve.stress, vec![7000.0, 14000.0]);
+        assert_eq!(curve.left_out, 3);
+    }
+
+    #[test]
+    fn errors_name_the_file_line_and_column() {
+        let missing = parse_curve("x,y\n1,2\n", Path::new("d.csv"), &percent(), 0.2)
+            .unwrap_err()
+            .to_string();
+        assert!(missing.contains("d.csv") && missing.contains("no column 'Strain'"));
+        assert!(missing.contains("--strain-column"), "{missing}");
+        let bad = parse_curve(
+            "Strain,ta\n1,2\n3,abc\n",
+            Path::new("d.csv"),
+            &percent(),
+            0.2,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            bad.contains("d.csv line 3") && bad.contains("'abc'"),
+            "{bad}"
+        );
+    }
+}

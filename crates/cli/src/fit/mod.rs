@@ -1,0 +1,498 @@
+//! `musclefem fit`: least-squares calibration of Hill parameters to a measured engineering
+//! stress–strain curve through the elongation test (seed §2.2: the paper calibrated D, b,
+//! c, d, k_c and k_e by hand-run parametric studies). Writes `fit.csv` (fitted values,
+//! standard errors and 95 % confidence intervals from the Jacobian), `fit_curve.csv`
+//! (measured and fitted stress at the measured strains), `fit.png` (data against the
+//! start and fitted curves) and `fit.txt` (the residual and how the solver stopped).
+//!
+//! - [`data`]: reading the measured curve;
+//! - [`model`]: the elongation test as a function of the fitted parameters;
+//! - [`levenberg_marquardt`]: the bounded least-squares solver.
+
+pub mod data;
+pub mod levenberg_marquardt;
+pub mod model;
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::DVector;
+
+use musclefem_io::PendingFile;
+use musclefem_io::csv::{format_number, format_table};
+use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
+use musclefem_materials::MaterialLibrary;
+use musclefem_materials::{Bound, ParameterSpec};
+
+use crate::elongation::options::TestOptions;
+use musclefem_core::mesh::generate::SpecimenShape;
+
+use crate::elongation::protocol::{Mode, PULL_ELONGATION};
+use data::{Columns, read_curve};
+use levenberg_marquardt::{Settings, Solution, minimise};
+use model::ElongationModel;
+
+/// Two-sided 95 % quantile of the normal distribution: the confidence intervals are the
+/// asymptotic ones, fitted value ± 1.96 standard errors.
+const Z_95: f64 = 1.959963984540054;
+
+#[derive(Debug, clap::Args)]
+pub struct FitArgs {
+    /// The measured curve: a CSV file with a header line (see --strain-column and
+    /// --stress-column).
+    #[arg(long, value_name = "CURVE.csv")]
+    pub data: PathBuf,
+    /// The elongation test the data come from.
+    #[arg(long, value_enum, default_value = "passive")]
+    pub test: Mode,
+    /// The Hill parameters to fit, comma-separated (e.g. c,A); the others keep Table 1.
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',', required = true)]
+    pub params: Vec<String>,
+    /// Start value of a fitted parameter [default: Table 1]; repeatable.
+    #[arg(long = "start", value_name = "NAME=VALUE")]
+    pub starts: Vec<String>,
+    /// Bounds of a fitted parameter [default: its valid range]; repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bounds: Vec<String>,
+    /// Header of the strain column.
+    #[arg(long, value_name = "NAME", default_value = "engineering_strain")]
+    pub strain_column: String,
+    /// Header of the stress column.
+    #[arg(long, value_name = "NAME", default_value = "engineering_stress_pa")]
+    pub stress_column: String,
+    /// Engineering strain [1] = strain column × this (0.01 for percent).
+    #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
+    pub strain_scale: f64,
+    /// Engineering stress [Pa] = stress column × this (e.g. 7000 for percent of a
+    /// 700 kPa maximum isometric stress).
+    #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
+    pub stress_scale: f64,
+    #[command(flatten)]
+    pub options: TestOptions,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out/fit")]
+    pub out: PathBuf,
+    /// Replace the results of a previous fit in the output directory.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// One fitted parameter: name, start and bounds.
+struct Unknown {
+    name: String,
+    start: f64,
+    lower: f64,
+    upper: f64,
+}
+
+pub fn fit(args: &FitArgs) -> Result<()> {
+    let unknowns = unknowns(args)?;
+    let names: Vec<String> = unknowns.iter().map(|u| u.name.clone()).collect();
+    for (flag, scale) in [
+        ("--strain-scale", args.strain_scale),
+        ("--stress-scale", args.stress_scale),
+    ] {
+        if !(scale.is_finite() && scale != 0.0) {
+            bail!("{flag} {scale}: must be a finite, non-zero factor");
+        }
+    }
+    let columns = Columns {
+        strain: args.strain_column.clone(),
+        stress: args.stress_column.clone(),
+        strain_scale: args.strain_scale,
+        stress_scale: args.stress_scale,
+    };
+    // Both specimens are 50 mm long: the pull ends at 20 % strain.
+    let max_strain = PULL_ELONGATION / SpecimenShape::paper_fusiform().length();
+    let measured = read_curve(&args.data, &columns, max_strain)?;
+    if measured.strain.len() <= unknowns.len() {
+        bail!(
+            "{}: {} points within the test's 0 < strain ≤ {:.0} % ({} left out), not more than \
+             the {} fitted parameters",
+            args.data.display(),
+            measured.strain.len(),
+            100.0 * max_strain,
+            measured.left_out,
+            unknowns.len()
+        );
+    }
+    let outputs = Outputs::new(args)?;
+
+    let base = args.options.test(args.test, BTreeMap::new());
+    let model = ElongationModel {
+        base: &base,
+        names: &names,
+    };
+    println!(
+        "fitting {} to {} points of {} ({} outside 0 < strain ≤ {:.0} % left out), {} elongation \
+         ({})",
+        names.join(", "),
+        measured.strain.len(),
+        args.data.display(),
+        measured.left_out,
+        100.0 * max_strain,
+        args.test.name(),
+        args.options.describe()
+    );
+    let data = DVector::from_vec(measured.stress.clone());
+    let residuals = |x: &[f64]| -> Result<DVector<f64>> {
+        Ok(DVector::from_vec(model.stresses(x, &measured.strain)?) - &data)
+    };
+    let start: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
+    let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
+    let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
+    let bar = spinner();
+    let points = measured.strain.len() as f64;
+    let started = Instant::now();
+    let solution = minimise(
+        &residuals,
+        &start,
+        &lower,
+        &upper,
+        &Settings::default(),
+        &mut |iteration, cost| {
+            bar.set_message(format!(
+                "iteration {iteration}: RMS residual {:.4} kPa",
+                1e-3 * (2.0 * cost / points).sqrt()
+            ));
+        },
+    )?;
+    bar.finish_and_clear();
+    let elapsed = started.elapsed();
+
+    let (start_curve, fitted_curve) =
+        rayon::join(|| model.curve(&start), || model.curve(&solution.x));
+    let report = Report {
+        unknowns: &unknowns,
+        solution: &solution,
+        measured_stress: &measured.stress,
+    };
+    let summary = format!(
+        "data = {}\npoints = {} (left out: {} outside 0 < strain ≤ {:.0} %)\ntest = {} elongation ({})\n{}\
+         time = {:.1} s\n",
+        args.data.display(),
+        measured.strain.len(),
+        measured.left_out,
+        100.0 * max_strain,
+        args.test.name(),
+        args.options.describe(),
+        report.text(),
+        elapsed.as_secs_f64()
+    );
+    print!("{summary}");
+    let fitted_stress: Vec<f64> = measured
+        .stress
+        .iter()
+        .zip(solution.residuals.iter())
+        .map(|(y, r)| y + r)
+        .collect();
+    let curve_csv = format_table(
+        "engineering_strain,measured_stress_pa,fitted_stress_pa",
+        (0..measured.strain.len())
+            .map(|i| [measured.strain[i], measured.stress[i], fitted_stress[i]]),
+    );
+    let mut panel = Panel::new(
+        format!(
+            "{} elongation: {}",
+            args.test.name(),
+            names
+                .iter()
+                .zip(&solution.x)
+                .map(|(n, &x)| format!("{n} = {}", significant(x, 4)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "engineering strain [%]",
+        "engineering stress [kPa]",
+    )
+    .with_legend(LegendPosition::UpperLeft)
+    .with_series(
+        Series::new(
+            "measured",
+            measured
+                .strain
+                .iter()
+                .zip(&measured.stress)
+                .map(|(e, s)| (100.0 * e, 1e-3 * s)),
+        )
+        .with_markers(),
+    );
+    for (label, curve) in [("fitted", fitted_curve), ("start", start_curve)] {
+        let curve = curve.with_context(|| format!("the {label} curve for fit.png"))?;
+        panel = panel.with_series(Series::new(
+            label,
+            curve
+                .stretching()
+                .iter()
+                .map(|p| (100.0 * p.strain, 1e-3 * p.stress)),
+        ));
+    }
+    let figure = Figure::new("musclefem fit").with_panel(panel);
+    outputs.write(report.csv(), curve_csv, summary, &figure)
+}
+
+/// The fitted parameters with their starts and bounds, checked against the Hill
+/// material's parameter table.
+fn unknowns(args: &FitArgs) -> Result<Vec<Unknown>> {
+    let hill = MaterialLibrary::with_builtins().info("hill")?;
+    let mut starts = name_values(&args.starts, "--start")?;
+    let mut bounds = name_values(&args.bounds, "--bound")?;
+    let mut unknowns: Vec<Unknown> = Vec::new();
+    for name in &args.params {
+        let name = name.trim();
+        if name == "n2" || name == "t0" {
+            bail!("--params {name}: the test sets the activation (passive n2 = 0, active n2 = 1)");
+        }
+        let Some(spec) = hill.parameters.iter().find(|p| p.name == name) else {
+            let known: Vec<&str> = hill.parameters.iter().map(|p| p.name.as_ref()).collect();
+            bail!(
+                "--params {name}: the Hill muscle has no parameter '{name}' (it has {})",
+                known.join(", ")
+            );
+        };
+        if unknowns.iter().any(|u| u.name == name) {
+            bail!("--params: '{name}' is given more than once");
+        }
+        let start = match starts.remove(name) {
+            Some(text) => parse_number(&text, "--start", name)?,
+            None => spec
+                .default
+                .with_context(|| format!("--params {name}: give --start {name}=VALUE"))?,
+        };
+        let (lower, upper) = match bounds.remove(name) {
+            Some(text) => {
+                let (lo, hi) = text
+                    .split_once(':')
+                    .with_context(|| format!("--bound {name}={text}: expected NAME=LO:HI"))?;
+                let (lo, hi) = (
+                    parse_number(lo, "--bound", name)?,
+                    parse_number(hi, "--bound", name)?,
+                );
+                if lo >= hi {
+                    bail!("--bound {name}={text}: LO must be below HI");
+                }
+                (lo, hi)
+            }
+            None => valid_range(spec, start),
+        };
+        let acceptable = |bound: f64| bound.is_infinite() || spec.accepts(bound);
+        if !(lower..=upper).contains(&start) || !acceptable(lower) || !acceptable(upper) {
+            bail!(
+                "--params {name}: the start {start} and bounds [{lower}, {upper}] must lie in \
+                 the valid range of '{name}' with the start between the bounds"
+            );
+        }
+        unknowns.push(Unknown {
+            name: name.to_string(),
+            start,
+            lower,
+            upper,
+        });
+    }
+    for (flag, left) in [("--start", starts), ("--bound", bounds)] {
+        if let Some(name) = left.keys().next() {
+            bail!("{flag} {name}: '{name}' is not among --params");
+        }
+    }
+    Ok(unknowns)
+}
+
+/// NAME=TEXT tokens of `flag` by name.
+fn name_values(tokens: &[String], flag: &str) -> Result<BTreeMap<String, String>> {
+    let mut map = BTreeMap::new();
+    for token in tokens {
+        let (name, value) = token
+            .split_once('=')
+            .with_context(|| format!("{flag} '{token}': expected NAME=..."))?;
+        if map
+            .insert(name.trim().to_string(), value.trim().to_string())
+            .is_some()
+        {
+            bail!(
+                "{flag} '{token}': '{}' is given more than once",
+                name.trim()
+            );
+        }
+    }
+    Ok(map)
+}
+
+fn parse_number(text: &str, flag: &str, name: &str) -> Result<f64> {
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .with_context(|| format!("{flag} {name}: '{}' is not a finite number", text.trim()))
+}
+
+/// The parameter's valid range as closed bounds: an open end at l is moved inside by
+/// 10⁻⁶ of the start value; an unbounded side stays infinite.
+fn valid_range(spec: &ParameterSpec, start: f64) -> (f64, f64) {
+    let inset = 1e-6 * start.abs().max(f64::MIN_POSITIVE);
+    let lower = match spec.lower {
+        Bound::Unbounded => f64::NEG_INFINITY,
+        Bound::Inclusive(l) => l,
+        Bound::Exclusive(l) => l + inset,
+    };
+    let upper = match spec.upper {
+        Bound::Unbounded => f64::INFINITY,
+        Bound::Inclusive(u) => u,
+        Bound::Exclusive(u) => u - inset,
+    };
+    (lower, upper)
+}
+
+/// The fit's numbers for the terminal, fit.txt and fit.csv.
+struct Report<'a> {
+    unknowns: &'a [Unknown],
+    solution: &'a Solution,
+    measured_stress: &'a [f64],
+}
+
+impl Report<'_> {
+    /// RMS residual [Pa] and coefficient of determination R² = 1 − Σr² / Σ(y − ȳ)².
+    fn residual(&self) -> (f64, f64) {
+        let m = self.measured_stress.len() as f64;
+        let squares = self.solution.residuals.norm_squared();
+        let mean = self.measured_stress.iter().sum::<f64>() / m;
+        let spread: f64 = self
+            .measured_stress
+            .iter()
+            .map(|y| (y - mean).powi(2))
+            .sum();
+        ((squares / m).sqrt(), 1.0 - squares / spread)
+    }
+
+    /// Whether fitted parameter `j` ended on one of its bounds.
+    fn at_bound(&self, j: usize) -> bool {
+        let x = self.solution.x[j];
+        x == self.unknowns[j].lower || x == self.unknowns[j].upper
+    }
+
+    /// Standard errors of the parameters not on a bound.
+    fn standard_errors(&self) -> Option<Vec<Option<f64>>> {
+        let fixed: Vec<bool> = (0..self.unknowns.len()).map(|j| self.at_bound(j)).collect();
+        self.solution.standard_errors(&fixed)
+    }
+
+    fn text(&self) -> String {
+        let (rms, r2) = self.residual();
+        let errors = self.standard_errors();
+        let mut text = String::new();
+        for (j, unknown) in self.unknowns.iter().enumerate() {
+            let x = self.solution.x[j];
+            let interval = match errors.as_ref().map(|e| e[j]) {
+                Some(Some(e)) => format!("95 % CI [{}, {}]", x - Z_95 * e, x + Z_95 * e),
+                Some(None) => "at its bound: no confidence interval".to_string(),
+                None => "no confidence interval (the parameters are not identifiable together: JᵀJ singular)".to_string(),
+            };
+            text.push_str(&format!(
+                "{} = {x} (start {}), {interval}\n",
+                unknown.name, unknown.start
+            ));
+        }
+        let largest = self
+            .measured_stress
+            .iter()
+            .copied()
+            .fold(0.0, |a: f64, y| a.max(y.abs()));
+        text.push_str(&format!(
+            "RMS residual = {rms:.4e} Pa ({:.3} % of the largest measured stress), R² = {r2:.5}\n\
+             iterations = {}, runs = {}, stop = {:?}\n",
+            100.0 * rms / largest,
+            self.solution.iterations,
+            self.solution.evaluations,
+            self.solution.stop
+        ));
+        text
+    }
+
+    /// fit.csv: parameter,start,fitted,standard_error,ci95_low,ci95_high,at_bound.
+    fn csv(&self) -> String {
+        let errors = self.standard_errors();
+        let mut text =
+            String::from("parameter,start,fitted,standard_error,ci95_low,ci95_high,at_bound\n");
+        for (j, unknown) in self.unknowns.iter().enumerate() {
+            let x = self.solution.x[j];
+            let error = errors.as_ref().and_then(|e| e[j]);
+            let cell = |v: Option<f64>| v.map_or_else(String::new, format_number);
+            text.push_str(&format!(
+                "{},{},{},{},{},{},{}\n",
+                unknown.name,
+                format_number(unknown.start),
+                format_number(x),
+                cell(error),
+                cell(error.map(|e| x - Z_95 * e)),
+                cell(error.map(|e| x + Z_95 * e)),
+                self.at_bound(j)
+            ));
+        }
+        text
+    }
+}
+
+/// The output files, checked before the fit starts (so a long fit does not end in a
+/// refusal) and written together at its end.
+struct Outputs {
+    dir: PathBuf,
+}
+
+const FILES: [&str; 4] = ["fit.csv", "fit_curve.csv", "fit.txt", "fit.png"];
+
+impl Outputs {
+    fn new(args: &FitArgs) -> Result<Self> {
+        let dir = args.out.clone();
+        let existing = FILES.iter().map(|f| dir.join(f)).find(|p| p.exists());
+        if let (false, Some(existing)) = (args.force, existing) {
+            bail!(
+                "{} exists: a previous fit is in {} (use --force to replace it)",
+                existing.display(),
+                dir.display()
+            );
+        }
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("creating the output directory {}", dir.display()))?;
+        Ok(Outputs { dir })
+    }
+
+    fn write(&self, csv: String, curve: String, summary: String, figure: &Figure) -> Result<()> {
+        let staged = [
+            PendingFile::stage_bytes(&self.dir.join(FILES[0]), csv.as_bytes())?,
+            PendingFile::stage_bytes(&self.dir.join(FILES[1]), curve.as_bytes())?,
+            PendingFile::stage_bytes(&self.dir.join(FILES[2]), summary.as_bytes())?,
+            stage_png(&self.dir.join(FILES[3]), figure)?,
+        ];
+        for file in staged {
+            file.commit()?;
+        }
+        println!("results: {}/{{{}}}", self.dir.display(), FILES.join(","));
+        Ok(())
+    }
+}
+
+/// `x` rounded to `digits` significant digits, as text.
+fn significant(x: f64, digits: i32) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format_number(x);
+    }
+    let factor = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
+    format_number((x * factor).round() / factor)
+}
+
+fn spinner() -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar.set_message("iteration 0");
+    bar
+}

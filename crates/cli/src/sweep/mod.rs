@@ -1,0 +1,385 @@
+//! `musclefem sweep`: a parametric study of the elongation tests (seed §2.2, §3.1). Every
+//! combination of the varied Hill parameters (or a Latin-hypercube sample of their ranges)
+//! runs, several at a time, and each run's summary goes to `DIR/sweep.csv`; then the
+//! normalised sensitivity of the stress at 10 % and 20 % strain to each parameter goes to
+//! `DIR/sensitivity.csv` and `DIR/sensitivity.png`.
+//!
+//! - [`vary`]: the `--vary` axes;
+//! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs);
+//! - [`run`]: one run and its [`run::Outcome`] (a failure is an outcome, not an abort);
+//! - [`table`]: `sweep.csv`, rewritten after every run, read back to resume;
+//! - [`sensitivity`]: the sensitivities and their chart;
+//! - `distributed` (cargo feature `mpi`): the runs shared among MPI ranks under `mpirun`.
+
+pub mod grid;
+pub mod latin_hypercube;
+pub mod run;
+pub mod sensitivity;
+pub mod table;
+pub mod vary;
+
+#[cfg(feature = "mpi")]
+pub mod distributed;
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use anyhow::{Context, Result, anyhow, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+
+use musclefem_io::PendingFile;
+use musclefem_io::csv::format_number;
+use musclefem_io::plot::stage_bar_png;
+use musclefem_materials::MaterialLibrary;
+
+use crate::elongation::Mode;
+use crate::elongation::options::TestOptions;
+use run::{Outcome, run_sample};
+use table::{Record, SWEEP_CSV};
+use vary::Axis;
+
+#[derive(Debug, clap::Args)]
+pub struct SweepArgs {
+    /// The test whose parameters are varied: `passive` or `active` (the elongation tests
+    /// of `musclefem elongate`, with the specimen and solver options below). Scene files
+    /// are not supported yet.
+    #[arg(long, value_name = "TEST")]
+    pub base: String,
+    /// A varied Hill parameter (see `musclefem materials`): NAME=V1,V2,... or
+    /// NAME=LO:HI:N (N evenly spaced values); repeatable. Every combination runs, unless
+    /// --samples is given.
+    #[arg(long = "vary", value_name = "NAME=VALUES", required = true)]
+    pub vary: Vec<String>,
+    /// Run N points of a Latin hypercube over each parameter's range [smallest, largest
+    /// value] instead of every combination.
+    #[arg(long, value_name = "N")]
+    pub samples: Option<usize>,
+    /// Seed of the Latin hypercube (the same seed gives the same runs).
+    #[arg(long, value_name = "SEED", default_value_t = 1)]
+    pub seed: u64,
+    /// Runs at a time; the runs' solvers share these threads [default: one per core].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    #[command(flatten)]
+    pub options: TestOptions,
+    /// Output directory. A sweep.csv already there from the same sweep is resumed: its
+    /// runs (finished or failed) are not run again.
+    #[arg(long, value_name = "DIR", default_value = "out/sweep")]
+    pub out: PathBuf,
+    /// Start afresh: discard the results of a previous sweep in the output directory.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// The summary outputs whose sensitivities are reported: (column of sweep.csv, name).
+const OUTPUTS: [(&str, &str); 2] = [
+    ("stress_10pct_pa", "stress at 10 % strain"),
+    ("stress_20pct_pa", "stress at 20 % strain"),
+];
+
+pub fn sweep(args: &SweepArgs) -> Result<()> {
+    let plan = Plan::new(args)?;
+    #[cfg(feature = "mpi")]
+    if let Some(universe) = distributed::start()? {
+        return distributed::sweep(args, &plan, &universe);
+    }
+    let done = plan.previous_records(args.force)?;
+    let done_runs: Vec<usize> = done.iter().map(|r| r.run).collect();
+    let pending = plan.pending(&done_runs);
+    plan.announce(done.len(), pending.len(), "");
+    let records = plan.run_share(&pending, done, true)?;
+    plan.finish(args, &records)
+}
+
+/// What a sweep runs: the base test, the varied parameters and the list of runs.
+pub struct Plan {
+    mode: Mode,
+    axes: Vec<Axis>,
+    names: Vec<String>,
+    /// Parameter values of each run, in run order.
+    design: Vec<Vec<f64>>,
+    /// Runs at a time (in each process).
+    jobs: usize,
+    base: crate::elongation::ElongationTest,
+    table_path: PathBuf,
+    options: String,
+}
+
+impl Plan {
+    fn new(args: &SweepArgs) -> Result<Plan> {
+        let mode = base_mode(&args.base)?;
+        let axes = vary::parse_axes(&args.vary)?;
+        check_parameter_names(&axes)?;
+        let design = match args.samples {
+            Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
+            Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
+            None => grid::full_factorial(&axes),
+        };
+        let jobs = match args.jobs {
+            Some(0) => bail!("--jobs 0: at least one run must run at a time"),
+            Some(n) => n,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        Ok(Plan {
+            mode,
+            names: axes.iter().map(|a| a.name.clone()).collect(),
+            axes,
+            design,
+            jobs,
+            base: args.options.test(mode, BTreeMap::new()),
+            table_path: args.out.join(SWEEP_CSV),
+            options: args.options.describe(),
+        })
+    }
+
+    /// Create the output directory and read the rows of a previous run of this sweep.
+    fn previous_records(&self, force: bool) -> Result<Vec<Record>> {
+        if let Some(dir) = self.table_path.parent() {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("creating the output directory {}", dir.display()))?;
+        }
+        previous_records(&self.table_path, &self.names, &self.design, force)
+    }
+
+    /// The runs not in `done` (run numbers), in run order.
+    fn pending(&self, done: &[usize]) -> Vec<usize> {
+        (0..self.design.len())
+            .filter(|run| !done.contains(run))
+            .collect()
+    }
+
+    fn announce(&self, done: usize, pending: usize, processes: &str) {
+        println!(
+            "{} elongation ({}): {} runs, {done} already in {}, {pending} to run{processes}, {} \
+             at a time",
+            self.mode.name(),
+            self.options,
+            self.design.len(),
+            self.table_path.display(),
+            self.jobs
+        );
+    }
+
+    /// Run `runs`, `jobs` at a time, adding their records to `records`; with `write`,
+    /// rewrite sweep.csv after each.
+    fn run_share(&self, runs: &[usize], records: Vec<Record>, write: bool) -> Result<Vec<Record>> {
+        let records = Mutex::new(records);
+        let bar = progress_bar(runs.len());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs)
+            .build()
+            .context("starting the worker threads")?;
+        pool.install(|| {
+            runs.par_iter()
+                .with_max_len(1)
+                .try_for_each(|&run| -> Result<()> {
+                    let outcome = run_sample(&self.base, &self.names, &self.design[run]);
+                    let mut records = records.lock().map_err(|_| anyhow!("a run panicked"))?;
+                    records.push(Record {
+                        run,
+                        values: self.design[run].clone(),
+                        outcome,
+                    });
+                    if write {
+                        self.write_table(&records)?;
+                    }
+                    bar.inc(1);
+                    Ok(())
+                })
+        })?;
+        bar.finish_and_clear();
+        records.into_inner().map_err(|_| anyhow!("a run panicked"))
+    }
+
+    fn write_table(&self, records: &[Record]) -> Result<()> {
+        let text = table::format_table(&self.names, records);
+        PendingFile::stage_bytes(&self.table_path, text.as_bytes())?.commit()?;
+        Ok(())
+    }
+
+    /// The summary on the terminal and the sensitivities.
+    fn finish(&self, args: &SweepArgs, records: &[Record]) -> Result<()> {
+        report(records, &self.table_path);
+        write_sensitivities(args, self.mode, &self.axes, records)
+    }
+}
+
+/// The elongation mode named by `--base`.
+fn base_mode(base: &str) -> Result<Mode> {
+    match base {
+        "passive" => Ok(Mode::Passive),
+        "active" => Ok(Mode::Active),
+        other if Path::new(other).extension().is_some_and(|e| e == "toml") => bail!(
+            "--base {other}: sweeping a scene file is not supported yet; the bases are the \
+             elongation tests 'passive' and 'active'"
+        ),
+        other => bail!("--base '{other}': expected 'passive' or 'active' (the elongation tests)"),
+    }
+}
+
+/// Every varied name must be a Hill parameter, and not one the mode sets.
+fn check_parameter_names(axes: &[Axis]) -> Result<()> {
+    let hill = MaterialLibrary::with_builtins().info("hill")?;
+    for axis in axes {
+        if axis.name == "n2" || axis.name == "t0" {
+            bail!(
+                "--vary {}: the mode sets the activation (passive n2 = 0, active n2 = 1 from t0 = 0)",
+                axis.name
+            );
+        }
+        if !hill.parameters.iter().any(|p| p.name == axis.name) {
+            let known: Vec<&str> = hill.parameters.iter().map(|p| p.name.as_ref()).collect();
+            bail!(
+                "--vary {}: the Hill muscle has no parameter '{}' (it has {})",
+                axis.name,
+                axis.name,
+                known.join(", ")
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The rows of a previous run of this sweep (none with `force`, which removes its files).
+/// Each row must hold the parameter values this design gives its run.
+fn previous_records(
+    path: &Path,
+    names: &[String],
+    design: &[Vec<f64>],
+    force: bool,
+) -> Result<Vec<Record>> {
+    if force {
+        for file in [SWEEP_CSV, SENSITIVITY_CSV, SENSITIVITY_PNG] {
+            let stale = path.with_file_name(file);
+            if stale.exists() {
+                std::fs::remove_file(&stale)
+                    .with_context(|| format!("removing {}", stale.display()))?;
+            }
+        }
+        return Ok(Vec::new());
+    }
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e).with_context(|| format!("reading {}", path.display())),
+    };
+    let records = table::parse_table(&text, path, names)?;
+    for record in &records {
+        if design.get(record.run) != Some(&record.values) {
+            bail!(
+                "{}: run {} has parameters {:?}, which is not this sweep's run {} (another \
+                 design, --samples or --seed?); use another --out, or --force to start afresh",
+                path.display(),
+                record.run,
+                record.values,
+                record.run
+            );
+        }
+    }
+    Ok(records)
+}
+
+fn report(records: &[Record], table_path: &Path) {
+    let mut records: Vec<&Record> = records.iter().collect();
+    records.sort_by_key(|r| r.run);
+    let failed = records.iter().filter(|r| !r.outcome.is_finished()).count();
+    let wall: f64 = records.iter().map(|r| r.outcome.wall_time()).sum();
+    println!(
+        "{} runs ({} failed; {:.1} s of run time in all): {}",
+        records.len(),
+        failed,
+        wall,
+        table_path.display()
+    );
+    for record in records.iter().filter(|r| !r.outcome.is_finished()) {
+        if let Outcome::Failed { error, .. } = &record.outcome {
+            println!("  run {} failed: {error}", record.run);
+        }
+    }
+}
+
+const SENSITIVITY_CSV: &str = "sensitivity.csv";
+const SENSITIVITY_PNG: &str = "sensitivity.png";
+
+/// `sensitivity.csv` (parameter, output, sensitivity) and `sensitivity.png` from the
+/// finished runs, and the ranking on the terminal.
+fn write_sensitivities(
+    args: &SweepArgs,
+    mode: Mode,
+    axes: &[Axis],
+    records: &[Record],
+) -> Result<()> {
+    let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
+    let mut outputs = Vec::new();
+    for (k, (column, output)) in OUTPUTS.iter().enumerate() {
+        let runs: Vec<(Vec<f64>, f64)> = records
+            .iter()
+            .filter_map(|r| match &r.outcome {
+                Outcome::Finished { stresses, .. } => stresses[k].map(|y| (r.values.clone(), y)),
+                Outcome::Failed { .. } => None,
+            })
+            .collect();
+        match sensitivity::normalised_sensitivities(&runs) {
+            Some(s) => outputs.push((*column, *output, s)),
+            None => println!(
+                "  {output}: {} finished runs cannot determine the sensitivities of {} parameters",
+                runs.len(),
+                names.len()
+            ),
+        }
+    }
+    if outputs.is_empty() {
+        return Ok(());
+    }
+    let mut csv = String::from("parameter,output,sensitivity\n");
+    for (column, output, values) in &outputs {
+        let mut ranked: Vec<(&String, f64)> = names
+            .iter()
+            .zip(values)
+            .filter_map(|(n, s)| s.map(|s| (n, s)))
+            .collect();
+        ranked.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+        let text: Vec<String> = ranked.iter().map(|(n, s)| format!("{n} {s:+.3}")).collect();
+        println!("  sensitivity of the {output}: {}", text.join(", "));
+        for (name, s) in &ranked {
+            csv.push_str(&format!("{name},{column},{}\n", format_number(*s)));
+        }
+    }
+    let finished = records.iter().filter(|r| r.outcome.is_finished()).count();
+    let title = format!("{} elongation, {finished} finished runs", mode.name());
+    let series: Vec<(&str, Vec<Option<f64>>)> = outputs
+        .iter()
+        .map(|(_, name, s)| (*name, s.clone()))
+        .collect();
+    let chart = sensitivity::sensitivity_chart(&title, &names, &series);
+    let csv_path = args.out.join(SENSITIVITY_CSV);
+    let png_path = args.out.join(SENSITIVITY_PNG);
+    let staged = [
+        PendingFile::stage_bytes(&csv_path, csv.as_bytes())?,
+        stage_bar_png(&png_path, &chart)?,
+    ];
+    for file in staged {
+        file.commit()?;
+    }
+    println!(
+        "sensitivities: {} and {}",
+        csv_path.display(),
+        png_path.display()
+    );
+    Ok(())
+}
+
+fn progress_bar(runs: usize) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(runs as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos} / {len} runs [{elapsed_precise}, ETA {eta}]")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}

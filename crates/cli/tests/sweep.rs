@@ -1,0 +1,177 @@
+//! `musclefem sweep` end to end on the cheap homogeneous model (the cylinder with sliding
+//! grips, 72 elements, 0.2 s increments: about 0.2 s a run): the table, a failed run that
+//! does not stop the others, resuming, and the sensitivities.
+
+mod support;
+
+use std::path::Path;
+
+use support::run::{musclefem, test_dir, text};
+
+/// The cheap model's flags, then `extra`.
+fn sweep(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "sweep",
+        "--base",
+        "passive",
+        "--shape",
+        "cylinder",
+        "--grips",
+        "sliding",
+        "--mesh-size",
+        "8.75",
+        "--time-step",
+        "0.2",
+        "--jobs",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    musclefem(dir, &args)
+}
+
+const VARY: [&str; 6] = [
+    "--vary",
+    "sigma0=5e5,9e5",
+    "--vary",
+    "b=12,18",
+    "--vary",
+    "c=379,-1",
+];
+
+fn rows(path: &Path) -> Vec<Vec<String>> {
+    let table = std::fs::read_to_string(path).unwrap();
+    table
+        .lines()
+        .skip(1)
+        .map(|line| line.splitn(10, ',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn a_grid_sweep_records_every_run_resumes_and_ranks_the_parameters() {
+    let dir = test_dir("sweep", "grid");
+    let out = sweep(&dir, &[&VARY[..], &["--out", "study"]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table_path = dir.join("study/sweep.csv");
+    let table = std::fs::read_to_string(&table_path).unwrap();
+    assert_eq!(
+        table.lines().next().unwrap(),
+        "run,sigma0,b,c,status,wall_time_s,steps,stress_10pct_pa,stress_20pct_pa,error"
+    );
+    let first = rows(&table_path);
+    assert_eq!(first.len(), 8);
+    for (run, row) in first.iter().enumerate() {
+        assert_eq!(row[0], run.to_string());
+        if row[3] == "-1" {
+            // c < 0 is outside the Hill matrix's valid range: recorded, not fatal.
+            assert_eq!(row[4], "failed", "{row:?}");
+            assert!(row[9].contains("'c'"), "{row:?}");
+        } else {
+            assert_eq!(row[4], "ok", "{row:?}");
+            let stress_20: f64 = row[8].parse().unwrap();
+            assert!(stress_20 > row[7].parse::<f64>().unwrap() && stress_20 > 0.0);
+        }
+    }
+    // The stiffer runs give the larger stress at 20 %: sigma0 9e5 against 5e5 at b = 12.
+    let stress_20 = |run: usize| first[run][8].parse::<f64>().unwrap();
+    assert!(stress_20(4) > stress_20(0));
+
+    // The sensitivities: sigma0 and b, both positive; c took one working value only.
+    let sensitivities = std::fs::read_to_string(dir.join("study/sensitivity.csv")).unwrap();
+    for output in ["stress_10pct_pa", "stress_20pct_pa"] {
+        for name in ["sigma0", "b"] {
+            let line = sensitivities
+                .lines()
+                .find(|l| l.starts_with(&format!("{name},{output},")))
+                .unwrap_or_else(|| panic!("{name} {output} in {sensitivities}"));
+            let s: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+            assert!(s > 0.0 && s < 2.0, "{line}");
+        }
+        assert!(!sensitivities.contains(&format!("c,{output}")));
+    }
+    let png = std::fs::read(dir.join("study/sensitivity.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+
+    // Drop the row of run 5 as if the sweep had been stopped before it: the rerun runs
+    // it alone and keeps the other rows as they were (their wall times included).
+    let without_5: String = table
+        .lines()
+        .filter(|l| !l.starts_with("5,"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&table_path, without_5).unwrap();
+    let resumed = sweep(&dir, &[&VARY[..], &["--out", "study"]].concat());
+    assert!(resumed.status.success(), "{}", text(&resumed.stderr));
+    assert!(
+        text(&resumed.stdout).contains("8 runs, 7 already in"),
+        "{}",
+        text(&resumed.stdout)
+    );
+    let second = rows(&table_path);
+    assert_eq!(second.len(), 8);
+    for run in (0..8).filter(|&r| r != 5) {
+        assert_eq!(second[run], first[run]);
+    }
+    assert_eq!(second[5][..5], first[5][..5]);
+    assert_eq!(
+        second[5][7..9],
+        first[5][7..9],
+        "a rerun gives the same stresses"
+    );
+
+    // Another design in the same directory is refused, naming the file.
+    let other = sweep(&dir, &["--vary", "sigma0=5e5,6e5", "--out", "study"]);
+    assert!(!other.status.success());
+    let error = text(&other.stderr);
+    assert!(
+        error.contains("sweep.csv") && error.contains("another sweep"),
+        "{error}"
+    );
+}
+
+#[test]
+fn a_latin_hypercube_sweep_has_its_samples_and_reproduces_them() {
+    let dir = test_dir("sweep", "latin");
+    let args = [
+        "--vary",
+        "sigma0=5e5:9e5:2",
+        "--vary",
+        "A=3,5",
+        "--samples",
+        "5",
+        "--seed",
+        "3",
+    ];
+    let out = sweep(&dir, &[&args[..], &["--out", "one"]].concat());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let again = sweep(&dir, &[&args[..], &["--out", "two"]].concat());
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    let one = rows(&dir.join("one/sweep.csv"));
+    let two = rows(&dir.join("two/sweep.csv"));
+    assert_eq!(one.len(), 5);
+    for (a, b) in one.iter().zip(&two) {
+        assert_eq!(a[..3], b[..3], "the same seed gives the same samples");
+        let sigma0: f64 = a[1].parse().unwrap();
+        let pe: f64 = a[2].parse().unwrap();
+        assert!((5e5..=9e5).contains(&sigma0) && (3.0..=5.0).contains(&pe));
+        assert_eq!(a[3], "ok");
+    }
+}
+
+#[test]
+fn bad_sweeps_are_refused_with_the_flag_named() {
+    let dir = test_dir("sweep", "bad");
+    for (args, expected) in [
+        (vec!["--vary", "sigma=1,2"], "no parameter 'sigma'"),
+        (vec!["--vary", "n2=0,1"], "the mode sets the activation"),
+        (vec!["--vary", "b=1:2"], "--vary 'b=1:2'"),
+        (vec!["--vary", "b=1,2", "--samples", "0"], "--samples 0"),
+    ] {
+        let out = sweep(&dir, &args);
+        assert!(!out.status.success());
+        let error = text(&out.stderr);
+        assert!(error.contains(expected), "{args:?}: {error}");
+    }
+    let scene = musclefem(&dir, &["sweep", "--base", "knee.toml", "--vary", "b=1,2"]);
+    assert!(text(&scene.stderr).contains("not supported yet"));
+}
