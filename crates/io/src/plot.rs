@@ -52,12 +52,28 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
-/// One named curve: (x, y) points joined by straight lines. Non-finite points are skipped.
+/// One named curve: (x, y) points joined by straight lines (and/or marked, see
+/// [`SeriesStyle`]). Non-finite points are skipped, and so are non-positive ones on a
+/// logarithmic axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     /// Legend entry ("" for none).
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    pub style: SeriesStyle,
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SeriesStyle {
+    /// Straight lines between the points.
+    #[default]
+    Line,
+    /// Lines, with a filled circle on every point.
+    LineWithMarkers,
+    /// Only an open black square around every point, whatever the series' colour (to mark
+    /// a subset of the other series, e.g. a Pareto front).
+    Markers,
 }
 
 impl Series {
@@ -65,8 +81,24 @@ impl Series {
         Series {
             label: label.into(),
             points: points.into_iter().collect(),
+            style: SeriesStyle::Line,
         }
     }
+
+    pub fn with_style(mut self, style: SeriesStyle) -> Self {
+        self.style = style;
+        self
+    }
+}
+
+/// The axes' scales.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Axes {
+    /// Both axes linear.
+    #[default]
+    Linear,
+    /// Both axes logarithmic (decades), e.g. for error against cost.
+    LogLog,
 }
 
 /// Where a panel's legend goes.
@@ -91,6 +123,7 @@ pub struct Panel {
     pub y_label: String,
     pub series: Vec<Series>,
     pub legend: LegendPosition,
+    pub axes: Axes,
 }
 
 impl Panel {
@@ -105,7 +138,13 @@ impl Panel {
             y_label: y_label.into(),
             series: Vec::new(),
             legend: LegendPosition::default(),
+            axes: Axes::default(),
         }
+    }
+
+    pub fn with_axes(mut self, axes: Axes) -> Self {
+        self.axes = axes;
+        self
     }
 
     pub fn with_series(mut self, series: Series) -> Self {
@@ -296,6 +335,16 @@ fn draw_panel<'a>(
     area: &DrawingArea<BitMapBackend<'a>, Shift>,
     panel: &Panel,
 ) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    match panel.axes {
+        Axes::Linear => draw_linear_panel(area, panel),
+        Axes::LogLog => draw_log_log_panel(area, panel),
+    }
+}
+
+fn draw_linear_panel<'a>(
+    area: &DrawingArea<BitMapBackend<'a>, Shift>,
+    panel: &Panel,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
     let points = || panel.series.iter().flat_map(|s| s.points.iter());
     let x_range = axis_range(points().map(|p| p.0));
     let y_range = axis_range(points().map(|p| p.1));
@@ -320,24 +369,121 @@ fn draw_panel<'a>(
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
+    draw_series(&mut chart, panel, |_| true)
+}
 
+/// Logarithmic range covering the positive `values` with a margin of a tenth of a decade
+/// each side (one decade around 1 when there are none).
+fn log_axis_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return 0.1..10.0;
+    }
+    let margin = 10f64.powf(0.1);
+    (lo / margin)..(hi * margin)
+}
+
+fn draw_log_log_panel<'a>(
+    area: &DrawingArea<BitMapBackend<'a>, Shift>,
+    panel: &Panel,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    let points = || panel.series.iter().flat_map(|s| s.points.iter());
+    let x_range = log_axis_range(points().map(|p| p.0));
+    let y_range = log_axis_range(points().map(|p| p.1));
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, (FONT_FAMILY, 21))
+        .margin(12)
+        .x_label_area_size(52)
+        .y_label_area_size(76)
+        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .x_label_formatter(&|x| log_tick_label(*x))
+        .y_label_formatter(&|y| log_tick_label(*y))
+        .label_style((FONT_FAMILY, 15))
+        .axis_desc_style((FONT_FAMILY, 17))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()?;
+    draw_series(&mut chart, panel, |&(x, y)| x > 0.0 && y > 0.0)
+}
+
+/// Tick label on a logarithmic axis: plain for 0.01–10⁴, else in e-notation.
+fn log_tick_label(value: f64) -> String {
+    if (1e-2..1e4).contains(&value.abs()) {
+        let text = format!("{value:.3}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{value:.0e}")
+    }
+}
+
+/// Draw `panel`'s series (the points `drawable` accepts, finite ones only) and legend.
+fn draw_series<'a, DB: DrawingBackend + 'a, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel,
+    drawable: impl Fn(&(f64, f64)) -> bool,
+) -> Result<(), Box<dyn std::error::Error + 'a>>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+    DB::ErrorType: 'a,
+{
     for (i, series) in panel.series.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
-        let finite = series
+        let color = match series.style {
+            SeriesStyle::Markers => BLACK,
+            _ => PALETTE[i % PALETTE.len()],
+        };
+        let finite: Vec<(f64, f64)> = series
             .points
             .iter()
             .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite());
-        let drawn = chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?;
-        if !series.label.is_empty() {
-            drawn.label(series.label.as_str()).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
-            });
+            .filter(|p| p.0.is_finite() && p.1.is_finite() && drawable(p))
+            .collect();
+        let drawn = match series.style {
+            SeriesStyle::Line => {
+                chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?
+            }
+            SeriesStyle::LineWithMarkers => {
+                chart.draw_series(LineSeries::new(finite.clone(), color.stroke_width(2)))?;
+                chart.draw_series(
+                    finite
+                        .into_iter()
+                        .map(move |p| Circle::new(p, 4, color.filled())),
+                )?
+            }
+            SeriesStyle::Markers => chart.draw_series(finite.into_iter().map(move |p| {
+                EmptyElement::at(p) + Rectangle::new([(-9, -9), (9, 9)], color.stroke_width(2))
+            }))?,
+        };
+        if series.label.is_empty() {
+            continue;
         }
+        let drawn = drawn.label(series.label.as_str());
+        match series.style {
+            SeriesStyle::Line => drawn.legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
+            }),
+            SeriesStyle::LineWithMarkers => drawn.legend(move |(x, y)| {
+                EmptyElement::at((x + 12, y))
+                    + PathElement::new(vec![(-12, 0), (12, 0)], color.stroke_width(3))
+                    + Circle::new((0, 0), 4, color.filled())
+            }),
+            SeriesStyle::Markers => drawn.legend(move |(x, y)| {
+                EmptyElement::at((x + 12, y))
+                    + Rectangle::new([(-7, -7), (7, 7)], color.stroke_width(2))
+            }),
+        };
     }
 
     if panel.series.iter().any(|s| !s.label.is_empty()) {
-        draw_legend(&mut chart, panel.legend)?;
+        draw_legend(chart, panel.legend)?;
     }
     Ok(())
 }
