@@ -1,8 +1,12 @@
 //! The `musclefem` program's library: the scenarios behind its subcommands, usable from
 //! tests, benchmarks and the parametric studies.
 //!
+//! - [`bench`]: the work–precision matrix (`musclefem bench`).
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
+//! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
 
+pub mod bench;
 pub mod elongation;
+pub mod inertia;
 pub mod knee;

@@ -18,6 +18,7 @@ use musclefem_core as _;
 use musclefem_io as _;
 use musclefem_materials as _;
 
+mod bench_command;
 mod commands;
 mod elongate_command;
 mod fibers_command;
@@ -72,6 +73,11 @@ enum Command {
     /// femur; passive and/or active (50 % from 35° of flexion). Writes peak_stress.csv
     /// (vm95 per muscle at 30°, 45°, 60°, 90°), peak_stress.png, frames and histories.
     Knee(knee_command::KneeArgs),
+    /// Speed against accuracy: run a matrix of solvers, elements, mesh sizes and steps on
+    /// the cube and the elongation test, time each run and measure its error against a
+    /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
+    /// front marked) and bench.log.
+    Bench(bench_command::BenchArgs),
 }
 
 #[derive(Debug, Args)]
@@ -156,6 +162,7 @@ fn main() -> ExitCode {
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         Some(Command::Knee(args)) => knee_command::knee(&args),
+        Some(Command::Bench(args)) => bench_command::bench(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

@@ -373,7 +373,7 @@ fn draw_linear_panel<'a>(
 }
 
 /// Logarithmic range covering the positive `values` with a margin of a tenth of a decade
-/// each side (one decade around 1 when there are none).
+/// each side, widened to at least a decade (one decade around 1 when there are none).
 fn log_axis_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
@@ -384,7 +384,13 @@ fn log_axis_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
         return 0.1..10.0;
     }
     let margin = 10f64.powf(0.1);
-    (lo / margin)..(hi * margin)
+    let (lo, hi) = (lo / margin, hi * margin);
+    // At least a decade, so that a power of ten (a labelled tick) is on the axis.
+    if hi / lo >= 10.0 {
+        return lo..hi;
+    }
+    let centre = (lo * hi).sqrt();
+    (centre / 10f64.sqrt())..(centre * 10f64.sqrt())
 }
 
 fn draw_log_log_panel<'a>(
@@ -586,6 +592,26 @@ mod tests {
         let err = write_png(&dir.join("chart.jpg"), &one).unwrap_err();
         assert!(err.to_string().contains(".png"), "{err}");
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn log_log_panels_with_markers_skip_non_positive_points() {
+        let dir = test_dir("plot-log-log");
+        let path = dir.join("work.png");
+        let panel = Panel::new("cube", "wall time [s]", "error [1]")
+            .with_axes(Axes::LogLog)
+            .with_series(
+                Series::new("implicit", [(0.01, 0.5), (0.1, 0.05), (1.0, 0.0)])
+                    .with_style(SeriesStyle::LineWithMarkers),
+            )
+            .with_series(Series::new("front", [(0.01, 0.5)]).with_style(SeriesStyle::Markers));
+        write_png(&path, &Figure::new("").with_panel(panel)).unwrap();
+        assert!(std::fs::metadata(&path).unwrap().len() > 2_000);
+        assert_eq!(log_axis_range([0.0, -1.0].into_iter()), 0.1..10.0);
+        let narrow = log_axis_range([2.5, 6.6].into_iter());
+        assert!((narrow.end / narrow.start - 10.0).abs() < 1e-9 && narrow.contains(&10.0));
+        assert_eq!(log_tick_label(0.05), "0.05");
+        assert_eq!(log_tick_label(1e-5), "1e-5");
     }
 
     #[test]
