@@ -70,3 +70,66 @@ fn the_knee_is_refused_with_the_reason() {
         "{stderr}"
     );
 }
+
+/// `musclefem elongate --tolerance`: the cheapest setting of a work–precision table within
+/// the tolerance is run, with the reason printed; none within it, or no table, is an error.
+#[test]
+fn elongate_with_a_tolerance_runs_the_cheapest_measured_setting() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-bench-tolerance-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = dir.join("work_precision.csv");
+    // A table as `musclefem bench` writes it (values of a quick run, rounded).
+    std::fs::write(
+        &table,
+        format!(
+            "{WORK_PRECISION_HEADER}\n\
+             elongate,implicit,hex8-fbar,4,increment=0.4s,3.9,1.1e-2,m\n\
+             elongate,implicit,tet4,4,increment=0.2s,2.6,1.18e0,m\n\
+             elongate,explicit,hex8-one-point,4,mass_scaling=1e-4s;safety=0.9,4.7,1.1e-1,m\n"
+        ),
+    )
+    .unwrap();
+    let elongate = |tolerance: &str, table: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args(["elongate", "--mode", "passive", "--frame-interval", "0"])
+            .args(["--tolerance", tolerance, "--bench-table"])
+            .arg(table)
+            .arg("--out")
+            .arg(dir.join(format!("run-{tolerance}")))
+            .output()
+            .unwrap()
+    };
+    let output = elongate("150", &table);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("--tolerance 150 %: implicit tet4, 4 mm, increment=0.2s (118.00 % error"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("implicit passive elongation, fusiform tet4, 4 mm"),
+        "{stdout}"
+    );
+
+    let output = elongate("0.5", &table);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("no setting in") && stderr.contains("off by 1.10 %"),
+        "{stderr}"
+    );
+
+    let output = elongate("5", &dir.join("missing.csv"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("musclefem bench --problem elongate"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -8,7 +8,8 @@
 //!   compared, sampled at fixed instants);
 //! - [`reference`]: the error of a response against the reference's;
 //! - [`pareto`]: the runs no other run beats in both time and error;
-//! - [`csv`], [`chart`]: `work_precision.csv` and `work_precision.png`.
+//! - [`csv`], [`chart`]: `work_precision.csv` and `work_precision.png`;
+//! - [`select`]: the cheapest measured setting within an error tolerance.
 
 pub mod chart;
 pub mod csv;
@@ -18,6 +19,7 @@ pub mod matrix;
 pub mod method;
 pub mod pareto;
 pub mod reference;
+pub mod select;
 
 use std::time::{Duration, Instant};
 
