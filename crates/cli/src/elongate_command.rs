@@ -10,6 +10,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use musclefem::bench::{Problem, select};
 use musclefem::elongation::run::run_on;
 use musclefem::elongation::setup::setup;
 use musclefem::elongation::{
@@ -69,6 +70,60 @@ pub struct ElongateArgs {
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
     pub force: bool,
+    /// Choose solver, element, mesh size and step as the cheapest setting whose measured
+    /// error (passive elongation, `musclefem bench`) is at most this [%]; overrides
+    /// --solver, --element, --mesh-size and --time-step.
+    #[arg(long, value_name = "PERCENT")]
+    pub tolerance: Option<f64>,
+    /// The work–precision table --tolerance reads.
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "out/bench/work_precision.csv"
+    )]
+    pub bench_table: PathBuf,
+}
+
+/// The cheapest measured setting of the passive elongation within `percent` (see
+/// [`musclefem::bench::select`]), with the reason printed.
+fn setting_within(percent: f64, table: &Path) -> Result<(Solver, ElementChoice, f64, f64)> {
+    if !(percent.is_finite() && percent > 0.0) {
+        bail!("--tolerance {percent} must be a positive percentage");
+    }
+    let text = std::fs::read_to_string(table).with_context(|| {
+        format!(
+            "--tolerance needs the measured work–precision table {} (write it with \
+             `musclefem bench --problem elongate`)",
+            table.display()
+        )
+    })?;
+    let rows = select::read_table(&text).with_context(|| format!("reading {}", table.display()))?;
+    let Some(row) = select::cheapest_within(&rows, Problem::Elongate, 1e-2 * percent) else {
+        let best = rows
+            .iter()
+            .filter(|r| r.problem == "elongate" && r.error.is_finite())
+            .map(|r| r.error)
+            .fold(f64::INFINITY, f64::min);
+        bail!(
+            "no setting in {} meets {percent} % (the most accurate measured elongation run is \
+             off by {:.2} %); run musclefem bench on finer settings or loosen --tolerance",
+            table.display(),
+            100.0 * best
+        );
+    };
+    let method = select::method_of(row)?;
+    let test = musclefem::bench::elongate::elongation_test(&method)?;
+    println!(
+        "--tolerance {percent} %: {} ({:.2} % error in {:.1} s, the cheapest within the \
+         tolerance of the {} passive-elongation runs in {})",
+        method.describe(),
+        100.0 * row.error,
+        row.wall_s,
+        rows.iter().filter(|r| r.problem == "elongate").count(),
+        table.display()
+    );
+    let step = test.time_step.context("the chosen setting has a step")?;
+    Ok((test.solver, test.element, test.mesh_size, step))
 }
 
 pub fn elongate(args: &ElongateArgs) -> Result<()> {
@@ -81,17 +136,29 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
     if parameters.contains_key("n2") || parameters.contains_key("t0") {
         bail!("--param n2 / t0: the mode sets the activation (passive n2 = 0, active n2 = 1)");
     }
+    let (solver, element, mesh_size, time_step) = match args.tolerance {
+        Some(percent) => {
+            let (solver, element, size, step) = setting_within(percent, &args.bench_table)?;
+            (solver, element, size, Some(step))
+        }
+        None => (
+            args.solver,
+            args.element,
+            1e-3 * args.mesh_size,
+            args.time_step,
+        ),
+    };
     let mut runs = Vec::new();
     for &mode in modes {
         let test = ElongationTest {
             mode,
-            solver: args.solver,
-            element: args.element,
-            mesh_size: 1e-3 * args.mesh_size,
+            solver,
+            element,
+            mesh_size,
             shape: args.shape,
             grips: args.grips,
             parameters: parameters.clone(),
-            time_step: args.time_step,
+            time_step,
             ..ElongationTest::recommended(mode)
         };
         let directory = if modes.len() == 1 {
@@ -103,7 +170,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
         runs.push((mode, run));
     }
     let chart = args.out.join("curve.png");
-    let figure = curve_figure(args, &runs);
+    let figure = curve_figure(args.shape, (solver, element, mesh_size), &runs);
     stage_png(&chart, &figure)?.commit()?;
     println!("chart: {}", chart.display());
     Ok(())
@@ -244,17 +311,21 @@ fn progress_bar(duration: f64) -> ProgressBar {
 }
 
 /// Engineering stress [kPa] against strain [%] of every run on one chart.
-fn curve_figure(args: &ElongateArgs, runs: &[(Mode, ElongationRun)]) -> Figure {
+fn curve_figure(
+    shape: Shape,
+    (solver, element, mesh_size): (Solver, ElementChoice, f64),
+    runs: &[(Mode, ElongationRun)],
+) -> Figure {
     let mut panel = Panel::new(
         format!(
             "{} elongation at 5 mm/s ({}, {}, {} mm)",
-            match args.shape {
+            match shape {
                 Shape::Fusiform => "fusiform muscle",
                 Shape::Cylinder => "cylinder",
             },
-            args.solver.name(),
-            element_name(args.element),
-            args.mesh_size
+            solver.name(),
+            element_name(element),
+            1e3 * mesh_size
         ),
         "engineering strain [%]",
         "engineering stress [kPa]",

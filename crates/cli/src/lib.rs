@@ -1,12 +1,16 @@
 //! The `musclefem` program's library: the scenarios behind its subcommands, usable from
 //! tests, benchmarks and the parametric studies.
 //!
+//! - [`bench`]: the work–precision matrix (`musclefem bench`).
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
 //! - [`fit`]: least-squares calibration of Hill parameters to a measured curve (`musclefem fit`).
+//! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
 //! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
 
+pub mod bench;
 pub mod elongation;
 pub mod fit;
+pub mod inertia;
 pub mod knee;
 pub mod sweep;

@@ -18,6 +18,7 @@ use musclefem_core as _;
 use musclefem_io as _;
 use musclefem_materials as _;
 
+mod bench_command;
 mod commands;
 mod elongate_command;
 mod fibers_command;
@@ -80,6 +81,11 @@ enum Command {
     /// elongation test; writes fit.csv (values, 95 % confidence intervals), fit_curve.csv,
     /// fit.txt (residual) and fit.png (data against the fit).
     Fit(musclefem::fit::FitArgs),
+    /// Speed against accuracy: run a matrix of solvers, elements, mesh sizes and steps on
+    /// the cube and the elongation test, time each run and measure its error against a
+    /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
+    /// front marked) and bench.log.
+    Bench(bench_command::BenchArgs),
 }
 
 #[derive(Debug, Args)]
@@ -166,6 +172,7 @@ fn main() -> ExitCode {
         Some(Command::Knee(args)) => knee_command::knee(&args),
         Some(Command::Sweep(args)) => musclefem::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem::fit::fit(&args),
+        Some(Command::Bench(args)) => bench_command::bench(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
         }),

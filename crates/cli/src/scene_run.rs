@@ -19,7 +19,7 @@ use musclefem_io::OutputError;
 use musclefem_io::output::{
     ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
 };
-use musclefem_io::scene::{Analysis, Model, load_scene};
+use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
 use crate::{CheckArgs, RunArgs, SolverChoice};
@@ -46,6 +46,9 @@ fn describe(model: &Model) -> String {
             part.technology,
             part.density
         );
+        if let Some(warning) = locking_warning(part.technology, part.material.as_ref()) {
+            text += &format!("  warning: part '{name}': {warning}\n");
+        }
     }
     text += &format!(
         "  {} nodes; {} prescribed displacement components, {} nodal forces, {} rigid ties\n",

@@ -52,15 +52,30 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 0, 0),
 ];
 
-/// One named curve: (x, y) points joined by straight lines, or drawn as separate dots
-/// (measured data). Non-finite points are skipped.
+/// One named curve: (x, y) points joined by straight lines (and/or marked, see
+/// [`SeriesStyle`]). Non-finite points are skipped, and so are non-positive ones on a
+/// logarithmic axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
     /// Legend entry ("" for none).
     pub label: String,
     pub points: Vec<(f64, f64)>,
-    /// Dots at the points instead of a line through them.
-    pub markers: bool,
+    pub style: SeriesStyle,
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SeriesStyle {
+    /// Straight lines between the points.
+    #[default]
+    Line,
+    /// Lines, with a filled circle on every point.
+    LineWithMarkers,
+    /// Only an open black square around every point, whatever the series' colour (to mark
+    /// a subset of the other series, e.g. a Pareto front).
+    Markers,
+    /// Only a filled dot in the series' colour on every point (measured data).
+    Dots,
 }
 
 impl Series {
@@ -68,15 +83,24 @@ impl Series {
         Series {
             label: label.into(),
             points: points.into_iter().collect(),
-            markers: false,
+            style: SeriesStyle::Line,
         }
     }
 
-    /// The same points drawn as dots.
-    pub fn with_markers(mut self) -> Self {
-        self.markers = true;
+    pub fn with_style(mut self, style: SeriesStyle) -> Self {
+        self.style = style;
         self
     }
+}
+
+/// The axes' scales.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Axes {
+    /// Both axes linear.
+    #[default]
+    Linear,
+    /// Both axes logarithmic (decades), e.g. for error against cost.
+    LogLog,
 }
 
 /// Where a panel's legend goes.
@@ -101,6 +125,7 @@ pub struct Panel {
     pub y_label: String,
     pub series: Vec<Series>,
     pub legend: LegendPosition,
+    pub axes: Axes,
 }
 
 impl Panel {
@@ -115,7 +140,13 @@ impl Panel {
             y_label: y_label.into(),
             series: Vec::new(),
             legend: LegendPosition::default(),
+            axes: Axes::default(),
         }
+    }
+
+    pub fn with_axes(mut self, axes: Axes) -> Self {
+        self.axes = axes;
+        self
     }
 
     pub fn with_series(mut self, series: Series) -> Self {
@@ -306,6 +337,16 @@ fn draw_panel<'a>(
     area: &DrawingArea<BitMapBackend<'a>, Shift>,
     panel: &Panel,
 ) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    match panel.axes {
+        Axes::Linear => draw_linear_panel(area, panel),
+        Axes::LogLog => draw_log_log_panel(area, panel),
+    }
+}
+
+fn draw_linear_panel<'a>(
+    area: &DrawingArea<BitMapBackend<'a>, Shift>,
+    panel: &Panel,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
     let points = || panel.series.iter().flat_map(|s| s.points.iter());
     let x_range = axis_range(points().map(|p| p.0));
     let y_range = axis_range(points().map(|p| p.1));
@@ -330,33 +371,135 @@ fn draw_panel<'a>(
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .draw()?;
+    draw_series(&mut chart, panel, |_| true)
+}
 
+/// Logarithmic range covering the positive `values` with a margin of a tenth of a decade
+/// each side, widened to at least a decade (one decade around 1 when there are none).
+fn log_axis_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return 0.1..10.0;
+    }
+    let margin = 10f64.powf(0.1);
+    let (lo, hi) = (lo / margin, hi * margin);
+    // At least a decade, so that a power of ten (a labelled tick) is on the axis.
+    if hi / lo >= 10.0 {
+        return lo..hi;
+    }
+    let centre = (lo * hi).sqrt();
+    (centre / 10f64.sqrt())..(centre * 10f64.sqrt())
+}
+
+fn draw_log_log_panel<'a>(
+    area: &DrawingArea<BitMapBackend<'a>, Shift>,
+    panel: &Panel,
+) -> Result<(), Box<dyn std::error::Error + 'a>> {
+    let points = || panel.series.iter().flat_map(|s| s.points.iter());
+    let x_range = log_axis_range(points().map(|p| p.0));
+    let y_range = log_axis_range(points().map(|p| p.1));
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, (FONT_FAMILY, 21))
+        .margin(12)
+        .x_label_area_size(52)
+        .y_label_area_size(76)
+        .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc(panel.x_label.as_str())
+        .y_desc(panel.y_label.as_str())
+        .x_label_formatter(&|x| log_tick_label(*x))
+        .y_label_formatter(&|y| log_tick_label(*y))
+        .label_style((FONT_FAMILY, 15))
+        .axis_desc_style((FONT_FAMILY, 17))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .draw()?;
+    draw_series(&mut chart, panel, |&(x, y)| x > 0.0 && y > 0.0)
+}
+
+/// Tick label on a logarithmic axis: plain for 0.01–10⁴, else in e-notation.
+fn log_tick_label(value: f64) -> String {
+    if (1e-2..1e4).contains(&value.abs()) {
+        let text = format!("{value:.3}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        format!("{value:.0e}")
+    }
+}
+
+/// Draw `panel`'s series (the points `drawable` accepts, finite ones only) and legend.
+fn draw_series<'a, DB: DrawingBackend + 'a, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel,
+    drawable: impl Fn(&(f64, f64)) -> bool,
+) -> Result<(), Box<dyn std::error::Error + 'a>>
+where
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+    DB::ErrorType: 'a,
+{
     for (i, series) in panel.series.iter().enumerate() {
-        let color = PALETTE[i % PALETTE.len()];
-        let finite = series
+        let color = match series.style {
+            SeriesStyle::Markers => BLACK,
+            _ => PALETTE[i % PALETTE.len()],
+        };
+        let finite: Vec<(f64, f64)> = series
             .points
             .iter()
             .copied()
-            .filter(|(x, y)| x.is_finite() && y.is_finite());
-        if series.markers {
-            let drawn = chart.draw_series(finite.map(|p| Circle::new(p, 3, color.filled())))?;
-            if !series.label.is_empty() {
-                drawn
-                    .label(series.label.as_str())
-                    .legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()));
+            .filter(|p| p.0.is_finite() && p.1.is_finite() && drawable(p))
+            .collect();
+        let drawn = match series.style {
+            SeriesStyle::Line => {
+                chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?
             }
-        } else {
-            let drawn = chart.draw_series(LineSeries::new(finite, color.stroke_width(2)))?;
-            if !series.label.is_empty() {
-                drawn.label(series.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
-                });
+            SeriesStyle::LineWithMarkers => {
+                chart.draw_series(LineSeries::new(finite.clone(), color.stroke_width(2)))?;
+                chart.draw_series(
+                    finite
+                        .into_iter()
+                        .map(move |p| Circle::new(p, 4, color.filled())),
+                )?
             }
+            SeriesStyle::Markers => chart.draw_series(finite.into_iter().map(move |p| {
+                EmptyElement::at(p) + Rectangle::new([(-9, -9), (9, 9)], color.stroke_width(2))
+            }))?,
+            SeriesStyle::Dots => chart.draw_series(
+                finite
+                    .into_iter()
+                    .map(move |p| Circle::new(p, 3, color.filled())),
+            )?,
+        };
+        if series.label.is_empty() {
+            continue;
         }
+        let drawn = drawn.label(series.label.as_str());
+        match series.style {
+            SeriesStyle::Line => drawn.legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3))
+            }),
+            SeriesStyle::LineWithMarkers => drawn.legend(move |(x, y)| {
+                EmptyElement::at((x + 12, y))
+                    + PathElement::new(vec![(-12, 0), (12, 0)], color.stroke_width(3))
+                    + Circle::new((0, 0), 4, color.filled())
+            }),
+            SeriesStyle::Markers => drawn.legend(move |(x, y)| {
+                EmptyElement::at((x + 12, y))
+                    + Rectangle::new([(-7, -7), (7, 7)], color.stroke_width(2))
+            }),
+            SeriesStyle::Dots => {
+                drawn.legend(move |(x, y)| Circle::new((x + 12, y), 4, color.filled()))
+            }
+        };
     }
 
     if panel.series.iter().any(|s| !s.label.is_empty()) {
-        draw_legend(&mut chart, panel.legend)?;
+        draw_legend(chart, panel.legend)?;
     }
     Ok(())
 }
@@ -440,7 +583,9 @@ mod tests {
             figure = figure.with_panel(
                 Panel::new(format!("panel {i}"), "x [m]", "y [Pa]")
                     .with_series(Series::new("", [(1.0, 2.0), (f64::NAN, 3.0)]))
-                    .with_series(Series::new("dots", [(1.0, 2.5), (2.0, 3.0)]).with_markers())
+                    .with_series(
+                        Series::new("dots", [(1.0, 2.5), (2.0, 3.0)]).with_style(SeriesStyle::Dots),
+                    )
                     .with_legend(LegendPosition::LowerRight),
             );
         }
@@ -460,6 +605,26 @@ mod tests {
         let err = write_png(&dir.join("chart.jpg"), &one).unwrap_err();
         assert!(err.to_string().contains(".png"), "{err}");
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn log_log_panels_with_markers_skip_non_positive_points() {
+        let dir = test_dir("plot-log-log");
+        let path = dir.join("work.png");
+        let panel = Panel::new("cube", "wall time [s]", "error [1]")
+            .with_axes(Axes::LogLog)
+            .with_series(
+                Series::new("implicit", [(0.01, 0.5), (0.1, 0.05), (1.0, 0.0)])
+                    .with_style(SeriesStyle::LineWithMarkers),
+            )
+            .with_series(Series::new("front", [(0.01, 0.5)]).with_style(SeriesStyle::Markers));
+        write_png(&path, &Figure::new("").with_panel(panel)).unwrap();
+        assert!(std::fs::metadata(&path).unwrap().len() > 2_000);
+        assert_eq!(log_axis_range([0.0, -1.0].into_iter()), 0.1..10.0);
+        let narrow = log_axis_range([2.5, 6.6].into_iter());
+        assert!((narrow.end / narrow.start - 10.0).abs() < 1e-9 && narrow.contains(&10.0));
+        assert_eq!(log_tick_label(0.05), "0.05");
+        assert_eq!(log_tick_label(1e-5), "1e-5");
     }
 
     #[test]

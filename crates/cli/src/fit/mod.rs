@@ -24,7 +24,7 @@ use nalgebra::DVector;
 
 use musclefem_io::PendingFile;
 use musclefem_io::csv::{format_number, format_table};
-use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
+use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, SeriesStyle, stage_png};
 use musclefem_materials::MaterialLibrary;
 use musclefem_materials::{Bound, ParameterSpec};
 
@@ -219,7 +219,7 @@ pub fn fit(args: &FitArgs) -> Result<()> {
                 .zip(&measured.stress)
                 .map(|(e, s)| (100.0 * e, 1e-3 * s)),
         )
-        .with_markers(),
+        .with_style(SeriesStyle::Dots),
     );
     for (label, curve) in [("fitted", fitted_curve), ("start", start_curve)] {
         let curve = curve.with_context(|| format!("the {label} curve for fit.png"))?;

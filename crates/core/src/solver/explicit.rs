@@ -70,8 +70,13 @@ pub struct ExplicitSettings {
     pub end_time: f64,
     /// Fraction of the stable step taken (0 < safety ≤ 1), default 0.9.
     pub safety_factor: f64,
-    /// A fixed step instead of the stable one [s]; refused if above the stable step.
+    /// A fixed step instead of the stable one [s]; refused if above the stable step
+    /// (unless `refuse_unstable_step` is off).
     pub fixed_time_step: Option<f64>,
+    /// Refuse a fixed step above the estimated stable step (default true). Off, the step
+    /// is taken anyway, so that the real limit can be measured: beyond it the energy
+    /// balance or the divergence check stops the run (docs/stability.md).
+    pub refuse_unstable_step: bool,
     /// A history row is recorded every this many seconds, and at the end.
     pub history_interval: f64,
     /// Largest allowed |W_int + W_visc + K − W_ext| relative to the largest energy,
@@ -90,6 +95,7 @@ impl ExplicitSettings {
             end_time,
             safety_factor: 0.9,
             fixed_time_step: None,
+            refuse_unstable_step: true,
             history_interval: end_time / 100.0,
             energy_tolerance: 0.01,
             mass_scaling_time_step: None,
@@ -255,7 +261,7 @@ pub fn run_explicit_with(
         if closing {
             dt = half_step;
         } else if let Some(fixed) = settings.fixed_time_step {
-            if fixed > stable {
+            if fixed > stable && settings.refuse_unstable_step {
                 return Err(SolverError::UnstableTimeStep {
                     requested: fixed,
                     stable,

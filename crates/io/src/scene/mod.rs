@@ -7,6 +7,7 @@ mod build;
 mod error;
 mod format;
 mod interactions;
+mod locking;
 mod parse;
 mod part_mesh;
 
@@ -18,6 +19,7 @@ pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, small_strain_shear_
 pub use error::{Locator, SceneError};
 pub use format::{SCHEMA_VERSION, SceneFile};
 pub use interactions::InteractionModel;
+pub use locking::{LOCKING_BULK_TO_SHEAR, locking_warning, small_strain_bulk_modulus};
 pub use parse::{parse_scene, read_scene_file};
 
 /// Read the scene at `path` and build its model (plugins loaded into `library`).

@@ -1,0 +1,135 @@
+//! `musclefem bench`: the work–precision table and chart of the cube (the elongation's
+//! quick matrix takes about a minute; it is run by hand, see README).
+
+use std::process::Command;
+
+use musclefem::bench::csv::WORK_PRECISION_HEADER;
+use musclefem::bench::{Problem, matrix};
+
+#[test]
+fn the_quick_cube_bench_writes_the_table_chart_and_log() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-bench-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(["bench", "--quick", "--problem", "cube", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("cube Pareto front"), "{stdout}");
+
+    let table = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();
+    let mut lines = table.lines();
+    assert_eq!(lines.next(), Some(WORK_PRECISION_HEADER));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), matrix(Problem::Cube, true).len());
+    for row in &rows {
+        assert_eq!(row.len(), 8, "{row:?}");
+        assert_eq!(row[0], "cube");
+        let wall: f64 = row[5].parse().unwrap();
+        let error: f64 = row[6].parse().unwrap();
+        assert!(wall > 0.0 && error.is_finite() && error >= 0.0, "{row:?}");
+    }
+    // The locking element is worse than the F-bar hex8 on the same mesh.
+    let error_of = |solver: &str, element: &str, size: &str| -> f64 {
+        rows.iter()
+            .find(|r| r[1] == solver && r[2] == element && r[3] == size)
+            .unwrap_or_else(|| panic!("{solver} {element} {size} mm"))[6]
+            .parse()
+            .unwrap()
+    };
+    assert!(error_of("implicit", "tet4", "2.5") > error_of("implicit", "hex8-fbar", "2.5"));
+
+    let png = std::fs::read(dir.join("work_precision.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let log = std::fs::read_to_string(dir.join("bench.log")).unwrap();
+    assert!(
+        log.contains("cube reference: implicit hex8-fbar, 1 mm"),
+        "{log}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_knee_is_refused_with_the_reason() {
+    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(["bench", "--problem", "knee", "--out"])
+        .arg(std::env::temp_dir().join("musclefem-bench-knee-unused"))
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("--problem knee is not benchmarked"),
+        "{stderr}"
+    );
+}
+
+/// `musclefem elongate --tolerance`: the cheapest setting of a work–precision table within
+/// the tolerance is run, with the reason printed; none within it, or no table, is an error.
+#[test]
+fn elongate_with_a_tolerance_runs_the_cheapest_measured_setting() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-bench-tolerance-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let table = dir.join("work_precision.csv");
+    // A table as `musclefem bench` writes it (values of a quick run, rounded).
+    std::fs::write(
+        &table,
+        format!(
+            "{WORK_PRECISION_HEADER}\n\
+             elongate,implicit,hex8-fbar,4,increment=0.4s,3.9,1.1e-2,m\n\
+             elongate,implicit,tet4,4,increment=0.2s,2.6,1.18e0,m\n\
+             elongate,explicit,hex8-one-point,4,mass_scaling=1e-4s;safety=0.9,4.7,1.1e-1,m\n"
+        ),
+    )
+    .unwrap();
+    let elongate = |tolerance: &str, table: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args(["elongate", "--mode", "passive", "--frame-interval", "0"])
+            .args(["--tolerance", tolerance, "--bench-table"])
+            .arg(table)
+            .arg("--out")
+            .arg(dir.join(format!("run-{tolerance}")))
+            .output()
+            .unwrap()
+    };
+    let output = elongate("150", &table);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("--tolerance 150 %: implicit tet4, 4 mm, increment=0.2s (118.00 % error"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("implicit passive elongation, fusiform tet4, 4 mm"),
+        "{stdout}"
+    );
+
+    let output = elongate("0.5", &table);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(
+        stderr.contains("no setting in") && stderr.contains("off by 1.10 %"),
+        "{stderr}"
+    );
+
+    let output = elongate("5", &dir.join("missing.csv"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("musclefem bench --problem elongate"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
