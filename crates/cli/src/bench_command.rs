@@ -49,7 +49,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         ProblemChoice::All => &[Problem::Cube, Problem::Elongate],
         ProblemChoice::Knee => bail!(
             "--problem knee is not benchmarked yet: one coarse passive implicit squat takes \
-             about 3.5 min and the active explicit one about 37 min on a 2-core machine, too \
+             about 3.5 min and the active explicit one about 21 min on a 2-core machine, too \
              long for a matrix of methods plus a converged reference; use --problem cube or \
              elongate"
         ),

@@ -54,7 +54,7 @@ pub struct KneeArgs {
     pub both: bool,
     /// Solver: implicit (quasi-static Newton with step cutting) or explicit (central
     /// differences with mass scaling). Default: implicit for the passive squat (4 min at
-    /// coarse), explicit for the active one (37 min at coarse; the implicit one stalls
+    /// coarse), explicit for the active one (21 min at coarse; the implicit one stalls
     /// at the activation's onset).
     #[arg(long, value_enum)]
     pub solver: Option<Solver>,
