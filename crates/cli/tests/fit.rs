@@ -8,19 +8,7 @@ mod support;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use support::run::{musclefem, test_dir, text};
-
-/// The cheap model's flags.
-const CHEAP: [&str; 8] = [
-    "--shape",
-    "cylinder",
-    "--grips",
-    "sliding",
-    "--mesh-size",
-    "8.75",
-    "--time-step",
-    "0.2",
-];
+use support::run::{CHEAP_ELONGATION, musclefem, test_dir, text};
 
 /// `curve.csv` of the `mode` test with `params` (KEY=VALUE), in `dir/name`.
 fn synthetic_curve(dir: &Path, mode: &str, params: &[&str], name: &str) {
@@ -33,7 +21,7 @@ fn synthetic_curve(dir: &Path, mode: &str, params: &[&str], name: &str) {
         "--out",
         name,
     ];
-    args.extend_from_slice(&CHEAP);
+    args.extend_from_slice(&CHEAP_ELONGATION);
     for param in params {
         args.extend_from_slice(&["--param", param]);
     }
@@ -80,7 +68,7 @@ fn recovers(mode: &str, truth: &[(&str, f64)]) {
         "--out",
         "fit",
     ];
-    args.extend_from_slice(&CHEAP);
+    args.extend_from_slice(&CHEAP_ELONGATION);
     let out = musclefem(&dir, &args);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let fit = fitted(&dir.join("fit/fit.csv"));
@@ -123,7 +111,7 @@ fn bad_fits_are_refused_by_name() {
         if !extra.contains(&"--data") {
             args.extend_from_slice(&["--data", "measured/curve.csv"]);
         }
-        args.extend_from_slice(&CHEAP);
+        args.extend_from_slice(&CHEAP_ELONGATION);
         args.extend_from_slice(extra);
         musclefem(&dir, &args)
     };

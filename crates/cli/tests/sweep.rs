@@ -6,25 +6,12 @@ mod support;
 
 use std::path::Path;
 
-use support::run::{musclefem, test_dir, text};
+use support::run::{CHEAP_ELONGATION, musclefem, test_dir, text};
 
 /// The cheap model's flags, then `extra`.
 fn sweep(dir: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "sweep",
-        "--base",
-        "passive",
-        "--shape",
-        "cylinder",
-        "--grips",
-        "sliding",
-        "--mesh-size",
-        "8.75",
-        "--time-step",
-        "0.2",
-        "--jobs",
-        "2",
-    ];
+    let mut args = vec!["sweep", "--base", "passive", "--jobs", "2"];
+    args.extend_from_slice(&CHEAP_ELONGATION);
     args.extend_from_slice(extra);
     musclefem(dir, &args)
 }

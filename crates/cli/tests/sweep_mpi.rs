@@ -8,27 +8,15 @@ mod support;
 use std::path::Path;
 use std::process::Command;
 
-use support::run::{musclefem, test_dir, text};
+use support::run::{CHEAP_ELONGATION, musclefem, test_dir, text};
 
-const SWEEP: [&str; 17] = [
-    "sweep",
-    "--base",
-    "passive",
-    "--shape",
-    "cylinder",
-    "--grips",
-    "sliding",
-    "--mesh-size",
-    "8.75",
-    "--time-step",
-    "0.2",
-    "--jobs",
-    "1",
-    "--vary",
-    "sigma0=5e5,7e5,9e5",
-    "--vary",
-    "b=12,18",
-];
+/// The sweep's flags: the cheap model (`CHEAP_ELONGATION`), one run at a time per rank.
+fn sweep() -> Vec<&'static str> {
+    let mut args = vec!["sweep", "--base", "passive", "--jobs", "1"];
+    args.extend_from_slice(&CHEAP_ELONGATION);
+    args.extend_from_slice(&["--vary", "sigma0=5e5,7e5,9e5", "--vary", "b=12,18"]);
+    args
+}
 
 /// The table without the wall times (column 5 of run,sigma0,b,status,wall_time_s,...).
 fn without_wall_times(path: &Path) -> Vec<Vec<String>> {
@@ -49,7 +37,7 @@ fn two_ranks_share_the_runs_and_rank_0_writes_the_same_table() {
     let mut distributed = Command::new("mpirun");
     distributed
         .args(["-np", "2", env!("CARGO_BIN_EXE_musclefem")])
-        .args(SWEEP)
+        .args(sweep())
         .args(["--out", "mpi"])
         // OpenMPI refuses to run as root (containers, CI) without these.
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
@@ -67,7 +55,7 @@ fn two_ranks_share_the_runs_and_rank_0_writes_the_same_table() {
         "rank 0 alone reports: {stdout}"
     );
 
-    let local = musclefem(&dir, &[&SWEEP[..], &["--out", "local"]].concat());
+    let local = musclefem(&dir, &[&sweep()[..], &["--out", "local"]].concat());
     assert!(local.status.success(), "{}", text(&local.stderr));
     let mpi_table = without_wall_times(&dir.join("mpi/sweep.csv"));
     assert_eq!(mpi_table.len(), 7);

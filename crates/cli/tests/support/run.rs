@@ -7,6 +7,19 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The flags of a cheap elongation model for `sweep` and `fit` tests: a cylinder with
+/// sliding grips (homogeneous deformation), 8.75 mm elements (72 hex8), 0.2 s increments.
+pub const CHEAP_ELONGATION: [&str; 8] = [
+    "--shape",
+    "cylinder",
+    "--grips",
+    "sliding",
+    "--mesh-size",
+    "8.75",
+    "--time-step",
+    "0.2",
+];
+
 /// A fresh, empty directory `group/name-PID` for one test (per process, so concurrent
 /// runs do not clash).
 pub fn test_dir(group: &str, name: &str) -> PathBuf {
