@@ -18,7 +18,9 @@ use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 use musclefem_core::solver::{
     Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
-use musclefem_materials::{Amplitude, Material, MaterialLibrary};
+use musclefem_materials::{
+    Amplitude, Material, MaterialLibrary, PointBlock, PointResponse, Tangent, VoigtStress,
+};
 
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
@@ -461,10 +463,9 @@ fn technology(
     })
 }
 
-/// The smallest of ∂P_ij/∂F_ij (i ≠ j) at F = I, t = 0, from the material's tangent: the
-/// shear modulus μ of an isotropic material at small strain [Pa].
-pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
-    use musclefem_materials::{PointBlock, PointResponse, Tangent, VoigtStress};
+/// The material tangent ∂P/∂F at F = I, t = 0 (vec(F) column-major: F_ij sits at i + 3 j),
+/// or `None` when the material refuses the point.
+pub(super) fn small_strain_tangent(material: &dyn Material) -> Option<Tangent> {
     let identity = [nalgebra::Matrix3::identity()];
     let state = material.initial_state(1);
     let points = PointBlock {
@@ -484,10 +485,16 @@ pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
         tangent: Some(&mut tangent),
     };
     material.update(&points, &mut response).ok()?;
-    // vec(F) is column-major: F_ij sits at i + 3 j.
+    Some(tangent[0])
+}
+
+/// The smallest of ∂P_ij/∂F_ij (i ≠ j) at F = I, t = 0, from the material's tangent: the
+/// shear modulus μ of an isotropic material at small strain [Pa].
+pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
+    let tangent = small_strain_tangent(material)?;
     let shear = [(0, 1), (1, 0), (1, 2), (2, 1), (0, 2), (2, 0)]
         .iter()
-        .map(|&(i, j)| tangent[0][(i + 3 * j, i + 3 * j)])
+        .map(|&(i, j)| tangent[(i + 3 * j, i + 3 * j)])
         .fold(f64::INFINITY, f64::min);
     (shear.is_finite() && shear > 0.0).then_some(shear)
 }

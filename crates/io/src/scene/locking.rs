@@ -5,10 +5,9 @@
 //! stiffening).
 
 use musclefem_core::element::Technology;
-use musclefem_materials::{Material, PointBlock, PointResponse, Tangent, VoigtStress};
-use nalgebra::{Matrix3, Vector3};
+use musclefem_materials::Material;
 
-use super::build::small_strain_shear_modulus;
+use super::build::{small_strain_shear_modulus, small_strain_tangent};
 
 /// K/μ from which a locking element gets a warning (ν = (3K/μ − 2)/(6K/μ + 2) ≥ 0.476).
 /// Measured on the clamped cube at 3 elements per edge (`tests/stability.rs`): tet4 pulls
@@ -20,28 +19,10 @@ pub const LOCKING_BULK_TO_SHEAR: f64 = 20.0;
 /// stiff fiber direction does not count).
 pub fn small_strain_bulk_modulus(material: &dyn Material) -> Option<f64> {
     let mu = small_strain_shear_modulus(material)?;
-    let identity = [Matrix3::identity()];
-    let state = material.initial_state(1);
-    let points = PointBlock {
-        time: 0.0,
-        dt: 1e-3,
-        deformation_gradient_old: &identity,
-        deformation_gradient_new: &identity,
-        fiber_direction: &[Vector3::x()],
-        state_old: &state,
-    };
-    let mut stress = [VoigtStress::zeros()];
-    let mut state_new = state.clone();
-    let mut tangent = [Tangent::zeros()];
-    let mut response = PointResponse {
-        cauchy_stress: &mut stress,
-        state_new: &mut state_new,
-        tangent: Some(&mut tangent),
-    };
-    material.update(&points, &mut response).ok()?;
-    // vec(F) is column-major: F_ii sits at 4 i.
+    let tangent = small_strain_tangent(material)?;
+    // F_ii sits at 4 i.
     let longitudinal = (0..3)
-        .map(|i| tangent[0][(4 * i, 4 * i)])
+        .map(|i| tangent[(4 * i, 4 * i)])
         .fold(f64::INFINITY, f64::min);
     let bulk = longitudinal - 4.0 * mu / 3.0;
     (bulk.is_finite() && bulk > 0.0).then_some(bulk)
