@@ -11,6 +11,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem::bench::{Problem, select};
+use musclefem::elongation::options::TestOptions;
 use musclefem::elongation::run::run_on;
 use musclefem::elongation::setup::setup;
 use musclefem::elongation::{
@@ -36,27 +37,9 @@ pub struct ElongateArgs {
     /// activating, then pulled the same way) or both.
     #[arg(long, value_enum, default_value = "both")]
     pub mode: ModeChoice,
-    /// Solver: implicit (quasi-static Newton, recommended for this slow motion) or
-    /// explicit (central differences with mass scaling, the paper's method).
-    #[arg(long, value_enum, default_value = "implicit")]
-    pub solver: Solver,
-    /// Element technology.
-    #[arg(long, value_enum, default_value = "hex8-fbar")]
-    pub element: ElementChoice,
-    /// Target element edge length [mm].
-    #[arg(long, value_name = "MM", default_value_t = 1e3 * musclefem::elongation::DEFAULT_MESH_SIZE)]
-    pub mesh_size: f64,
-    /// Specimen: the 50 mm fusiform muscle (end diameter 9 mm, mid-belly 17.5 mm), or a
-    /// cylinder of the mid-belly diameter (homogeneous deformation with sliding grips).
-    #[arg(long, value_enum, default_value = "fusiform")]
-    pub shape: Shape,
-    /// Fixed grips clamp the end faces; sliding grips prescribe only their axial motion.
-    #[arg(long, value_enum, default_value = "fixed")]
-    pub grips: Grips,
-    /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.025 s
-    /// implicit, 1e-5 s explicit).
-    #[arg(long, value_name = "SECONDS")]
-    pub time_step: Option<f64>,
+    /// Solver, element, mesh size, specimen, grips and step.
+    #[command(flatten)]
+    pub test: TestOptions,
     /// Hill parameter overriding Table 1, e.g. --param sigma0=3e5 (units as in
     /// `musclefem materials`); repeatable. n2 and t0 are set by the mode.
     #[arg(long = "param", value_name = "KEY=VALUE")]
@@ -142,10 +125,10 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
             (solver, element, size, Some(step))
         }
         None => (
-            args.solver,
-            args.element,
-            1e-3 * args.mesh_size,
-            args.time_step,
+            args.test.solver,
+            args.test.element,
+            1e-3 * args.test.mesh_size,
+            args.test.time_step,
         ),
     };
     let mut runs = Vec::new();
@@ -155,8 +138,8 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
             solver,
             element,
             mesh_size,
-            shape: args.shape,
-            grips: args.grips,
+            shape: args.test.shape,
+            grips: args.test.grips,
             parameters: parameters.clone(),
             time_step,
             ..ElongationTest::recommended(mode)
@@ -170,7 +153,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
         runs.push((mode, run));
     }
     let chart = args.out.join("curve.png");
-    let figure = curve_figure(args.shape, (solver, element, mesh_size), &runs);
+    let figure = curve_figure(args.test.shape, (solver, element, mesh_size), &runs);
     stage_png(&chart, &figure)?.commit()?;
     println!("chart: {}", chart.display());
     Ok(())

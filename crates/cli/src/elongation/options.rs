@@ -1,6 +1,6 @@
 //! The command-line choice of an elongation test's specimen, mesh, element and solver,
-//! shared by the parametric commands (`musclefem sweep`, `musclefem fit`). The defaults are
-//! those of `musclefem elongate`.
+//! shared by `musclefem elongate` and the parametric commands (`musclefem sweep`,
+//! `musclefem fit`).
 
 use std::collections::BTreeMap;
 
@@ -8,8 +8,8 @@ use super::{DEFAULT_MESH_SIZE, ElementChoice, ElongationTest, Grips, Mode, Shape
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct TestOptions {
-    /// Solver: implicit (quasi-static Newton) or explicit (central differences with mass
-    /// scaling).
+    /// Solver: implicit (quasi-static Newton, recommended for this slow motion) or
+    /// explicit (central differences with mass scaling, the paper's method).
     #[arg(long, value_enum, default_value = "implicit")]
     pub solver: Solver,
     /// Element technology.
@@ -18,8 +18,9 @@ pub struct TestOptions {
     /// Target element edge length [mm].
     #[arg(long, value_name = "MM", default_value_t = 1e3 * DEFAULT_MESH_SIZE)]
     pub mesh_size: f64,
-    /// Specimen: the 50 mm fusiform muscle, or a cylinder of its mid-belly diameter
-    /// (homogeneous deformation with sliding grips: a coarse mesh is then enough).
+    /// Specimen: the 50 mm fusiform muscle (end diameter 9 mm, mid-belly 17.5 mm), or a
+    /// cylinder of the mid-belly diameter (homogeneous deformation with sliding grips: a
+    /// coarse mesh is then enough).
     #[arg(long, value_enum, default_value = "fusiform")]
     pub shape: Shape,
     /// Fixed grips clamp the end faces; sliding grips prescribe only their axial motion.
