@@ -174,7 +174,7 @@ fn run_one(test: &ElongationTest, directory: &Path, args: &ElongateArgs) -> Resu
         test.solver.name(),
         test.mode.name(),
         test.shape.name(),
-        element_name(test.element),
+        test.element.name(),
         1e3 * test.mesh_size,
         grips_name(test.grips),
     );
@@ -307,7 +307,7 @@ fn curve_figure(
                 Shape::Cylinder => "cylinder",
             },
             solver.name(),
-            element_name(element),
+            element.name(),
             1e3 * mesh_size
         ),
         "engineering strain [%]",
@@ -326,12 +326,6 @@ fn curve_points(curve: &Curve) -> Vec<(f64, f64)> {
         .iter()
         .map(|p| (100.0 * p.strain, 1e-3 * p.stress))
         .collect()
-}
-
-fn element_name(element: ElementChoice) -> String {
-    element
-        .to_possible_value()
-        .map_or_else(|| format!("{element:?}"), |v| v.get_name().to_string())
 }
 
 fn grips_name(grips: Grips) -> &'static str {

@@ -2,7 +2,7 @@
 //! [`WORK_PRECISION_HEADER`] exactly. A failed run has error `NaN`.
 
 use super::Measurement;
-use super::method::{element_name, millimetres};
+use super::method::millimetres;
 
 /// Header of `work_precision.csv`, exactly.
 pub const WORK_PRECISION_HEADER: &str =
@@ -28,7 +28,7 @@ impl WorkPrecisionRow {
         WorkPrecisionRow {
             problem: measurement.problem.name().to_string(),
             solver: method.solver().name().to_string(),
-            element: element_name(method.element).to_string(),
+            element: method.element.name().to_string(),
             mesh_size_mm: 1e3 * method.mesh_size,
             step_setting: method.step.label(),
             wall_s: measurement.wall.as_secs_f64(),

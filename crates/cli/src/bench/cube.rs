@@ -20,7 +20,7 @@ use musclefem_io::scene::{Model, build_model, parse_scene};
 use musclefem_materials::MaterialLibrary;
 
 use super::Response;
-use super::method::{Method, StepSetting, element_name};
+use super::method::{Method, StepSetting};
 use super::reference::sample_at;
 use crate::inertia::{inertia_warning, largest_kinetic_to_internal};
 
@@ -145,8 +145,7 @@ pub fn run_cube(method: &Method) -> Result<Response> {
             method.mesh_size
         );
     }
-    let model =
-        CubeScene::bench(element_name(method.element), divisions(method.mesh_size)).model()?;
+    let model = CubeScene::bench(method.element.name(), divisions(method.mesh_size)).model()?;
     let mut history = ReactionHistory {
         points: vec![(0.0, 0.0)],
         kinetic_to_internal: 0.0,

@@ -59,7 +59,7 @@ impl Method {
     /// The method family: solver and element (one line on the chart), e.g.
     /// `implicit hex8-fbar`.
     pub fn family(&self) -> String {
-        format!("{} {}", self.solver().name(), element_name(self.element))
+        format!("{} {}", self.solver().name(), self.element.name())
     }
 
     /// One line for progress and logs.
@@ -77,18 +77,6 @@ impl Method {
 pub fn millimetres(length: f64) -> String {
     let text = format!("{:.3}", 1e3 * length);
     text.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
-/// The scene-file name of an element.
-pub fn element_name(element: ElementChoice) -> &'static str {
-    match element {
-        ElementChoice::Hex8Fbar => "hex8-fbar",
-        ElementChoice::Hex8Full => "hex8-full",
-        ElementChoice::Hex8OnePoint => "hex8-one-point",
-        ElementChoice::Tet4 => "tet4",
-        ElementChoice::Tet4NodalAverage => "tet4-nodal-average",
-        ElementChoice::Tet10 => "tet10",
-    }
 }
 
 #[cfg(test)]

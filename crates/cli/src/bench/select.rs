@@ -8,7 +8,7 @@ use crate::elongation::ElementChoice;
 
 use super::Problem;
 use super::csv::{WORK_PRECISION_HEADER, WorkPrecisionRow};
-use super::method::{Method, StepSetting, element_name};
+use super::method::{Method, StepSetting};
 
 /// The rows of a `work_precision.csv` text.
 pub fn read_table(text: &str) -> Result<Vec<WorkPrecisionRow>> {
@@ -58,7 +58,7 @@ pub fn method_of(row: &WorkPrecisionRow) -> Result<Method> {
     let element = ElementChoice::value_variants()
         .iter()
         .copied()
-        .find(|&e| element_name(e) == row.element)
+        .find(|&e| e.name() == row.element)
         .with_context(|| format!("unknown element '{}'", row.element))?;
     let seconds = |text: &str| -> Result<f64> {
         text.trim_end_matches('s')

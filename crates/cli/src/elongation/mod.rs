@@ -21,6 +21,12 @@ pub mod specimen;
 
 use std::collections::BTreeMap;
 
+use anyhow::{Context, Result};
+
+use musclefem_core::element::Technology;
+use musclefem_io::scene::small_strain_shear_modulus;
+use musclefem_materials::Material;
+
 pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint};
 pub use protocol::{Grips, Mode};
 pub use run::{ElongationRun, ElongationWatcher, Unwatched, run_elongation};
@@ -66,6 +72,35 @@ impl ElementChoice {
             self,
             ElementChoice::Hex8Fbar | ElementChoice::Hex8Full | ElementChoice::Hex8OnePoint
         )
+    }
+
+    /// The scene-file name of the element (as on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            ElementChoice::Hex8Fbar => "hex8-fbar",
+            ElementChoice::Hex8Full => "hex8-full",
+            ElementChoice::Hex8OnePoint => "hex8-one-point",
+            ElementChoice::Tet4 => "tet4",
+            ElementChoice::Tet4NodalAverage => "tet4-nodal-average",
+            ElementChoice::Tet10 => "tet10",
+        }
+    }
+
+    /// The element technology for parts of `material` (the one-point hex8's hourglass
+    /// modulus scales with the material's small-strain shear modulus).
+    pub fn technology(self, material: &dyn Material) -> Result<Technology> {
+        Ok(match self {
+            ElementChoice::Hex8Fbar => Technology::Hex8FBar,
+            ElementChoice::Hex8Full => Technology::Hex8Full,
+            ElementChoice::Hex8OnePoint => {
+                let mu = small_strain_shear_modulus(material)
+                    .context("the material has no small-strain shear modulus")?;
+                Technology::hex8_one_point(mu)
+            }
+            ElementChoice::Tet4 => Technology::Tet4,
+            ElementChoice::Tet4NodalAverage => Technology::Tet4NodalAverage,
+            ElementChoice::Tet10 => Technology::Tet10,
+        })
     }
 }
 

@@ -58,7 +58,7 @@ impl TestOptions {
         format!(
             "{}, {}, {} mm, {} grips, {}",
             self.shape.name(),
-            name(self.element.to_possible_value()),
+            self.element.name(),
             self.mesh_size,
             name(self.grips.to_possible_value()),
             self.solver.name(),

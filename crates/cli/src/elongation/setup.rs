@@ -5,17 +5,15 @@ use std::collections::BTreeMap;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::ImplicitSettings;
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
-use musclefem_io::scene::small_strain_shear_modulus;
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 use super::protocol::{Grips, Mode};
 use super::specimen::{Shape, SpecimenMesh, specimen_mesh};
-use super::{ElementChoice, ElongationTest, Solver};
+use super::{ElongationTest, Solver};
 
 /// Density of muscle [kg/m³].
 pub const MUSCLE_DENSITY: f64 = 1060.0;
@@ -47,18 +45,7 @@ pub fn setup(test: &ElongationTest) -> Result<Setup> {
     }
     let specimen = specimen_mesh(test.shape, test.element, test.mesh_size)?;
     let material = muscle_material(test)?;
-    let technology = match test.element {
-        ElementChoice::Hex8Fbar => Technology::Hex8FBar,
-        ElementChoice::Hex8Full => Technology::Hex8Full,
-        ElementChoice::Hex8OnePoint => {
-            let mu = small_strain_shear_modulus(material.as_ref())
-                .context("the Hill muscle has no small-strain shear modulus")?;
-            Technology::hex8_one_point(mu)
-        }
-        ElementChoice::Tet4 => Technology::Tet4,
-        ElementChoice::Tet4NodalAverage => Technology::Tet4NodalAverage,
-        ElementChoice::Tet10 => Technology::Tet10,
-    };
+    let technology = test.element.technology(material.as_ref())?;
     let parts = vec![Part {
         block: 0,
         technology,
