@@ -20,7 +20,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem::elongation::Solver;
+use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
 use musclefem::knee::simulation::{
@@ -40,24 +40,25 @@ use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_ba
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
 pub struct KneeArgs {
-    /// Only the passive squat (the default for now, see --active).
+    /// Only the passive squat.
     #[arg(long)]
     pub passive: bool,
-    /// Only the active squat (50 % activation from 35° of flexion on), with the explicit
-    /// solver unless --solver says otherwise. The implicit solver stalls where the
-    /// activation starts (t ≈ 0.43 s), where the activated muscles deform by
-    /// centimetres, and stops with an error (see the README).
+    /// Only the active squat (50 % activation from 35° of flexion on, held to the end).
     #[arg(long)]
     pub active: bool,
-    /// Both, passive then active (see --active).
+    /// Both, passive then active (the default).
     #[arg(long)]
     pub both: bool,
-    /// Solver: implicit (quasi-static Newton with step cutting) or explicit (central
-    /// differences with mass scaling). Default: implicit for the passive squat (4 min at
-    /// coarse), explicit for the active one (21 min at coarse; the implicit one stalls
-    /// at the activation's onset).
-    #[arg(long, value_enum)]
-    pub solver: Option<Solver>,
+    /// Solver: implicit (Newton with step cutting and the muscles' inertia, Newmark's
+    /// trapezoidal rule; the default) or explicit (central differences with mass
+    /// scaling, the paper's method). On the coarse knee both give the same vm95 within
+    /// 2 %, and the implicit one is faster (see the README).
+    #[arg(long, value_enum, default_value = "implicit")]
+    pub solver: Solver,
+    /// The muscles' hexahedra: hex8-fbar (2×2×2 points, mean dilatation) or
+    /// hex8-one-point (one point, hourglass control).
+    #[arg(long, value_enum, default_value = "hex8-fbar")]
+    pub element: ElementChoice,
     /// Mesh resolution of the default anatomy (coarse: 384 hex8 per muscle, medium: 2352,
     /// fine: 8960).
     #[arg(long, value_enum, default_value = "coarse")]
@@ -88,18 +89,11 @@ pub struct KneeArgs {
 }
 
 impl KneeArgs {
-    /// The solver of the `activation` run: `--solver`, else the one that runs it.
-    fn solver(&self, activation: Activation) -> Solver {
-        self.solver.unwrap_or(match activation {
-            Activation::Passive => Solver::Implicit,
-            Activation::Active => Solver::Explicit,
-        })
-    }
-
-    /// The settings of the `activation` run: the recommended ones of its solver, with the
+    /// The settings of the runs: the recommended ones of the solver, with the element,
     /// duration and time step given.
-    fn settings(&self, activation: Activation) -> SquatSettings {
-        let mut settings = SquatSettings::recommended(self.solver(activation));
+    fn settings(&self) -> SquatSettings {
+        let mut settings = SquatSettings::recommended(self.solver);
+        settings.element = self.element;
         settings.squat.duration = self.duration;
         if let Some(step) = self.time_step {
             settings.time_step = step;
@@ -108,10 +102,10 @@ impl KneeArgs {
     }
 
     fn activations(&self) -> Vec<Activation> {
-        match (self.passive, self.active, self.both) {
-            (_, true, _) => vec![Activation::Active],
-            (_, _, true) => vec![Activation::Passive, Activation::Active],
-            _ => vec![Activation::Passive],
+        match (self.passive, self.active) {
+            (true, _) => vec![Activation::Passive],
+            (_, true) => vec![Activation::Active],
+            _ => vec![Activation::Passive, Activation::Active],
         }
     }
 }
@@ -126,16 +120,15 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     {
         bail!("--time-step {step} s must be positive and below the duration");
     }
-    let activations = args.activations();
-    if args.time_step.is_some() && args.solver.is_none() && activations.len() > 1 {
+    if !args.element.is_hex() {
         bail!(
-            "--time-step with --both needs --solver: the passive and active runs default to \
-             different solvers, whose steps differ (implicit increment 0.02 s, explicit \
-             mass-scaling step 2e-5 s)"
+            "--element {}: the knee's muscles are meshed with hex8 (use hex8-fbar or \
+             hex8-one-point)",
+            args.element.name()
         );
     }
-    // The squat (duration, angles) is the same for every run.
-    let settings = args.settings(activations[0]);
+    let activations = args.activations();
+    let settings = args.settings();
     let anatomy = Anatomy::default_knee(args.resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
@@ -165,20 +158,33 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
             .context("writing the anatomy")?;
     }
     let fibers = geometry.fibers()?;
-    let solvers: Vec<String> = activations
-        .iter()
-        .map(|&a| format!("{} solver ({})", args.solver(a).name(), a.name()))
-        .collect();
     println!(
-        "knee squat 0° → 90° → 0° in {} s, {}, {} muscle elements ({}), fibers in {:.2?}",
+        "knee squat 0° → 90° → 0° in {} s, {}, {} solver{}, {} muscle elements of {} \
+         ({}), fibers in {:.2?}",
         settings.squat.duration,
-        solvers.join(", "),
+        activations
+            .iter()
+            .map(|a| a.name())
+            .collect::<Vec<_>>()
+            .join(" then "),
+        settings.solver.name(),
+        match settings.solver {
+            Solver::Implicit if settings.inertia => " with inertia (Newmark)",
+            Solver::Implicit => " (quasi-static)",
+            Solver::Explicit => " with mass scaling",
+        },
         geometry.mesh.element_count(),
+        args.element.name(),
         match &args.anatomy {
             Some(d) => format!("from {}", d.display()),
             None => format!("default anatomy, {:?} resolution", args.resolution).to_lowercase(),
         },
         fibers.solve_time + fibers.setup_time,
+    );
+    println!(
+        "  {} solver: {}",
+        settings.solver.name(),
+        musclefem::knee::simulation::run::solver_rationale(settings.solver)
     );
     let bar = progress_bar(settings.squat.duration * activations.len() as f64);
     let mut runs = Vec::new();
@@ -197,8 +203,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
             bar: &bar,
             time_offset: settings.squat.duration * k as f64,
         };
-        let run_settings = args.settings(activation);
-        let result = run_squat(&geometry, &fibers, activation, &run_settings, &mut watcher);
+        let result = run_squat(&geometry, &fibers, activation, &settings, &mut watcher);
         if let Some(error) = watcher.error.take() {
             bar.finish_and_clear();
             return Err(error).context("writing the outputs failed");
@@ -218,7 +223,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
             &geometry.muscles,
             &watcher.vm95,
         )?;
-        output.write_run_log(&run_log(&run, &run_settings).timing("solve", run.solve_time))?;
+        output.write_run_log(&run_log(&run, &settings).timing("solve", run.solve_time))?;
         bar.suspend(|| print_run(&run));
         runs.push(run);
     }

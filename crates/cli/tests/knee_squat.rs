@@ -1,9 +1,9 @@
-//! `musclefem knee` end to end on the coarse default knee: the passive squat
-//! 0° → 90° → 0° completes with the implicit solver converged at every increment and no
-//! inverted element, the peak-stress table has every muscle, angle and phase, the passive
-//! stress grows with flexion, the muscles come back unloaded, and the outputs are all
-//! there. (The active squat does not converge past the activation's onset yet, so the
-//! comparison of active with passive is not tested.)
+//! `musclefem knee` end to end on the coarse default knee: the default run (passive then
+//! active, implicit with inertia) goes 0° → 90° → 0° converged at every increment with no
+//! inverted element, the peak-stress table has every muscle, angle, phase and
+//! activation, the passive stress grows with flexion, the active exceeds the passive at
+//! 45°, 60° and 90° for every muscle, the passive muscles come back unloaded, and the
+//! outputs are all there.
 
 #[path = "support/run.rs"]
 mod support;
@@ -29,9 +29,12 @@ fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
     (header, rows)
 }
 
+/// The vm95 of (muscle, angle, phase, activation).
+type Vm95Table = HashMap<(String, String, String, String), f64>;
+
 #[test]
-fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded() {
-    let dir = test_dir("knee_squat", "passive");
+fn the_default_squat_converges_without_inversion_and_activation_raises_the_stress() {
+    let dir = test_dir("knee_squat", "default");
     let output = musclefem(&dir, &["knee", "--resolution", "coarse", "--out", "out"]);
     let stdout = text(&output.stdout);
     assert!(
@@ -39,8 +42,11 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
         "{stdout}\n{}",
         text(&output.stderr)
     );
-    // Without --solver the passive squat runs implicitly, and says so.
-    assert!(stdout.contains("implicit solver (passive)"), "{stdout}");
+    // Without options: both squats, implicit with inertia, and it says so.
+    assert!(
+        stdout.contains("passive then active, implicit solver with inertia (Newmark)"),
+        "{stdout}"
+    );
     let out = dir.join("out");
 
     // The table: 4 muscles × 4 angles × 2 phases × 2 activations.
@@ -49,8 +55,8 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
         header.join(","),
         "muscle,knee_angle_deg,phase,activation,vm95_pa"
     );
-    assert_eq!(rows.len(), 32);
-    let mut vm95: HashMap<(String, String, String, String), f64> = HashMap::new();
+    assert_eq!(rows.len(), 64);
+    let mut vm95 = Vm95Table::new();
     for row in &rows {
         let value: f64 = row[4].parse().unwrap();
         assert!(value.is_finite() && value > 0.0, "{row:?}");
@@ -64,22 +70,30 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
             value,
         );
     }
+    let at = |muscle: &str, angle: &str, activation: &str| {
+        vm95[&(
+            muscle.to_string(),
+            angle.to_string(),
+            "flexion".to_string(),
+            activation.to_string(),
+        )]
+    };
     for muscle in ["VI", "VL", "VM", "RF"] {
         // Stretch grows with flexion: the passive peak stress rises from 30° to 90°.
-        let passive = |angle: &str| {
-            vm95[&(
-                muscle.to_string(),
-                angle.to_string(),
-                "flexion".to_string(),
-                "passive".to_string(),
-            )]
-        };
+        let passive = |angle| at(muscle, angle, "passive");
         assert!(passive("30") < passive("60") && passive("60") < passive("90"));
+        // The activated muscles (from 35° on) carry more than the passive ones.
+        for angle in ["45", "60", "90"] {
+            assert!(
+                at(muscle, angle, "active") > passive(angle),
+                "{muscle} at {angle}°: active {} <= passive {}",
+                at(muscle, angle, "active"),
+                passive(angle)
+            );
+        }
     }
 
-    assert!(!out.join("active").exists());
-    {
-        let activation = "passive";
+    for activation in ["passive", "active"] {
         let run = out.join(activation);
         // Every increment converged (the implicit history has one row per increment up to
         // the end) and no element inverted on the way.
@@ -102,7 +116,7 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
         assert_eq!(history_header[2], "newton_iterations");
         assert_eq!(history.len(), samples.len());
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
-        {
+        if activation == "passive" {
             // Passive muscles and undamaged bonds are elastic: back at 0° they are
             // unloaded again (vm95 below 1 % of its peak).
             for m in 2..6 {
@@ -119,14 +133,15 @@ fn the_coarse_passive_squat_converges_without_inversion_and_comes_back_unloaded(
     }
     let png = std::fs::read(out.join("peak_stress.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
-    // Where the peaks are is reported per muscle at 90°.
+    // Where the peaks are is reported per muscle at 90°, for both runs.
     for muscle in ["VI", "VL", "VM", "RF"] {
-        assert!(
-            stdout.contains(&format!("{muscle} at 90°: vm95"))
-                && stdout.contains("elements above it at:"),
+        assert_eq!(
+            stdout.matches(&format!("{muscle} at 90°: vm95")).count(),
+            2,
             "{stdout}"
         );
     }
+    assert!(stdout.contains("elements above it at:"), "{stdout}");
 }
 
 #[test]
@@ -135,7 +150,14 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
     let settings = SquatSettings::recommended(Solver::Implicit);
     let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat).unwrap();
     let fibers = geometry.fibers().unwrap();
-    let model = KneeModel::new(&geometry, &fibers, Activation::Passive, &settings.squat).unwrap();
+    let model = KneeModel::new(
+        &geometry,
+        &fibers,
+        Activation::Passive,
+        &settings.squat,
+        settings.element,
+    )
+    .unwrap();
     let mut built = knee_interactions(&geometry, &model.mesh, model.material.as_ref()).unwrap();
     let names: Vec<&str> = built.summaries.iter().map(|s| s.name.as_str()).collect();
     for expected in [
@@ -202,13 +224,10 @@ fn bad_knee_arguments_are_refused_before_any_output() {
     let output = musclefem(&dir, &["knee", "--passive", "--active"]);
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("cannot be used with"));
-    let output = musclefem(
-        &dir,
-        &["knee", "--both", "--time-step", "0.01", "--out", "out3"],
-    );
+    let output = musclefem(&dir, &["knee", "--element", "tet4", "--out", "out3"]);
     assert!(!output.status.success());
     assert!(
-        text(&output.stderr).contains("--time-step with --both needs --solver"),
+        text(&output.stderr).contains("--element tet4: the knee's muscles are meshed with hex8"),
         "{}",
         text(&output.stderr)
     );

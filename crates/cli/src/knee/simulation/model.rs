@@ -6,11 +6,12 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Loads, Part, RigidTie};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
 use musclefem_materials::{Material, MaterialLibrary};
+
+use crate::elongation::ElementChoice;
 
 use super::super::anatomy::{Anatomy, BoneMotions, Quadriceps, Squat, TriangleSurface};
 
@@ -147,22 +148,32 @@ pub struct KneeModel {
 }
 
 impl KneeModel {
-    /// The model of `geometry` with `fibers` and `activation` over `squat`.
+    /// The model of `geometry` with `fibers` and `activation` over `squat`, its muscles
+    /// meshed with `element` (a hexahedron: the knee's meshes are hex8).
     pub fn new(
         geometry: &KneeGeometry,
         fibers: &FiberField,
         activation: Activation,
         squat: &Squat,
+        element: ElementChoice,
     ) -> Result<Self> {
+        if !element.is_hex() {
+            bail!(
+                "the knee's muscles are meshed with hex8: element {} needs a tetrahedral \
+                 mesh (use hex8-fbar or hex8-one-point)",
+                element.name()
+            );
+        }
         let mut mesh = geometry.mesh.clone();
         fibers
             .assign_to(&mut mesh)
             .context("assigning the fibers to the muscles")?;
         let material = muscle_material(activation, squat)?;
+        let technology = element.technology(material.as_ref())?;
         let parts = (0..mesh.blocks.len())
             .map(|block| Part {
                 block,
-                technology: Technology::Hex8FBar,
+                technology,
                 material: material.clone(),
                 density: MUSCLE_DENSITY,
             })

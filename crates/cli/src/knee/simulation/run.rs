@@ -13,7 +13,9 @@ use nalgebra::Vector3;
 use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
-use musclefem_core::solver::implicit::{ImplicitHistoryRow, ImplicitSettings, run_implicit_with};
+use musclefem_core::solver::implicit::{
+    ImplicitHistoryRow, ImplicitSettings, Newmark, run_implicit_with,
+};
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_fibers::FiberField;
 
@@ -23,17 +25,25 @@ use super::model::{Activation, KneeGeometry, KneeModel};
 use super::peak_stress::{
     ElementRegions, PeakStressRow, StressSample, peak_stress_rows, percentile,
 };
-use crate::elongation::Solver;
+use crate::elongation::{ElementChoice, Solver};
 
 /// How a squat is run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SquatSettings {
     pub squat: Squat,
     pub solver: Solver,
+    /// The muscles' hexahedra: F-bar or one-point.
+    pub element: ElementChoice,
     /// Implicit: the (largest) increment [s]; explicit: the mass-scaling target step [s].
     pub time_step: f64,
     /// Explicit: time between recorded instants [s] (implicit: every increment).
     pub record_interval: f64,
+    /// Implicit: with the muscles' inertia (Newmark's trapezoidal rule, physical mass;
+    /// the recommended setting) or quasi-static. Quasi-static Newton stalls at the active
+    /// squat's onset of activation (increments cut to 0.15 ms at t = 0.43 s); with the
+    /// inertia it passes in 0.5–3 ms increments, and the passive squat costs the same and
+    /// gives the same vm95 within 0.9 %.
+    pub inertia: bool,
     /// Implicit: Newton's relative residual and correction tolerances.
     pub residual_tolerance: f64,
     pub correction_tolerance: f64,
@@ -49,17 +59,35 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
 
+/// Why a solver is the one to use on the knee, from the runs measured on the coarse knee
+/// (README, "The knee").
+pub fn solver_rationale(solver: Solver) -> &'static str {
+    match solver {
+        Solver::Implicit => {
+            "the default: on the coarse knee its active vm95 is the explicit solver's \
+             within 1.9 %, in 524 s on an idle 2-core machine (explicit: 1290 s with other \
+             jobs beside it); without inertia Newton stalls at the activation's onset"
+        }
+        Solver::Explicit => {
+            "the paper's method: central differences, mass scaling to a 2e-5 s step \
+             (146 026 steps; 1290 s for the active coarse knee with other jobs beside it)"
+        }
+    }
+}
+
 impl SquatSettings {
     /// The recommended settings of `solver` for the default squat.
     pub fn recommended(solver: Solver) -> Self {
         SquatSettings {
             squat: Squat::to_ninety_degrees(DEFAULT_SQUAT_DURATION),
             solver,
+            element: ElementChoice::Hex8Fbar,
             time_step: match solver {
                 Solver::Implicit => DEFAULT_IMPLICIT_INCREMENT,
                 Solver::Explicit => DEFAULT_MASS_SCALING_STEP,
             },
             record_interval: DEFAULT_IMPLICIT_INCREMENT,
+            inertia: true,
             residual_tolerance: 1e-10,
             correction_tolerance: 1e-6,
         }
@@ -126,7 +154,13 @@ pub fn run_squat(
     settings: &SquatSettings,
     watcher: &mut dyn SquatWatcher,
 ) -> Result<SquatRun> {
-    let model = KneeModel::new(geometry, fibers, activation, &settings.squat)?;
+    let model = KneeModel::new(
+        geometry,
+        fibers,
+        activation,
+        &settings.squat,
+        settings.element,
+    )?;
     let mut built = knee_interactions(geometry, &model.mesh, model.material.as_ref())?;
     let regions: Vec<ElementRegions> = (0..model.mesh.blocks.len())
         .map(|b| {
@@ -183,6 +217,9 @@ pub fn run_squat(
             let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
             solver_settings.residual_tolerance = settings.residual_tolerance;
             solver_settings.correction_tolerance = settings.correction_tolerance;
+            if settings.inertia {
+                solver_settings.dynamics = Some(Newmark::default());
+            }
             let result = run_implicit_with(
                 &model.mesh,
                 &model.parts,
@@ -364,11 +401,10 @@ impl StallDetector {
         }
         Some(format!(
             "the implicit solver stalled at t = {time:.4} s (knee flexion {:.1}°): its last \
-             {STALL_WINDOW} increments advanced the squat by {:.2} ms, {:.2} % of it. In the \
-             active squat this happens at the activation's onset, where the muscles \
-             deform by centimetres (their bellies shorten, their soft end layers stretch by \
-             30-40 %), which Newton's method follows only in tiny increments. The explicit \
-             solver (--solver explicit, the default for the active squat) runs through it",
+             {STALL_WINDOW} increments advanced the squat by {:.2} ms, {:.2} % of it, and \
+             the run would go on for hours. Newton's method follows the motion there only \
+             in tiny increments (quasi-static, this happens at the active squat's onset of \
+             activation); the explicit solver (--solver explicit) runs through it",
             squat.flexion_at(time).to_degrees(),
             1e3 * advanced,
             100.0 * advanced / squat.duration,
