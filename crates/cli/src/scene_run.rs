@@ -76,6 +76,9 @@ fn describe(model: &Model) -> String {
             s.increments
         ),
     };
+    if let Some(why) = &model.solver_rationale {
+        text += &format!("  {why}\n");
+    }
     text
 }
 
@@ -91,6 +94,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let mut model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
     if let Some(choice) = args.solver {
         model.analysis = switch_solver(&model, choice);
+        model.solver_rationale = None;
     }
     let scene_text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;

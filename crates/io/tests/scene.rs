@@ -427,3 +427,62 @@ fn fibers_from_a_flow_between_surfaces() {
     let message = error_of(&with("{ inlet = \"y0\" }"));
     assert!(message.contains("both an inlet and an outlet"), "{message}");
 }
+
+/// Without `solver` (or with "auto"), the step's speed against the time a pressure wave
+/// takes to cross the model picks the solver, and the model says why: the 1 cm rubber
+/// cube (c = √((K + 4μ/3)/ρ) = 10.6 m/s, 1.63 ms to cross) pulled in 1 s is slow motion,
+/// implicit; the same pull in 0.1 ms is fast, explicit.
+#[test]
+fn solver_auto_picks_by_the_speed_of_the_step() {
+    let build = |text: &str| {
+        let (scene, locator) = parse_scene(text, Path::new("s.toml")).unwrap();
+        musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let slow = build(&VALID.replace("solver = \"implicit\"\n", ""));
+    let Analysis::Implicit(settings) = &slow.analysis else {
+        panic!("a 1 s pull is slow motion: {:?}", slow.solver_rationale);
+    };
+    assert!(settings.dynamics.is_none());
+    let why = slow.solver_rationale.as_deref().unwrap();
+    assert!(
+        why.contains("implicit, quasi-static") && why.contains("615 times the 1.63e-3 s"),
+        "{why}"
+    );
+    let fast = build(
+        &VALID
+            .replace("solver = \"implicit\"", "solver = \"auto\"")
+            .replace("duration = 1.0", "duration = 1e-4"),
+    );
+    assert!(matches!(fast.analysis, Analysis::Explicit(_)));
+    let why = fast.solver_rationale.as_deref().unwrap();
+    assert!(
+        why.contains("explicit") && why.contains("(fast motion)"),
+        "{why}"
+    );
+    // With interactions, slow motion keeps the inertia (Newmark).
+    let text = std::fs::read_to_string(example("block_on_rigid_sphere.toml")).unwrap();
+    let (scene, locator) = parse_scene(
+        &text.replace("solver = \"implicit\"", "solver = \"auto\""),
+        &example("block_on_rigid_sphere.toml"),
+    )
+    .unwrap();
+    let contact =
+        musclefem_io::scene::build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())
+            .unwrap();
+    let Analysis::Implicit(settings) = &contact.analysis else {
+        panic!("{:?}", contact.solver_rationale);
+    };
+    assert!(
+        settings.dynamics.is_some(),
+        "{:?}",
+        contact.solver_rationale
+    );
+    // A named solver is taken as given, with no rationale.
+    assert!(build(VALID).solver_rationale.is_none());
+    let message = error_of(&VALID.replace("solver = \"implicit\"", "solver = \"fast\""));
+    assert!(
+        message.contains("use auto, explicit or implicit"),
+        "{message}"
+    );
+}

@@ -26,6 +26,7 @@ use super::error::{Locator, SceneError, suggestion};
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
+use super::solver_choice::{AutoSolver, choose_solver};
 
 /// Element technologies by scene name.
 pub const ELEMENT_NAMES: [&str; 6] = [
@@ -56,6 +57,8 @@ pub struct Model {
     /// A name for each prescribed displacement of `loads`, e.g. "cube.x1.x".
     pub displacement_names: Vec<String>,
     pub analysis: Analysis,
+    /// Why `solver = "auto"` chose the analysis's solver (`None`: the scene named it).
+    pub solver_rationale: Option<String>,
     /// Time between output rows and frames [s].
     pub output_interval: f64,
     pub write_frames: bool,
@@ -325,8 +328,29 @@ pub fn build_model(
         Some(v) => *v.get_ref(),
         None => duration / 100.0,
     };
-    let analysis = match step.solver.get_ref().as_str() {
-        "explicit" => {
+    let solver_span = step
+        .solver
+        .as_ref()
+        .map_or(step.duration.span(), |s| s.span());
+    let (solver, solver_rationale) = match step.solver.as_ref().map(|s| s.get_ref().as_str()) {
+        None | Some("auto") => {
+            let (solver, why) = choose_solver(&mesh, &parts, duration, !interactions.is_empty());
+            (solver, Some(why))
+        }
+        Some("explicit") => (AutoSolver::Explicit, None),
+        Some("implicit") => (AutoSolver::Implicit { dynamic: false }, None),
+        Some(other) => {
+            return Err(at(
+                solver_span,
+                format!(
+                    "unknown solver '{other}'{}; use auto, explicit or implicit",
+                    suggestion(other, ["auto", "explicit", "implicit"])
+                ),
+            ));
+        }
+    };
+    let analysis = match solver {
+        AutoSolver::Explicit => {
             let mut settings = ExplicitSettings::new(duration);
             settings.history_interval = output_interval;
             let e = &step.explicit;
@@ -341,14 +365,11 @@ pub fn build_model(
             settings.bulk_viscosity = e.bulk_viscosity.then(BulkViscosity::default);
             Analysis::Explicit(settings)
         }
-        "implicit" => {
+        AutoSolver::Implicit { dynamic } => {
             let i = &step.implicit;
             let increments = i.increments.as_ref().map_or(10, |v| *v.get_ref());
             if increments == 0 {
-                let span = i
-                    .increments
-                    .as_ref()
-                    .map_or(step.solver.span(), |v| v.span());
+                let span = i.increments.as_ref().map_or(solver_span, |v| v.span());
                 return Err(at(span, "increments must be at least 1".to_string()));
             }
             let mut settings = ImplicitSettings::new(duration, increments);
@@ -358,19 +379,10 @@ pub fn build_model(
             if let Some(v) = &i.residual_tolerance {
                 settings.residual_tolerance = *v.get_ref();
             }
-            if i.dynamic {
+            if i.dynamic || dynamic {
                 settings.dynamics = Some(Newmark::default());
             }
             Analysis::Implicit(settings)
-        }
-        other => {
-            return Err(at(
-                step.solver.span(),
-                format!(
-                    "unknown solver '{other}'{}; use explicit or implicit",
-                    suggestion(other, ["explicit", "implicit"])
-                ),
-            ));
         }
     };
     Ok(Model {
@@ -381,6 +393,7 @@ pub fn build_model(
         loads,
         displacement_names,
         analysis,
+        solver_rationale,
         output_interval,
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,

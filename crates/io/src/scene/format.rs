@@ -276,8 +276,8 @@ pub struct InteractionEntry {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StepEntry {
-    /// "explicit" or "implicit".
-    pub solver: Spanned<String>,
+    /// "auto" (the default: see `solver_choice.rs`), "explicit" or "implicit".
+    pub solver: Option<Spanned<String>>,
     /// Duration [s] (the step starts at t = 0).
     pub duration: Spanned<f64>,
     /// Time between output rows/frames [s]; default duration / 100.
