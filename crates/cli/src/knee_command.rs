@@ -8,17 +8,18 @@
 //! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
 //!   fibers, activation), `history.csv` (the solver's convergence and energies, forces
 //!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
-//!   instant) and `run.log`;
+//!   instant), `newton.csv` (implicit: every increment's Newton residuals) and `run.log`;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
 
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
@@ -30,7 +31,7 @@ use musclefem::knee::simulation::{
 use musclefem::knee::{Anatomy, Quadriceps, Resolution};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::HistoryRow;
-use musclefem_core::solver::implicit::ImplicitHistoryRow;
+use musclefem_core::solver::implicit::{ImplicitHistoryRow, StepReport};
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{
     ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
@@ -46,7 +47,7 @@ pub struct KneeArgs {
     /// Only the active squat (50 % activation from 35° of flexion on, held to the end).
     #[arg(long)]
     pub active: bool,
-    /// Both, passive then active (the default).
+    /// Both, side by side on two threads (the default).
     #[arg(long)]
     pub both: bool,
     /// Solver: implicit (Newton with step cutting and the muscles' inertia, Newmark's
@@ -162,11 +163,10 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         "knee squat 0° → 90° → 0° in {} s, {}, {} solver{}, {} muscle elements of {} \
          ({}), fibers in {:.2?}",
         settings.squat.duration,
-        activations
-            .iter()
-            .map(|a| a.name())
-            .collect::<Vec<_>>()
-            .join(" then "),
+        match activations.as_slice() {
+            [one] => one.name().to_string(),
+            _ => "passive and active side by side".to_string(),
+        },
         settings.solver.name(),
         match settings.solver {
             Solver::Implicit if settings.inertia => " with inertia (Newmark)",
@@ -186,48 +186,58 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         settings.solver.name(),
         musclefem::knee::simulation::run::solver_rationale(settings.solver)
     );
-    let bar = progress_bar(settings.squat.duration * activations.len() as f64);
+    // The runs go side by side: each one's sparse factorizations are serial, so on two
+    // cores the other run's element updates fill the idle one.
+    let bars = MultiProgress::with_draw_target(if std::io::stderr().is_terminal() {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    });
+    let stop = AtomicBool::new(false);
+    let outcomes: Vec<Result<SquatRun>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = activations
+            .iter()
+            .map(|&activation| {
+                let bar = bars.add(progress_bar(settings.squat.duration, activation));
+                let (geometry, fibers, settings, stop) = (&geometry, &fibers, &settings, &stop);
+                scope.spawn(move || {
+                    let outcome = run_one(
+                        args, geometry, fibers, activation, settings, existing, &bar, stop,
+                    );
+                    if outcome.is_err() {
+                        // The other run stops at its next recorded instant.
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    bar.finish_and_clear();
+                    outcome
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|handle| {
+                handle
+                    .join()
+                    .unwrap_or_else(|_| Err(anyhow::anyhow!("a squat's thread panicked")))
+            })
+            .collect()
+    });
+    // The first error that is not the other run's stop on request.
     let mut runs = Vec::new();
-    for (k, &activation) in activations.iter().enumerate() {
-        let directory = args.out.join(activation.name());
-        let mut output = RunDirectory::create(&directory, existing)
-            .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
-        let mut watcher = Outputs {
-            directory: &mut output,
-            mesh: None,
-            history: None,
-            vm95: Vec::new(),
-            interval: args.frame_interval,
-            next_frame: 0.0,
-            error: None,
-            bar: &bar,
-            time_offset: settings.squat.duration * k as f64,
-        };
-        let result = run_squat(&geometry, &fibers, activation, &settings, &mut watcher);
-        if let Some(error) = watcher.error.take() {
-            bar.finish_and_clear();
-            return Err(error).context("writing the outputs failed");
+    let mut errors = Vec::new();
+    for outcome in outcomes {
+        match outcome {
+            Ok(run) => runs.push(run),
+            Err(e) => errors.push(e),
         }
-        let run = match result {
-            Ok(run) => run,
-            Err(e) => {
-                bar.finish_and_clear();
-                return Err(e);
-            }
-        };
-        if let Some(history) = watcher.history.take() {
-            history.finish()?;
-        }
-        write_vm95(
-            &directory.join("vm95.csv"),
-            &geometry.muscles,
-            &watcher.vm95,
-        )?;
-        output.write_run_log(&run_log(&run, &settings).timing("solve", run.solve_time))?;
-        bar.suspend(|| print_run(&run));
-        runs.push(run);
     }
-    bar.finish_and_clear();
+    if let Some(index) = errors
+        .iter()
+        .position(|e| e.to_string() != STOPPED_FOR_THE_OTHER_RUN)
+        .or((!errors.is_empty()).then_some(0))
+    {
+        return Err(errors.swap_remove(index));
+    }
     let rows: Vec<PeakStressRow> = runs.iter().flat_map(|r| r.rows.clone()).collect();
     let csv = args.out.join("peak_stress.csv");
     let chart = args.out.join("peak_stress.png");
@@ -248,6 +258,61 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     Ok(())
 }
 
+/// The message of a run stopped because the other one failed.
+const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
+
+/// One squat with its outputs under `--out DIR/<activation>`, its summary printed.
+#[allow(clippy::too_many_arguments)]
+fn run_one(
+    args: &KneeArgs,
+    geometry: &KneeGeometry,
+    fibers: &musclefem_fibers::FiberField,
+    activation: Activation,
+    settings: &SquatSettings,
+    existing: ExistingResults,
+    bar: &ProgressBar,
+    stop: &AtomicBool,
+) -> Result<SquatRun> {
+    let directory = args.out.join(activation.name());
+    let mut output = RunDirectory::create(&directory, existing)
+        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+    let mut watcher = Outputs {
+        directory: &mut output,
+        mesh: None,
+        history: None,
+        vm95: Vec::new(),
+        interval: args.frame_interval,
+        next_frame: 0.0,
+        error: None,
+        bar,
+        stop,
+        stopped: false,
+    };
+    let result = run_squat(geometry, fibers, activation, settings, &mut watcher);
+    if watcher.stopped {
+        bail!(STOPPED_FOR_THE_OTHER_RUN);
+    }
+    if let Some(error) = watcher.error.take() {
+        return Err(error).context("writing the outputs failed");
+    }
+    let run = result?;
+    if let Some(history) = watcher.history.take() {
+        history.finish()?;
+    }
+    write_vm95(
+        &directory.join("vm95.csv"),
+        &geometry.muscles,
+        &watcher.vm95,
+    )?;
+    if !run.newton_steps.is_empty() {
+        write_newton_steps(&directory.join("newton.csv"), &run.newton_steps)?;
+    }
+    output.write_run_log(&run_log(&run, settings).timing("solve", run.solve_time))?;
+    let summary = run_summary(&run);
+    bar.suspend(|| print!("{summary}"));
+    Ok(run)
+}
+
 /// Frames, history and vm95 samples of one run, and the progress bar.
 struct Outputs<'a> {
     directory: &'a mut RunDirectory,
@@ -259,8 +324,9 @@ struct Outputs<'a> {
     next_frame: f64,
     error: Option<anyhow::Error>,
     bar: &'a ProgressBar,
-    /// Simulated time of the runs before this one [s] (for the bar).
-    time_offset: f64,
+    /// Set when the other run failed: this one stops too, and notes it in `stopped`.
+    stop: &'a AtomicBool,
+    stopped: bool,
 }
 
 impl Outputs<'_> {
@@ -305,8 +371,11 @@ impl SquatWatcher for Outputs<'_> {
     }
 
     fn progress(&mut self, time: f64) -> ControlFlow<()> {
-        self.bar
-            .set_position((1e3 * (self.time_offset + time)) as u64);
+        self.bar.set_position((1e3 * time) as u64);
+        if self.stop.load(Ordering::Relaxed) {
+            self.stopped = true;
+            return ControlFlow::Break(());
+        }
         ControlFlow::Continue(())
     }
 
@@ -327,15 +396,14 @@ impl SquatWatcher for Outputs<'_> {
     }
 }
 
-fn progress_bar(duration: f64) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
+/// The bar of one squat of `duration` [s], in simulated milliseconds.
+fn progress_bar(duration: f64, activation: Activation) -> ProgressBar {
     let bar = ProgressBar::new((1e3 * duration) as u64);
     bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos} / {len} ms of squat [{elapsed_precise}, ETA {eta}]",
-        )
+        ProgressStyle::with_template(&format!(
+            "{:<7} {{bar:40}} {{pos}} / {{len}} ms of squat [{{elapsed_precise}}, ETA {{eta}}]",
+            activation.name()
+        ))
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar
@@ -360,6 +428,28 @@ fn write_vm95(path: &Path, muscles: &[Quadriceps], samples: &[StressSample]) -> 
     Ok(())
 }
 
+/// The implicit run's Newton convergence, one row per converged increment: its relative
+/// residuals ‖r‖/‖f‖ after the predictor and after each iteration, separated by spaces.
+fn write_newton_steps(path: &Path, steps: &[StepReport]) -> Result<()> {
+    let mut text = String::from(
+        "time_s,increment_s,iterations,line_search_cuts,factorization,relative_residuals\n",
+    );
+    for step in steps {
+        let residuals: Vec<String> = step.residuals.iter().map(|r| format!("{r:.3e}")).collect();
+        text.push_str(&format!(
+            "{},{},{},{},{:?},{}\n",
+            step.time,
+            step.increment,
+            step.iterations,
+            step.line_search_cuts,
+            step.factorization,
+            residuals.join(" ")
+        ));
+    }
+    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
+    Ok(())
+}
+
 fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
     let mut text = format!(
         "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
@@ -376,6 +466,23 @@ fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
             "newton_iterations = {iterations}\ncuts = {cuts}\n"
         ));
     }
+    if let Some((evaluations, solves)) = &run.implicit_times {
+        text.push_str(&format!(
+            "evaluations = {}\nelement_s = {:.1}\nassembly_s = {:.1}\nlinear_solves = {}\n\
+             krylov_solves = {}\nkrylov_iterations = {}\nkrylov_failures = {}\nnumeric_factorizations = {}\n\
+             factorization_s = {:.1}\nsubstitution_s = {:.1}\n",
+            evaluations.evaluations,
+            evaluations.element_seconds,
+            evaluations.assembly_seconds,
+            solves.solves,
+            solves.krylov_solves,
+            solves.krylov_iterations,
+            solves.krylov_failures,
+            solves.numeric_factorizations,
+            solves.numeric_seconds,
+            solves.substitution_seconds,
+        ));
+    }
     for s in &run.interactions {
         text.push_str(&format!(
             "interaction {} = {}, {} nodes, {:.2} cm²\n",
@@ -388,7 +495,8 @@ fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
     RunLog::new(text)
 }
 
-fn print_run(run: &SquatRun) {
+/// The summary of one run, as one block of text (the runs finish on their own threads).
+fn run_summary(run: &SquatRun) -> String {
     let solver = match (run.newton_iterations, run.cuts) {
         (Some(iterations), Some(cuts)) => {
             format!(
@@ -403,8 +511,8 @@ fn print_run(run: &SquatRun) {
             100.0 * run.energy_error.unwrap_or(0.0)
         ),
     };
-    println!(
-        "{} squat: {} elements, {solver}, in {:.1?}",
+    let mut text = format!(
+        "{} squat: {} elements, {solver}, in {:.1?}\n",
         run.activation.name(),
         run.elements,
         run.solve_time
@@ -415,19 +523,32 @@ fn print_run(run: &SquatRun) {
         .filter(|s| s.kind == "cohesive")
         .map(|s| format!("{} ({} bonds)", s.name, s.nodes))
         .collect();
-    println!("  cohesive: {}", bonds.join(", "));
+    text.push_str(&format!("  cohesive: {}\n", bonds.join(", ")));
+    if let Some((evaluations, solves)) = &run.implicit_times {
+        text.push_str(&format!(
+            "  time: elements {:.0} s, assembly {:.0} s, {} factorizations {:.0} s, \
+             {} solves {:.0} s\n",
+            evaluations.element_seconds,
+            evaluations.assembly_seconds,
+            solves.numeric_factorizations,
+            solves.numeric_seconds,
+            solves.solves,
+            solves.substitution_seconds,
+        ));
+    }
     for row in run
         .rows
         .iter()
         .filter(|r| r.angle_degrees == 90.0 && r.phase == Phase::Flexion)
     {
-        println!(
-            "  {} at 90°: vm95 {:.1} kPa, elements above it at: {}",
+        text.push_str(&format!(
+            "  {} at 90°: vm95 {:.1} kPa, elements above it at: {}\n",
             row.muscle.abbreviation(),
             1e-3 * row.vm95,
             row.location.describe()
-        );
+        ));
     }
+    text
 }
 
 /// The vm95 table: one line per muscle and angle, passive and active in both phases.

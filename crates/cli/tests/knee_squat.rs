@@ -1,9 +1,9 @@
-//! `musclefem knee` end to end on the coarse default knee: the default run (passive then
-//! active, implicit with inertia) goes 0° → 90° → 0° converged at every increment with no
-//! inverted element, the peak-stress table has every muscle, angle, phase and
-//! activation, the passive stress grows with flexion, the active exceeds the passive at
-//! 45°, 60° and 90° for every muscle, the passive muscles come back unloaded, and the
-//! outputs are all there.
+//! `musclefem knee` end to end on the coarse default knee: the default run (passive and
+//! active side by side, implicit with inertia) goes 0° → 90° → 0° converged at every
+//! increment with no inverted element, the peak-stress table has every muscle, angle,
+//! phase and activation, the passive stress grows with flexion, the active exceeds the
+//! passive at 45°, 60° and 90° for every muscle, the passive muscles come back unloaded,
+//! and the outputs are all there.
 
 #[path = "support/run.rs"]
 mod support;
@@ -44,7 +44,7 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
     );
     // Without options: both squats, implicit with inertia, and it says so.
     assert!(
-        stdout.contains("passive then active, implicit solver with inertia (Newmark)"),
+        stdout.contains("passive and active side by side, implicit solver with inertia (Newmark)"),
         "{stdout}"
     );
     let out = dir.join("out");
@@ -115,6 +115,10 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
         let (history_header, history) = read_csv(&run.join("history.csv"));
         assert_eq!(history_header[2], "newton_iterations");
         assert_eq!(history.len(), samples.len());
+        // Every increment's Newton residuals, one row per converged increment.
+        let (newton_header, increments) = read_csv(&run.join("newton.csv"));
+        assert_eq!(newton_header.last().unwrap(), "relative_residuals");
+        assert_eq!(increments.len(), history.len());
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
         if activation == "passive" {
             // Passive muscles and undamaged bonds are elastic: back at 0° they are

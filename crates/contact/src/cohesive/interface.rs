@@ -272,8 +272,21 @@ impl Interaction for CohesiveInterface {
         }
     }
 
+    /// On a deformable main the stiffness is unsymmetric, whatever the law, when the
+    /// force depends on the turn of the main triangle: sliding bonds push along its
+    /// current normal (past its rim or over an edge that is not the gradient of a
+    /// potential, `slide_tangent.rs`), and bonds formed across a gap carry their rest
+    /// state R δ_ref round with it (`bonds.rs`). On the coarse knee's muscle–muscle bonds
+    /// (1–4 mm rest gaps) |K − Kᵀ| reached 8.6e3 N/m, near the bond stiffness A K itself,
+    /// and sym(K) had 12 negative eigenvalues at the reference state, all at bonded nodes.
     fn symmetric_stiffness(&self) -> bool {
-        self.law.has_symmetric_tangent()
+        let turns_with_the_main = matches!(self.main, ContactTarget::Deformable(_))
+            && (self.neighbours.is_some()
+                || self
+                    .bonds
+                    .iter()
+                    .any(|bond| bond.reference_separation != Vector3::zeros()));
+        self.law.has_symmetric_tangent() && !turns_with_the_main
     }
 
     fn commit(&mut self) {

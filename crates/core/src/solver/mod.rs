@@ -22,6 +22,7 @@ mod implicit_interactions;
 mod implicit_model;
 mod implicit_settings;
 pub mod interaction;
+mod krylov;
 mod loads;
 mod nodal;
 mod nodal_average;

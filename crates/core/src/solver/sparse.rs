@@ -1,9 +1,9 @@
 //! The implicit solver's linear system: the free degrees of freedom, the sparsity pattern of
 //! the stiffness built once from the element connectivity, and the solves with faer:
 //! supernodal Cholesky LLᵀ in a nested-dissection order (`ordering.rs`), symbolic analysis
-//! done once and reused for the whole run; while the last factor is a good preconditioner,
-//! conjugate gradients preconditioned with it instead of a new factorization
-//! ([`FactorReuse`]); LU when Cholesky fails or the tangent is not symmetric.
+//! done once and reused for the whole run; LU when Cholesky fails or the tangent is not
+//! symmetric. While the last Cholesky factor is a good preconditioner, conjugate gradients
+//! preconditioned with it (`krylov.rs`) instead of a new factorization ([`FactorReuse`]).
 //!
 //! The matrix holds only free degrees of freedom (prescribed ones are eliminated) and
 //! stores both triangles, so that LU and the product K x can use it; Cholesky reads the
@@ -28,6 +28,7 @@ use faer::{Conj, Par, Side};
 
 use nalgebra::Vector3;
 
+use super::krylov::preconditioned_cg;
 use super::ordering::{NodeGraph, nested_dissection};
 use crate::mesh::ElementBlock;
 
@@ -57,7 +58,7 @@ pub(crate) struct SparseSystem {
     /// Whether `llt` holds a factor of an earlier matrix of this pattern that is still a
     /// good preconditioner (the last conjugate-gradient solve with it took at most
     /// [`FactorReuse::refactor_above`] iterations).
-    factor_is_fresh: bool,
+    cholesky_is_fresh: bool,
     statistics: LinearSolveStatistics,
 }
 
@@ -92,17 +93,19 @@ impl Default for FactorReuse {
 pub struct LinearSolveStatistics {
     /// Linear systems solved.
     pub solves: usize,
-    /// Of which by preconditioned conjugate gradients.
+    /// Of which by a Krylov method preconditioned with an earlier factor.
     pub krylov_solves: usize,
-    /// Conjugate-gradient iterations in all.
+    /// Iterations of the converged conjugate-gradient solves.
     pub krylov_iterations: usize,
+    /// Conjugate-gradient attempts that did not converge (a factorization followed).
+    pub krylov_failures: usize,
     /// Numeric factorizations (Cholesky or LU).
     pub numeric_factorizations: usize,
     /// Entries of the Cholesky factor (0 before the first).
     pub factor_entries: usize,
     pub symbolic_seconds: f64,
     pub numeric_seconds: f64,
-    /// Triangular solves, conjugate-gradient iterations included.
+    /// Triangular solves, Krylov iterations included.
     pub substitution_seconds: f64,
 }
 
@@ -186,7 +189,7 @@ impl SparseSystem {
             inverse,
             llt: None,
             lu: None,
-            factor_is_fresh: false,
+            cholesky_is_fresh: false,
             statistics: LinearSolveStatistics::default(),
         }
     }
@@ -235,74 +238,93 @@ impl SparseSystem {
         self.matrix.val_mut()
     }
 
-    /// Solve K x = `rhs` in place. Symmetric: with `reuse` and a Cholesky factor of an
-    /// earlier matrix of this pattern at hand, by conjugate gradients preconditioned with
-    /// that factor (see [`FactorReuse`]); otherwise (or when that fails) Cholesky of K
-    /// (symbolic analysis done on the first call and reused), and LU when K is not
-    /// symmetric or Cholesky finds it not positive definite. Errors with faer's reason when
-    /// neither works.
+    /// Solve K x = `rhs` in place. K symmetric, with `reuse` and the Cholesky factor of an
+    /// earlier matrix of this pattern at hand and still fresh: by conjugate gradients
+    /// preconditioned with it (see [`FactorReuse`]). Otherwise (or when that fails) a new
+    /// factorization:
+    /// Cholesky when K is symmetric (symbolic analysis done on the first call and reused),
+    /// LU when it is not or Cholesky finds it not positive definite (Cholesky is tried
+    /// again at the next factorization: skipping it for a while after a failure was
+    /// measured to gain nothing, and it moved the F-bar cube's Newton iterations onto LU's
+    /// larger round-off). Errors with faer's reason when neither works.
     pub fn solve(
         &mut self,
         rhs: &mut [f64],
         symmetric: bool,
         reuse: Option<&FactorReuse>,
     ) -> Result<Factorization, String> {
-        let n = self.size();
-        let par = self.par;
         self.statistics.solves += 1;
+        if let (Some(reuse), true, true) = (reuse, symmetric, self.cholesky_is_fresh) {
+            let start = Instant::now();
+            let outcome = self.cg_with_cholesky(rhs, reuse);
+            self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
+            if let Some(iterations) = outcome {
+                self.statistics.krylov_solves += 1;
+                self.statistics.krylov_iterations += iterations;
+                self.cholesky_is_fresh = iterations <= reuse.refactor_above;
+                return Ok(Factorization::Cholesky);
+            }
+            self.statistics.krylov_failures += 1;
+        }
+        self.cholesky_is_fresh = false;
         let mut cholesky_error = None;
         if symmetric {
-            if let (Some(reuse), true) = (reuse, self.factor_is_fresh) {
-                let start = Instant::now();
-                let outcome = self.preconditioned_cg(rhs, reuse);
-                self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
-                if let Some(iterations) = outcome {
-                    self.statistics.krylov_solves += 1;
-                    self.factor_is_fresh = iterations <= reuse.refactor_above;
+            match self.factorize_cholesky(rhs) {
+                Ok(()) => {
+                    self.cholesky_is_fresh = true;
                     return Ok(Factorization::Cholesky);
                 }
-            }
-            if self.llt.is_none() {
-                let start = Instant::now();
-                let order = PermRef::new_checked(&self.order, &self.inverse, n);
-                let cholesky = Cholesky::new(&self.matrix, order, par)?;
-                self.statistics.factor_entries = cholesky.factor.len();
-                self.llt = Some(cholesky);
-                self.statistics.symbolic_seconds += start.elapsed().as_secs_f64();
-            }
-            let start = Instant::now();
-            let cholesky = self.llt.as_mut().expect("just built");
-            let stack = MemStack::new(&mut cholesky.scratch);
-            let numeric = cholesky.symbolic.factorize_numeric_llt(
-                &mut cholesky.factor,
-                self.matrix.as_ref(),
-                Side::Lower,
-                Default::default(),
-                par,
-                stack,
-                Default::default(),
-            );
-            self.statistics.numeric_factorizations += 1;
-            self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
-            match numeric {
-                Ok(llt) => {
-                    let start = Instant::now();
-                    llt.solve_in_place_with_conj(
-                        Conj::No,
-                        faer::MatMut::from_column_major_slice_mut(rhs, n, 1),
-                        par,
-                        stack,
-                    );
-                    self.factor_is_fresh = true;
-                    self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
-                    return Ok(Factorization::Cholesky);
-                }
-                Err(e) => {
-                    self.factor_is_fresh = false;
-                    cholesky_error = Some(format!("{e:?}"));
-                }
+                Err(e) => cholesky_error = Some(e),
             }
         }
+        self.factorize_lu(rhs).map_err(|e| match &cholesky_error {
+            Some(c) => format!("Cholesky failed ({c}), then LU failed ({e})"),
+            None => format!("LU failed ({e})"),
+        })?;
+        Ok(Factorization::Lu)
+    }
+
+    /// Cholesky of K and the solve of K x = `rhs` in place; faer's reason when K is not
+    /// positive definite (then `rhs` is unchanged).
+    fn factorize_cholesky(&mut self, rhs: &mut [f64]) -> Result<(), String> {
+        let (n, par) = (self.size(), self.par);
+        if self.llt.is_none() {
+            let start = Instant::now();
+            let order = PermRef::new_checked(&self.order, &self.inverse, n);
+            let cholesky = Cholesky::new(&self.matrix, order, par)?;
+            self.statistics.factor_entries = cholesky.factor.len();
+            self.llt = Some(cholesky);
+            self.statistics.symbolic_seconds += start.elapsed().as_secs_f64();
+        }
+        let start = Instant::now();
+        let cholesky = self.llt.as_mut().expect("just built");
+        let stack = MemStack::new(&mut cholesky.scratch);
+        let numeric = cholesky.symbolic.factorize_numeric_llt(
+            &mut cholesky.factor,
+            self.matrix.as_ref(),
+            Side::Lower,
+            Default::default(),
+            par,
+            stack,
+            Default::default(),
+        );
+        self.statistics.numeric_factorizations += 1;
+        self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
+        let llt = numeric.map_err(|e| format!("{e:?}"))?;
+        let start = Instant::now();
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            faer::MatMut::from_column_major_slice_mut(rhs, n, 1),
+            par,
+            stack,
+        );
+        self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// LU of K and the solve of K x = `rhs` in place.
+    fn factorize_lu(&mut self, rhs: &mut [f64]) -> Result<(), String> {
+        let (n, par) = (self.size(), self.par);
         if self.lu.is_none() {
             let start = Instant::now();
             self.lu = Some(Lu::new(&self.matrix, par)?);
@@ -320,10 +342,7 @@ impl SparseSystem {
                 stack,
                 Default::default(),
             )
-            .map_err(|e| match &cholesky_error {
-                Some(c) => format!("Cholesky failed ({c}), then LU failed ({e:?})"),
-                None => format!("LU failed ({e:?})"),
-            })?;
+            .map_err(|e| format!("{e:?}"))?;
         self.statistics.numeric_factorizations += 1;
         self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
         let start = Instant::now();
@@ -335,90 +354,50 @@ impl SparseSystem {
         );
         self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
         if rhs.iter().any(|x| !x.is_finite()) {
-            return Err("the LU solution is not finite (singular stiffness)".to_string());
+            return Err("the solution is not finite (singular stiffness)".to_string());
         }
-        Ok(Factorization::Lu)
+        Ok(())
     }
 
-    /// y = K x (both triangles are stored; serial, so the sums do not depend on the
-    /// thread count).
-    fn multiply(&self, x: &[f64], y: &mut [f64]) {
-        let symbolic = self.matrix.symbolic();
-        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
-        let values = self.matrix.val();
-        y.fill(0.0);
-        for (column, &xc) in x.iter().enumerate() {
-            let range = col_ptr[column]..col_ptr[column + 1];
-            for (&row, &value) in row_idx[range.clone()].iter().zip(&values[range]) {
-                y[row] += value * xc;
-            }
-        }
-    }
-
-    /// Conjugate gradients on K x = `rhs` preconditioned with the Cholesky factor at hand
-    /// (M = L Lᵀ of an earlier K): stops when ‖b − K x‖ ≤ tol ‖b‖ and writes x into `rhs`,
-    /// returning the iterations; returns `None` (leaving `rhs` unchanged) after
-    /// `max_iterations` or when pᵀ K p ≤ 0 (K not positive definite).
-    fn preconditioned_cg(&mut self, rhs: &mut [f64], reuse: &FactorReuse) -> Option<usize> {
-        let n = self.size();
-        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        let target = reuse.tolerance * norm(rhs);
-        if target == 0.0 {
-            return Some(0);
-        }
-        let mut residual = rhs.to_vec();
-        let mut x = vec![0.0; n];
-        let mut z = residual.clone();
-        let mut product = vec![0.0; n];
-        let precondition = |system: &mut Self, v: &mut [f64]| {
-            let cholesky = system.llt.as_mut().expect("a factor is at hand");
-            let stack = MemStack::new(&mut cholesky.scratch);
-            LltRef::new(&cholesky.symbolic, &cholesky.factor).solve_in_place_with_conj(
-                Conj::No,
-                faer::MatMut::from_column_major_slice_mut(v, n, 1),
-                system.par,
-                stack,
-            );
-        };
-        precondition(self, &mut z);
-        let mut direction = z.clone();
-        let mut rz = dot(&residual, &z);
-        for iteration in 1..=reuse.max_iterations {
-            self.multiply(&direction, &mut product);
-            let curvature = dot(&direction, &product);
-            if curvature.is_nan() || curvature <= 0.0 {
-                return None;
-            }
-            let alpha = rz / curvature;
-            for ((xi, ri), (pi, qi)) in x
-                .iter_mut()
-                .zip(residual.iter_mut())
-                .zip(direction.iter().zip(&product))
-            {
-                *xi += alpha * pi;
-                *ri -= alpha * qi;
-            }
-            self.statistics.krylov_iterations += 1;
-            if norm(&residual) <= target {
-                rhs.copy_from_slice(&x);
-                return Some(iteration);
-            }
-            z.copy_from_slice(&residual);
-            precondition(self, &mut z);
-            let rz_next = dot(&residual, &z);
-            let beta = rz_next / rz;
-            rz = rz_next;
-            for (pi, zi) in direction.iter_mut().zip(&z) {
-                *pi = zi + beta * *pi;
-            }
-        }
-        None
+    /// Conjugate gradients preconditioned with the Cholesky factor at hand.
+    fn cg_with_cholesky(&mut self, rhs: &mut [f64], reuse: &FactorReuse) -> Option<usize> {
+        let (n, par, matrix) = (self.size(), self.par, &self.matrix);
+        let cholesky = self.llt.as_mut()?;
+        preconditioned_cg(
+            rhs,
+            reuse.tolerance,
+            reuse.max_iterations,
+            |x, y| multiply(matrix, x, y),
+            |v| {
+                let stack = MemStack::new(&mut cholesky.scratch);
+                LltRef::new(&cholesky.symbolic, &cholesky.factor).solve_in_place_with_conj(
+                    Conj::No,
+                    faer::MatMut::from_column_major_slice_mut(v, n, 1),
+                    par,
+                    stack,
+                );
+            },
+        )
     }
 
     /// Statistics of the solves so far.
     pub fn statistics(&self) -> &LinearSolveStatistics {
         &self.statistics
+    }
+}
+
+/// y = K x (both triangles are stored; serial, so the sums do not depend on the thread
+/// count).
+fn multiply(matrix: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f64]) {
+    let symbolic = matrix.symbolic();
+    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+    let values = matrix.val();
+    y.fill(0.0);
+    for (column, &xc) in x.iter().enumerate() {
+        let range = col_ptr[column]..col_ptr[column + 1];
+        for (&row, &value) in row_idx[range.clone()].iter().zip(&values[range]) {
+            y[row] += value * xc;
+        }
     }
 }
 

@@ -6,27 +6,9 @@ use crate::mesh::generate::box_of_hexes;
 /// values `entry(row, column)`; solves K x = K 1 and returns the factorization used
 /// and the largest error of x.
 fn solve_one_hex(entry: impl Fn(usize, usize) -> f64, symmetric: bool) -> (Factorization, f64) {
-    let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
-    let equation: Vec<u32> = (0..24).collect();
-    let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
-    let mut system = SparseSystem::new(
-        &positions,
-        &equation,
-        24,
-        mesh.blocks.iter(),
-        &[],
-        usize::MAX,
-    );
+    let mut system = one_hex_system();
     assert_eq!(system.entries(), 24 * 24);
-    for row in 0..24 {
-        for column in 0..24 {
-            let p = system.position(row, column);
-            system.values_mut()[p] = entry(row, column);
-        }
-    }
-    let mut rhs: Vec<f64> = (0..24)
-        .map(|row| (0..24).map(|c| entry(row, c)).sum())
-        .collect();
+    let mut rhs = fill(&mut system, entry);
     let used = system.solve(&mut rhs, symmetric, None).unwrap();
     (
         used,
@@ -46,41 +28,50 @@ fn positive_definite_systems_use_cholesky() {
     assert!(error < 1e-13, "{error}");
 }
 
-/// After a factorization of K₀, K₁ = K₀ + 10 % off-diagonal coupling is solved by
-/// conjugate gradients preconditioned with K₀'s factor, to the direct solution of
-/// K₁ x = K₁ 1 within 1e-11, without a new factorization.
-#[test]
-fn a_nearby_matrix_is_solved_with_the_factor_at_hand() {
+/// A system over the 24 unknowns of one free hex8.
+fn one_hex_system() -> SparseSystem {
     let mesh = box_of_hexes([1.0; 3], [1, 1, 1]).unwrap();
     let equation: Vec<u32> = (0..24).collect();
     let positions: Vec<_> = (0..8).map(|n| mesh.nodes.position(n)).collect();
-    let mut system = SparseSystem::new(
+    SparseSystem::new(
         &positions,
         &equation,
         24,
         mesh.blocks.iter(),
         &[],
         usize::MAX,
-    );
-    let fill = |system: &mut SparseSystem, scale: f64| -> Vec<f64> {
-        let entry = |r: usize, c: usize| {
-            if r == c { 4.0 } else { scale * coupling(r, c) }
-        };
-        for row in 0..24 {
-            for column in 0..24 {
-                let p = system.position(row, column);
-                system.values_mut()[p] = entry(row, column);
-            }
+    )
+}
+
+/// Set the values of `system` to `entry(row, column)`; returns K 1.
+fn fill(system: &mut SparseSystem, entry: impl Fn(usize, usize) -> f64) -> Vec<f64> {
+    for row in 0..24 {
+        for column in 0..24 {
+            let p = system.position(row, column);
+            system.values_mut()[p] = entry(row, column);
         }
-        (0..24)
-            .map(|r| (0..24).map(|c| entry(r, c)).sum())
-            .collect()
-    };
+    }
+    (0..24)
+        .map(|r| (0..24).map(|c| entry(r, c)).sum())
+        .collect()
+}
+
+/// Diagonal 4 and `scale` × the coupling off it.
+fn nearby(scale: f64) -> impl Fn(usize, usize) -> f64 {
+    move |r, c| if r == c { 4.0 } else { scale * coupling(r, c) }
+}
+
+/// After a factorization of K₀, K₁ = K₀ + 10 % off-diagonal coupling is solved by
+/// conjugate gradients preconditioned with K₀'s factor, to the direct solution of
+/// K₁ x = K₁ 1 within 1e-11, without a new factorization.
+#[test]
+fn a_nearby_matrix_is_solved_with_the_factor_at_hand() {
+    let mut system = one_hex_system();
     let reuse = FactorReuse::default();
-    let mut rhs = fill(&mut system, 1.0);
+    let mut rhs = fill(&mut system, nearby(1.0));
     system.solve(&mut rhs, true, Some(&reuse)).unwrap();
     assert_eq!(system.statistics().numeric_factorizations, 1);
-    let mut rhs = fill(&mut system, 1.1);
+    let mut rhs = fill(&mut system, nearby(1.1));
     assert_eq!(
         system.solve(&mut rhs, true, Some(&reuse)).unwrap(),
         Factorization::Cholesky

@@ -14,8 +14,10 @@ use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
 use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, Newmark, run_implicit_with,
+    EvaluationTimes, ImplicitHistoryRow, ImplicitSettings, LinearSolveStatistics, Newmark,
+    StepReport, run_implicit_with,
 };
+
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_fibers::FiberField;
 
@@ -140,6 +142,10 @@ pub struct SquatRun {
     /// Implicit: Newton iterations in all and increments cut.
     pub newton_iterations: Option<usize>,
     pub cuts: Option<usize>,
+    /// Implicit: where the time went, evaluations (elements, assembly) and linear solves.
+    pub implicit_times: Option<(EvaluationTimes, LinearSolveStatistics)>,
+    /// Implicit: every converged increment with its Newton residuals.
+    pub newton_steps: Vec<StepReport>,
     /// Explicit: mass added by mass scaling over the physical mass, largest
     /// |W_int + W_visc + W_c + K − W_ext| over the largest energy.
     pub added_mass_fraction: Option<f64>,
@@ -211,7 +217,10 @@ pub fn run_squat(
         )
     };
     let started = Instant::now();
-    let (steps, newton_iterations, cuts, added_mass_fraction) = match settings.solver {
+    let mut newton_steps = Vec::new();
+    let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match settings
+        .solver
+    {
         Solver::Implicit => {
             let increments = (duration / settings.time_step).round().max(1.0) as usize;
             let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
@@ -231,10 +240,12 @@ pub fn run_squat(
             let result =
                 finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
             let iterations = result.steps.iter().map(|s| s.iterations).sum();
+            newton_steps = result.steps;
             (
                 result.history.len(),
                 Some(iterations),
                 Some(result.cuts),
+                Some((result.evaluation_times, result.linear_solves)),
                 None,
             )
         }
@@ -252,7 +263,13 @@ pub fn run_squat(
             );
             let result =
                 finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
-            (result.steps, None, None, Some(result.added_mass_fraction))
+            (
+                result.steps,
+                None,
+                None,
+                None,
+                Some(result.added_mass_fraction),
+            )
         }
     };
     let solve_time = started.elapsed();
@@ -271,6 +288,8 @@ pub fn run_squat(
         steps,
         newton_iterations,
         cuts,
+        implicit_times,
+        newton_steps,
         added_mass_fraction,
         energy_error,
     })
