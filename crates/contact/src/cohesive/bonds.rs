@@ -12,17 +12,26 @@
 //! initial gap of 2 mm is not pulled across it; the gap is its rest state), traction
 //! t = R t_law(δ_loc) [Pa] and the force on the secondary node f_s = A t [N] (it enters
 //! like an internal force, M a + f_int + f_c = f_ext: an opened bond pulls s back toward
-//! the main surface). The reaction −ξ_k f_s goes to the nodes of a deformable main
-//! triangle; a rigid main takes it on the body. The stiffness blocks,
-//! ∂f_s/∂x_s = A R C Rᵀ [N/m] with C = ∂t_law/∂δ_loc and ∂f_s/∂x_k = −ξ_k ∂f_s/∂x_s, hold
-//! the frame R fixed, except for the turn of the rest state R δ_ref with the triangle
-//! (see [`Bond::reference_separation`]); for the elastic law (C = K I) that is exact:
-//! f_s = A K (δ − R δ_ref).
+//! the main surface).
+//!
+//! With equal stiffnesses (the law does not depend on the frame) the bond is a spring
+//! with energy A ψ(r), r = x_s − Σ ξ_k x_k − R δ_ref, and the forces on the corners of a
+//! deformable main triangle are its gradient: f_k = −ξ_k f_s − T_kᵀ f_s with
+//! T_k = ∂(R δ_ref)/∂x_k, the turn of the rest offset. Without the second part a bond
+//! across a gap would push the main triangle at the wrong point (its forces would not
+//! balance moments) and its stiffness would be unsymmetric (on the coarse knee
+//! |K − Kᵀ| reached 8.6e3 N/m and sym(K) had 12 negative eigenvalues). A rigid main takes
+//! −f_s on the body. The stiffness blocks: ∂f_s/∂x_s = A R C Rᵀ =: S [N/m] with
+//! C = ∂t_law/∂δ_loc, ∂f_s/∂x_k = −S (ξ_k I + T_k), holding the frame R fixed except for
+//! the turn of the rest state (exact for the elastic law, C = K I); the corner rows are
+//! the transposes plus the curvature ∂(T_kᵀ f_s)/∂x_j of the turning rest offset
+//! ([`turned_vector_curvature`]). For equal stiffnesses the whole block is the Hessian of
+//! the energy: symmetric, and positive semi-definite at rest.
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 use rayon::prelude::*;
 
-use super::frame::{frame, turned_vector_derivatives};
+use super::frame::{frame, turned_vector_curvature, turned_vector_derivatives};
 use super::law::CohesiveLaw;
 use super::main_side::MainSide;
 use super::slide::evaluate_sliding;
@@ -64,6 +73,13 @@ pub struct BondState {
     /// ∂ξ_k/∂x_j [1/m] (row k) for the same j: how the reactions −ξ_k f_s shift along the
     /// triangle (zero for material-point bonds).
     pub coordinate_gradients: [Matrix3<f64>; 4],
+    /// T_k = ∂(R δ_ref)/∂x_k [1]: how the rest offset turns with corner k of a deformable
+    /// main triangle (zero for a rigid main, a bond without rest offset, a sliding bond);
+    /// the corners take −T_kᵀ f_s besides −ξ_k f_s.
+    pub turning: [Matrix3<f64>; 3],
+    /// ∂(T_kᵀ f_s)/∂x_j [N/m] for corners k, j (with the stiffness; zero where `turning`
+    /// is).
+    pub turning_curvature: [[Matrix3<f64>; 3]; 3],
     /// Traction on the secondary surface, −R t_law [Pa].
     pub traction: Vector3<f64>,
     /// Local separation (δ_n, δ_s, δ_t) [m] (a sliding bond: (g, 0, 0), g the gap).
@@ -83,6 +99,8 @@ impl Default for BondState {
             force: Vector3::zeros(),
             coupling: [Matrix3::zeros(); 4],
             coordinate_gradients: [Matrix3::zeros(); 4],
+            turning: [Matrix3::zeros(); 3],
+            turning_curvature: [[Matrix3::zeros(); 3]; 3],
             traction: Vector3::zeros(),
             separation: Vector3::zeros(),
             coordinates: Vector3::zeros(),
@@ -182,14 +200,16 @@ impl Bond {
             + self.coordinates.z * vertices[2]
     }
 
-    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m]
-    /// (the stiffness blocks only `with_stiffness`, zero otherwise).
+    /// The bond at secondary position `x` [m] with the main triangle at `vertices` [m],
+    /// the triangle of a deformable main (`deformable_main`: its corners take the turn of
+    /// the rest offset) or of a rigid one; the stiffness blocks only `with_stiffness`,
+    /// zero otherwise.
     pub fn evaluate(
         &self,
         law: &CohesiveLaw,
         vertices: &[Vector3<f64>; 3],
         x: &Vector3<f64>,
-        with_stiffness: bool,
+        (deformable_main, with_stiffness): (bool, bool),
     ) -> BondState {
         let [a, b, c] = vertices;
         let rotation = frame(a, b, c, &self.normal);
@@ -197,27 +217,35 @@ impl Bond {
             rotation.transpose() * (x - self.main_point(vertices)) - self.reference_separation;
         let response = law.evaluate(&separation, self.history);
         let traction = rotation * response.traction;
-        let coupling = if with_stiffness {
+        let force = self.area * traction;
+        let turns = deformable_main && self.reference_separation != Vector3::zeros();
+        let turning = if turns {
+            turned_vector_derivatives(vertices, &self.reference_separation)
+        } else {
+            [Matrix3::zeros(); 3]
+        };
+        let (coupling, turning_curvature) = if with_stiffness {
             let stiffness = self.area * rotation * response.tangent * rotation.transpose();
             let mut coupling = point_coupling(&stiffness, &self.coordinates);
-            // The rest state turns with the triangle: f_s ∋ −A (R C Rᵀ) R δ_ref, whose
-            // derivative with respect to the corners is −(A R C Rᵀ) ∂(R δ_ref)/∂x_k: the
-            // rest gap along the turning normal and, for edge and vertex bonds, the
-            // in-plane rest offsets along the turning s and t.
-            if self.reference_separation != Vector3::zeros() {
-                let turning = turned_vector_derivatives(vertices, &self.reference_separation);
-                for k in 0..3 {
-                    coupling[1 + k] -= stiffness * turning[k];
-                }
+            // f_s ∋ −S R δ_ref: the corners also move the rest state, −S T_k.
+            for k in 0..3 {
+                coupling[1 + k] -= stiffness * turning[k];
             }
-            coupling
+            let curvature = if turns {
+                turned_vector_curvature(vertices, &self.reference_separation, &force)
+            } else {
+                [[Matrix3::zeros(); 3]; 3]
+            };
+            (coupling, curvature)
         } else {
-            [Matrix3::zeros(); 4]
+            ([Matrix3::zeros(); 4], [[Matrix3::zeros(); 3]; 3])
         };
         BondState {
-            force: self.area * traction,
+            force,
             coupling,
             coordinate_gradients: [Matrix3::zeros(); 4],
+            turning,
+            turning_curvature,
             traction: -traction,
             separation,
             coordinates: self.coordinates,
@@ -253,6 +281,7 @@ pub fn evaluate_all(
     (sliding, with_stiffness): (bool, bool),
     states: &mut [BondState],
 ) {
+    let deformable = matches!(main, ContactTarget::Deformable(_));
     states
         .par_iter_mut()
         .zip(bonds.par_iter())
@@ -265,7 +294,7 @@ pub fn evaluate_all(
                 let rim = main.rim(triangle);
                 evaluate_sliding(bond, law, &vertices, rim, x, with_stiffness)
             } else {
-                bond.evaluate(law, &vertices, x, with_stiffness)
+                bond.evaluate(law, &vertices, x, (deformable, with_stiffness))
             };
         });
 }

@@ -87,6 +87,50 @@ pub fn turned_vector_derivatives(
     })
 }
 
+/// H_kj = ∂(T_kᵀ f)/∂x_j [N/m] for k, j = 0, 1, 2, with T_k = ∂(R δ)/∂x_k
+/// ([`turned_vector_derivatives`]) and a fixed force `force` f [N]: the Hessian of the
+/// scalar f · R δ over the corners, the stiffness the main corners get from a rest offset
+/// δ (`local` [m]) turning under a force. Central differences of the analytic T_kᵀ f, step
+/// 1e-6 of the longest edge (error ~1e-10 of |f| |δ| / h²), symmetrized (the exact Hessian
+/// is symmetric).
+pub fn turned_vector_curvature(
+    corners: &[Vector3<f64>; 3],
+    local: &Vector3<f64>,
+    force: &Vector3<f64>,
+) -> [[Matrix3<f64>; 3]; 3] {
+    let edge = (0..3)
+        .map(|i| (corners[(i + 1) % 3] - corners[i]).norm())
+        .fold(0.0, f64::max);
+    let mut curvature = [[Matrix3::zeros(); 3]; 3];
+    if !(edge > 0.0 && edge.is_finite()) {
+        return curvature;
+    }
+    let step = 1e-6 * edge;
+    let gradient = |at: &[Vector3<f64>; 3]| -> [Vector3<f64>; 3] {
+        turned_vector_derivatives(at, local).map(|t| t.transpose() * force)
+    };
+    for j in 0..3 {
+        for axis in 0..3 {
+            let (mut plus, mut minus) = (*corners, *corners);
+            plus[j][axis] += step;
+            minus[j][axis] -= step;
+            let (gp, gm) = (gradient(&plus), gradient(&minus));
+            for k in 0..3 {
+                let column = (gp[k] - gm[k]) / (2.0 * step);
+                curvature[k][j].set_column(axis, &column);
+            }
+        }
+    }
+    for k in 0..3 {
+        for j in k..3 {
+            let mean = 0.5 * (curvature[k][j] + curvature[j][k].transpose());
+            curvature[k][j] = mean;
+            curvature[j][k] = mean.transpose();
+        }
+    }
+    curvature
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,11 +16,12 @@
 //!   g the gap to the surface, ν its direction; −ξ_k f_s on the corners of a deformable
 //!   main triangle.
 //! - Stiffness: the blocks ∂f/∂x of the node and the main triangle's corners. Material-point
-//!   bonds: A R C Rᵀ times (1, −ξ_k) ⊗ (1, −ξ_l), holding R fixed. For a rigid main R
-//!   depends on time only: the tangent is consistent. For a deformable main the variation
-//!   of R with the corners is left out; that term vanishes in Elastic mode with
-//!   K_nn = K_ss = K_tt while the bond is open (t = (1 − D) K δ does not depend on the
-//!   frame), and otherwise costs Newton its quadratic rate, not its solution. Sliding
+//!   bonds: A R C Rᵀ times (1, −ξ_k) ⊗ (1, −ξ_l), holding R fixed, plus the turn of a
+//!   rest offset (`bonds.rs`). For a rigid main R depends on time only: the tangent is
+//!   consistent. For a deformable main the variation of R in Rᵀ δ is left out; that term
+//!   vanishes in Elastic mode with K_nn = K_ss = K_tt while the bond is open
+//!   (t = (1 − D) K δ does not depend on the frame), and otherwise costs Newton its
+//!   quadratic rate, not its solution. Sliding
 //!   bonds: the full linearization (`slide_tangent.rs`), with the turning of the main
 //!   triangle (or of the direction ν about an edge) and the shift of the closest point,
 //!   checked against finite differences over the face, interior edges and corners, and
@@ -33,7 +34,7 @@
 //!   model are far below the element size (t/K_nn = 1 kPa / 5e7 N/m³ = 20 µm).
 //! - [`Interaction::symmetric_stiffness`] is the law's: true in FreeSlide or with equal
 //!   stiffnesses (the default), false otherwise (mixed-mode softening couples unequal
-//!   stiffnesses asymmetrically).
+//!   stiffnesses asymmetrically); and false for bonds sliding on a deformable main.
 //! - [`Interaction::commit`] stores each bond's damage history κ: damage never heals, and
 //!   a trial that opens a bond further changes nothing until the step is accepted.
 
@@ -186,9 +187,10 @@ impl CohesiveInterface {
     }
 
     /// The stiffness blocks of one bond, `add(a, b, K_ab)`, skipping zero blocks: with
-    /// f_s the force on the secondary node s and f_k = −ξ_k f_s on main corner k,
-    /// K_sj = ∂f_s/∂x_j (`coupling`) and K_kj = −f_s ⊗ ∂ξ_k/∂x_j − ξ_k K_sj, over
-    /// j = s and the corners.
+    /// f_s the force on the secondary node s and f_k = −ξ_k f_s − T_kᵀ f_s on main corner
+    /// k, K_sj = ∂f_s/∂x_j (`coupling`) and
+    /// K_kj = −f_s ⊗ ∂ξ_k/∂x_j − ξ_k K_sj − T_kᵀ K_sj − ∂(T_kᵀ f_s)/∂x_j, over j = s and
+    /// the corners.
     fn bond_stiffness(
         &self,
         bond: &Bond,
@@ -209,7 +211,12 @@ impl CohesiveInterface {
             add_nonzero(bond.node, column, &state.coupling[j]);
             for k in 0..3 {
                 let shift = state.force * state.coordinate_gradients[j].row(k);
-                let block = -shift - state.coordinates[k] * state.coupling[j];
+                let mut block = -shift
+                    - state.coordinates[k] * state.coupling[j]
+                    - state.turning[k].transpose() * state.coupling[j];
+                if j > 0 {
+                    block -= state.turning_curvature[k][j - 1];
+                }
                 add_nonzero(corners[k], column, &block);
             }
         }
@@ -258,8 +265,9 @@ impl Interaction for CohesiveInterface {
         for (bond, state) in self.bonds.iter().zip(&self.states) {
             force[bond.node as usize] += state.force;
             if let Some(nodes) = self.main.nodes(bond.triangle as usize) {
-                for (node, xi) in nodes.iter().zip(state.coordinates.iter()) {
-                    force[*node as usize] -= *xi * state.force;
+                for (k, node) in nodes.iter().enumerate() {
+                    force[*node as usize] -= state.coordinates[k] * state.force
+                        + state.turning[k].transpose() * state.force;
                 }
             }
         }
@@ -272,21 +280,15 @@ impl Interaction for CohesiveInterface {
         }
     }
 
-    /// On a deformable main the stiffness is unsymmetric, whatever the law, when the
-    /// force depends on the turn of the main triangle: sliding bonds push along its
-    /// current normal (past its rim or over an edge that is not the gradient of a
-    /// potential, `slide_tangent.rs`), and bonds formed across a gap carry their rest
-    /// state R δ_ref round with it (`bonds.rs`). On the coarse knee's muscle–muscle bonds
-    /// (1–4 mm rest gaps) |K − Kᵀ| reached 8.6e3 N/m, near the bond stiffness A K itself,
-    /// and sym(K) had 12 negative eigenvalues at the reference state, all at bonded nodes.
+    /// On a deformable main, sliding bonds make the stiffness unsymmetric whatever the
+    /// law: they push along the current normal of the main triangle, past its rim or over
+    /// an edge that is not the gradient of a potential (`slide_tangent.rs`). Material-point
+    /// bonds, rest offsets included, are the gradient of an energy when the law is
+    /// (`bonds.rs`).
     fn symmetric_stiffness(&self) -> bool {
-        let turns_with_the_main = matches!(self.main, ContactTarget::Deformable(_))
-            && (self.neighbours.is_some()
-                || self
-                    .bonds
-                    .iter()
-                    .any(|bond| bond.reference_separation != Vector3::zeros()));
-        self.law.has_symmetric_tangent() && !turns_with_the_main
+        let slides_on_a_deformable_main =
+            matches!(self.main, ContactTarget::Deformable(_)) && self.neighbours.is_some();
+        self.law.has_symmetric_tangent() && !slides_on_a_deformable_main
     }
 
     fn commit(&mut self) {

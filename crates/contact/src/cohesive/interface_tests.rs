@@ -157,10 +157,11 @@ fn a_bond_formed_across_a_gap_rests_at_that_gap_in_both_modes() {
 }
 
 /// A node that bonds past the main triangle's edge (rest state with in-plane parts) keeps
-/// a consistent stiffness while the main triangle moves, tilts and stretches: its rest
-/// offset turns with the triangle's frame, in-plane parts included.
+/// a consistent, symmetric stiffness while the main triangle moves, tilts and stretches:
+/// its rest offset turns with the triangle's frame, in-plane parts included, and the
+/// forces are the gradient of the bond's energy, so they balance forces and moments.
 #[test]
-fn an_edge_bond_across_a_gap_has_a_consistent_stiffness_as_the_main_turns() {
+fn an_edge_bond_across_a_gap_is_a_spring_whose_rest_offset_turns_with_the_main() {
     let mut x = reference();
     // Beyond the hypotenuse x + y = 1, 2 mm above the plane: the closest point is on it.
     x[3] = Vector3::new(0.6, 0.5, 0.002);
@@ -193,9 +194,33 @@ fn an_edge_bond_across_a_gap_has_a_consistent_stiffness_as_the_main_turns() {
     x[2] += Vector3::new(-0.02, 0.04, -0.05);
     x[3] += Vector3::new(0.008, -0.006, 0.012);
     let asymmetry = check_stiffness(&mut interface, 0.0, &x);
-    // The turning rest offset makes it unsymmetric, and the interface says so.
-    assert!(asymmetry > 1e-3, "{asymmetry:e}");
-    assert!(!interface.symmetric_stiffness());
+    assert!(asymmetry < 1e-9, "{asymmetry:e}");
+    assert!(interface.symmetric_stiffness());
+    // Σ f = 0 and Σ x × f = 0: the bond pulls the main triangle where it should.
+    let f = all_forces(&mut interface, 0.0, &x);
+    let forces: Vec<Vector3<f64>> = f.chunks(3).map(Vector3::from_column_slice).collect();
+    let total: Vector3<f64> = forces.iter().sum();
+    let moment: Vector3<f64> = x.iter().zip(&forces).map(|(p, f)| p.cross(f)).sum();
+    let scale = forces.iter().map(|f| f.norm()).fold(0.0, f64::max);
+    assert!(scale > 1.0, "{scale}");
+    assert!(total.norm() < 1e-12 * scale, "{total}");
+    assert!(moment.norm() < 1e-12 * scale, "{moment}");
+    // f = ∂E/∂x, E the stored energy (central differences).
+    let energy = |interface: &mut CohesiveInterface, at: &[Vector3<f64>]| {
+        all_forces(interface, 0.0, at);
+        interface.report().stored_energy
+    };
+    let h = 1e-7;
+    for (i, fi) in f.iter().enumerate() {
+        let (mut plus, mut minus) = (x.clone(), x.clone());
+        plus[i / 3][i % 3] += h;
+        minus[i / 3][i % 3] -= h;
+        let gradient = (energy(&mut interface, &plus) - energy(&mut interface, &minus)) / (2.0 * h);
+        assert!(
+            (gradient - fi).abs() < 1e-6 * scale,
+            "{i}: {gradient} vs {fi}"
+        );
+    }
 }
 
 #[test]

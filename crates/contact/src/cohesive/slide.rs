@@ -193,6 +193,8 @@ pub fn evaluate_sliding(
         force: bond.area * traction * direction,
         coupling,
         coordinate_gradients,
+        turning: [Matrix3::zeros(); 3],
+        turning_curvature: [[Matrix3::zeros(); 3]; 3],
         traction: -traction * direction,
         separation: Vector3::new(opening, 0.0, 0.0),
         coordinates,
