@@ -169,7 +169,16 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
     ] {
         assert!(names.contains(&expected), "{names:?}");
     }
-    assert_eq!(names.iter().filter(|n| n.ends_with("-contact")).count(), 4);
+    assert_eq!(
+        names
+            .iter()
+            .filter(|n| n.ends_with("-femur-contact"))
+            .count(),
+        4
+    );
+    for expected in ["VM-VL-contact", "RF-VL-contact", "RF-VM-contact"] {
+        assert!(names.contains(&expected), "{names:?}");
+    }
     // At 0° every cohesive bond rests: no force anywhere, though the muscles start 1–4 mm
     // apart. The faceted coarse meshes overlap the femur a little: the contact pushes
     // those nodes out in the first increment; the overlap stays below 1 mm.
