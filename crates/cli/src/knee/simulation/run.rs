@@ -17,7 +17,6 @@ use musclefem_core::solver::implicit::{
     EvaluationTimes, ImplicitHistoryRow, ImplicitSettings, LinearSolveStatistics, Newmark,
     StepReport, run_implicit_with,
 };
-
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_fibers::FiberField;
 
