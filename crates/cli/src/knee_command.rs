@@ -8,7 +8,9 @@
 //! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
 //!   fibers, activation), `history.csv` (the solver's convergence and energies, forces
 //!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
-//!   instant), `newton.csv` (implicit: every increment's Newton residuals) and `run.log`;
+//!   instant), `newton.csv` (implicit: every increment's Newton residuals), `tendon.csv`
+//!   (the quadriceps' pull, the patellar tendon's force and strain, the patella's pose)
+//!   and `run.log`;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
 
 use std::io::IsTerminal;
@@ -23,6 +25,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
+use musclefem::knee::simulation::patella::{tendon_summary, write_tendon_csv};
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
 use musclefem::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
@@ -307,6 +310,7 @@ fn run_one(
     if !run.newton_steps.is_empty() {
         write_newton_steps(&directory.join("newton.csv"), &run.newton_steps)?;
     }
+    write_tendon_csv(&directory.join("tendon.csv"), &run.tendon)?;
     output.write_run_log(&run_log(&run, settings).timing("solve", run.solve_time))?;
     let summary = run_summary(&run);
     bar.suspend(|| print!("{summary}"));
@@ -524,6 +528,7 @@ fn run_summary(run: &SquatRun) -> String {
         .map(|s| format!("{} ({} bonds)", s.name, s.nodes))
         .collect();
     text.push_str(&format!("  cohesive: {}\n", bonds.join(", ")));
+    text.push_str(&format!("  {}", tendon_summary(&run.tendon)));
     if let Some((evaluations, solves)) = &run.implicit_times {
         text.push_str(&format!(
             "  time: elements {:.0} s, assembly {:.0} s, {} factorizations {:.0} s, \

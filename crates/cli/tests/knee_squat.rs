@@ -3,7 +3,7 @@
 //! increment with no inverted element, the peak-stress table has every muscle, angle,
 //! phase and activation, the passive stress grows with flexion, the active exceeds the
 //! passive at 45°, 60° and 90° for every muscle, the passive muscles come back unloaded,
-//! and the outputs are all there.
+//! the patellar tendon stretches under the pull, and the outputs are all there.
 
 #[path = "support/run.rs"]
 mod support;
@@ -13,7 +13,9 @@ use std::collections::HashMap;
 use support::{musclefem, test_dir, text};
 
 use musclefem::elongation::Solver;
+use musclefem::knee::anatomy::TendonSpring;
 use musclefem::knee::simulation::interactions::knee_interactions;
+use musclefem::knee::simulation::patella::TENDON_CSV_HEADER;
 use musclefem::knee::simulation::{Activation, KneeGeometry, KneeModel, SquatSettings};
 use musclefem::knee::{Anatomy, Resolution};
 use nalgebra::Vector3;
@@ -120,6 +122,34 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
         assert_eq!(newton_header.last().unwrap(), "relative_residuals");
         assert_eq!(increments.len(), history.len());
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
+        // The patellar tendon, one row per increment: its force follows its law, and where
+        // the pull is steady (at 90°) the patella is posed with the pull just measured.
+        let (tendon_header, tendon) = read_csv(&run.join("tendon.csv"));
+        assert_eq!(tendon_header.join(","), TENDON_CSV_HEADER);
+        assert_eq!(tendon.len(), history.len());
+        let spring = TendonSpring::default_knee();
+        let column = |row: &Vec<String>, name: &str| -> f64 {
+            let i = tendon_header.iter().position(|h| h == name).unwrap();
+            row[i].parse().unwrap()
+        };
+        for row in &tendon {
+            let strain = column(row, "tendon_strain");
+            let force = spring.force(spring.slack_length * (1.0 + strain));
+            assert!((column(row, "tendon_force_n") - force).abs() <= 1e-6 * force.max(1.0));
+        }
+        let peak = tendon
+            .iter()
+            .max_by(|a, b| column(a, "knee_angle_deg").total_cmp(&column(b, "knee_angle_deg")))
+            .unwrap();
+        let (measured, applied) = (
+            column(peak, "measured_tension_n"),
+            column(peak, "applied_tension_n"),
+        );
+        assert!(
+            (applied - measured).abs() < 0.1 * measured,
+            "{activation} at 90°: posed with {applied} N, measured {measured} N"
+        );
+        assert!(column(peak, "tendon_strain") > 0.02, "{peak:?}");
         if activation == "passive" {
             // Passive muscles and undamaged bonds are elastic: back at 0° they are
             // unloaded again (vm95 below 1 % of its peak).

@@ -141,6 +141,7 @@ fn main() {
     let motion = RigidMotion {
         translation: [Some(Amplitude::ramp(1.0, 1.0).unwrap()), None, None],
         rotation: None,
+        follower: None,
     };
     let rigid = RigidSurface::new("plane", vertices, main_triangles)
         .unwrap()

@@ -391,6 +391,7 @@ mod tests {
                 axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.0)),
                 angle: Amplitude::ramp(1.0, 0.7).unwrap(),
             }),
+            follower: None,
         };
         let time = 0.6;
         let iso = motion.isometry_at(time);

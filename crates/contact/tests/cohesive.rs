@@ -268,6 +268,7 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
     .with_motion(RigidMotion {
         translation: [None, None, Some(Amplitude::ramp(1.0, -travel).unwrap())],
         rotation: None,
+        follower: None,
     });
     let bottom = DeformableSurface::from_mesh_surface(&mesh, "z0").unwrap();
     let interface = CohesiveInterface::new("bone", &bottom, plane, &mesh, &settings).unwrap();

@@ -165,6 +165,7 @@ fn rigid_motion(end_time: f64) -> RigidTie {
                 axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 2.0)),
                 angle: Amplitude::ramp(end_time, PI / 3.0).unwrap(),
             }),
+            follower: None,
         },
     }
 }
@@ -245,6 +246,7 @@ fn two_ties_twisting_a_bar_balance_and_match_prescribed_components() {
                 axis: Vector3::x_axis(),
                 angle: Amplitude::ramp(1.0, angle).unwrap(),
             }),
+            follower: None,
         },
     };
     let settings = ImplicitSettings::new(1.0, 4);

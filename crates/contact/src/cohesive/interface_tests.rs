@@ -277,6 +277,7 @@ fn rigid(tangential: TangentialMode, stiffness: [f64; 3]) -> CohesiveInterface {
             axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.3)),
             angle: Amplitude::ramp(1.0, 0.4).unwrap(),
         }),
+        follower: None,
     };
     let femur = RigidSurface::new("femur", reference()[..3].to_vec(), vec![[0, 1, 2]])
         .unwrap()

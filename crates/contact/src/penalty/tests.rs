@@ -36,6 +36,7 @@ fn reused_candidates_give_the_brute_force_closest_point_on_a_moving_sphere() {
             axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 0.5)),
             angle: Amplitude::ramp(1.0, 0.5).unwrap(),
         }),
+        follower: None,
     };
     let sphere = RigidSurface::sphere("ball", Vector3::zeros(), 1.0, 3)
         .unwrap()

@@ -268,6 +268,7 @@ mod tests {
             motion: RigidMotion {
                 translation: [None, Some(ramp(1.0)), None],
                 rotation: None,
+                follower: None,
             },
         };
         let loads = Loads {

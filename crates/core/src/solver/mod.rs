@@ -35,7 +35,7 @@ mod sparse;
 pub use interaction::{Interaction, InteractionReport, NodalField};
 pub use loads::{Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidTie};
 pub use part::Part;
-pub use rigid_motion::{RigidMotion, RigidRotation};
+pub use rigid_motion::{PoseFollower, RigidMotion, RigidRotation};
 
 use thiserror::Error;
 

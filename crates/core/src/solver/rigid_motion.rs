@@ -1,5 +1,9 @@
 //! The prescribed motion of a rigid body (a bone): translation and rotation about an axis,
 //! shared by nodes tied to the body ([`super::RigidTie`]) and by rigid contact surfaces.
+//! A body may instead follow a pose that the run sets as it goes ([`PoseFollower`]).
+
+use std::fmt;
+use std::sync::Arc;
 
 use nalgebra::{Isometry3, Rotation3, Translation3, Unit, UnitQuaternion, Vector3};
 
@@ -14,14 +18,29 @@ pub struct RigidRotation {
     pub angle: Amplitude,
 }
 
+/// A pose that is not known before the run: the run's observer updates it from the state
+/// (e.g. a patella held by a tendon spring against the muscles' pull), and the solvers
+/// read it at the times they need. Implementations must be cheap to evaluate and give the
+/// same pose for the same time until the observer changes them.
+pub trait PoseFollower: Send + Sync + fmt::Debug {
+    /// The body's pose at `time` [s]: a point at reference position X is at iso · X.
+    fn isometry_at(&self, time: f64) -> Isometry3<f64>;
+    /// The body's reference point in the reference configuration [m]: the moments of
+    /// the reactions are taken about its current position.
+    fn reference_point(&self) -> Vector3<f64>;
+}
+
 /// A point at reference position X goes to x(t) = c + R(t)(X − c) + T(t), with R the
-/// rotation about the axis through c and T the translation.
+/// rotation about the axis through c and T the translation, unless a `follower` sets
+/// the pose instead: x(t) = follower(t) · X.
 #[derive(Debug, Clone, Default)]
 pub struct RigidMotion {
     /// Translation T(t) of each component [m]; `None` = 0.
     pub translation: [Option<Amplitude>; 3],
     /// Rotation; `None` = no rotation.
     pub rotation: Option<RigidRotation>,
+    /// The pose set while the run goes, in place of the translation and rotation.
+    pub follower: Option<Arc<dyn PoseFollower>>,
 }
 
 impl RigidMotion {
@@ -30,8 +49,35 @@ impl RigidMotion {
         Self::default()
     }
 
+    /// A body whose pose `follower` sets.
+    pub fn followed(follower: Arc<dyn PoseFollower>) -> Self {
+        Self {
+            translation: [None, None, None],
+            rotation: None,
+            follower: Some(follower),
+        }
+    }
+
+    /// The reference point c in the reference configuration [m]: the follower's, else
+    /// the centre of the rotation, else the origin.
+    fn center(&self) -> Vector3<f64> {
+        match (&self.follower, &self.rotation) {
+            (Some(follower), _) => follower.reference_point(),
+            (None, Some(rotation)) => rotation.center,
+            (None, None) => Vector3::zeros(),
+        }
+    }
+
     /// The translation T(t) [m].
     pub fn translation_at(&self, time: f64) -> Vector3<f64> {
+        if let Some(follower) = &self.follower {
+            let center = self.center();
+            return follower
+                .isometry_at(time)
+                .transform_point(&center.into())
+                .coords
+                - center;
+        }
         Vector3::from_fn(|i, _| {
             self.translation[i]
                 .as_ref()
@@ -41,6 +87,9 @@ impl RigidMotion {
 
     /// The rotation R(t).
     pub fn rotation_at(&self, time: f64) -> Rotation3<f64> {
+        if let Some(follower) = &self.follower {
+            return follower.isometry_at(time).rotation.to_rotation_matrix();
+        }
         self.rotation
             .as_ref()
             .map_or_else(Rotation3::identity, |r| {
@@ -48,22 +97,19 @@ impl RigidMotion {
             })
     }
 
-    /// The current position of the body's reference point c: c + T(t) [m] (the centre of
-    /// rotation, or the origin without rotation).
+    /// The current position of the body's reference point c: c + T(t) [m] (the
+    /// follower's reference point, the centre of rotation, or the origin).
     pub fn reference_point_at(&self, time: f64) -> Vector3<f64> {
-        self.rotation
-            .as_ref()
-            .map_or(Vector3::zeros(), |r| r.center)
-            + self.translation_at(time)
+        self.center() + self.translation_at(time)
     }
 
     /// The motion at `time` as one isometry: x = iso · X.
     pub fn isometry_at(&self, time: f64) -> Isometry3<f64> {
+        if let Some(follower) = &self.follower {
+            return follower.isometry_at(time);
+        }
         let rotation = self.rotation_at(time);
-        let center = self
-            .rotation
-            .as_ref()
-            .map_or(Vector3::zeros(), |r| r.center);
+        let center = self.center();
         let shift = center - rotation * center + self.translation_at(time);
         Isometry3::from_parts(
             Translation3::from(shift),
@@ -73,6 +119,12 @@ impl RigidMotion {
 
     /// Position x(X, t) = c + R(t)(X − c) + T(t) [m] of the point at `reference`.
     pub fn position_at(&self, reference: &Vector3<f64>, time: f64) -> Vector3<f64> {
+        if let Some(follower) = &self.follower {
+            return follower
+                .isometry_at(time)
+                .transform_point(&(*reference).into())
+                .coords;
+        }
         let rotated = match &self.rotation {
             Some(r) => r.center + self.rotation_at(time) * (reference - r.center),
             None => *reference,
@@ -110,6 +162,7 @@ mod tests {
                 axis: Vector3::z_axis(),
                 angle: ramp(std::f64::consts::FRAC_PI_2),
             }),
+            follower: None,
         };
         let x = Vector3::new(2.0, 0.0, 0.5);
         // Quarter turn about z through (1, 0, 0): (2, 0, .5) → (1, 1, .5), then +0.1 x.
@@ -132,11 +185,62 @@ mod tests {
                 axis: Unit::new_normalize(Vector3::new(1.0, 2.0, 2.0)),
                 angle: ramp(1.2),
             }),
+            follower: None,
         };
         let x = Vector3::new(0.3, -0.7, 2.0);
         for time in [0.0, 0.37, 1.0] {
             let by_isometry = motion.isometry_at(time) * nalgebra::Point3::from(x);
             assert!((by_isometry.coords - motion.position_at(&x, time)).norm() < 1e-14);
+        }
+    }
+
+    /// A body turning about z through (1, 0, 0) at 1 rad/s, its pose set by a follower.
+    #[derive(Debug)]
+    struct Spinning;
+
+    impl PoseFollower for Spinning {
+        fn isometry_at(&self, time: f64) -> Isometry3<f64> {
+            let center = Vector3::new(1.0, 0.0, 0.0);
+            let rotation = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), time);
+            Isometry3::from_parts(Translation3::from(center - rotation * center), rotation)
+        }
+        fn reference_point(&self) -> Vector3<f64> {
+            Vector3::new(1.0, 0.0, 0.0)
+        }
+    }
+
+    #[test]
+    fn a_follower_sets_the_pose_in_place_of_the_amplitudes() {
+        let followed = RigidMotion::followed(Arc::new(Spinning));
+        let prescribed = RigidMotion {
+            translation: [None, None, None],
+            rotation: Some(RigidRotation {
+                center: Vector3::new(1.0, 0.0, 0.0),
+                axis: Vector3::z_axis(),
+                angle: Amplitude::ramp(2.0, 2.0).unwrap(),
+            }),
+            follower: None,
+        };
+        let x = Vector3::new(2.0, 0.3, -0.5);
+        for time in [0.0, 0.4, 1.7] {
+            assert!(
+                (followed.position_at(&x, time) - prescribed.position_at(&x, time)).norm() < 1e-14
+            );
+            assert!(
+                (followed.displacement_at(&x, time) - prescribed.displacement_at(&x, time)).norm()
+                    < 1e-14
+            );
+            assert!(
+                (followed.rotation_at(time).matrix() - prescribed.rotation_at(time).matrix())
+                    .norm()
+                    < 1e-14
+            );
+            assert!(
+                (followed.reference_point_at(time) - prescribed.reference_point_at(time)).norm()
+                    < 1e-14
+            );
+            let by_isometry = followed.isometry_at(time) * nalgebra::Point3::from(x);
+            assert!((by_isometry.coords - prescribed.position_at(&x, time)).norm() < 1e-14);
         }
     }
 }

@@ -436,6 +436,7 @@ fn rigid_motion(
     Ok(RigidMotion {
         translation: amplitudes,
         rotation,
+        follower: None,
     })
 }
 

@@ -15,8 +15,10 @@
 //!    x = x_g + r_g, so the ridge's centre lies on the offset curve at distance
 //!    r_g + ρ_p, parameterised by its arclength u (u ≥ 0 on the straight part above
 //!    C_g, u < 0 around the circle);
-//! 2. *the inextensible patellar tendon*: |A(u, φ) − T(θ)| = ℓ, A the apex, T the
-//!    tuberosity moving with the tibia, ℓ = [`PATELLAR_TENDON_LENGTH`].
+//! 2. *the patellar tendon at its length*: |A(u, φ) − T(θ)| = ℓ, A the apex, T the
+//!    tuberosity moving with the tibia, ℓ = [`PATELLAR_TENDON_LENGTH`] for a slack
+//!    tendon (the finite-element squat stretches it by its tension: see
+//!    `knee::simulation::patella`, which uses [`KneeKinematics::with_tendon_length`]).
 //!
 //! The groove runs 120° round its circle below the straight part (to the notch); u is
 //! kept on that range.
@@ -122,6 +124,14 @@ impl KneeKinematics {
             pulls,
             trochlea: WrapCylinder::trochlea(),
             tendon_length: PATELLAR_TENDON_LENGTH,
+        }
+    }
+
+    /// The same knee with a patellar tendon of `length` [m] (stretched by its tension).
+    pub fn with_tendon_length(&self, length: f64) -> Self {
+        Self {
+            tendon_length: length,
+            ..self.clone()
         }
     }
 

@@ -14,6 +14,7 @@
 //!   Visible Human;
 //! - [`moment_arms`]: musculotendon lengths and moment arms r = dL/dθ;
 //! - [`squat`]: θ(t) for 0° → 90° → 0° and the bones' [`RigidMotion`]s;
+//! - [`tendon`]: the patellar tendon's toe-then-linear spring and its stiffness source;
 //! - [`export`]: the anatomy at a flexion angle as STL and VTU files.
 //!
 //! No data file is read: every number is a documented constant (the Visible Human
@@ -32,6 +33,7 @@ pub mod muscles;
 pub mod path;
 pub mod squat;
 pub mod surface;
+pub mod tendon;
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
@@ -43,6 +45,7 @@ pub use kinematics::{KneeKinematics, PatellaPose};
 pub use muscles::{Muscle, Quadriceps};
 pub use squat::{BoneMotions, Squat};
 pub use surface::TriangleSurface;
+pub use tendon::TendonSpring;
 
 use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
 
@@ -80,15 +83,16 @@ impl Resolution {
     }
 }
 
-/// The patellar tendon: its attachments and rest length. The FE scene models it as
-/// nonlinear springs between the two attachments (not built here).
+/// The patellar tendon: its attachments and rest length. Its force–length law is
+/// [`TendonSpring`], slack at this rest length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PatellarTendon {
     /// The apex of the patella [m], at the patella's 0° pose (global frame).
     pub apex: Vector3<f64>,
     /// The tibial tuberosity [m], at the tibia's 0° pose (global frame).
     pub tuberosity: Vector3<f64>,
-    /// Rest length [m] (the apex–tuberosity distance the kinematics keeps).
+    /// Rest length [m] (the apex–tuberosity distance the kinematics keeps without a
+    /// pull).
     pub length: f64,
 }
 

@@ -112,6 +112,7 @@ impl Squat {
                     axis: flexion_axis,
                     angle: amplitude(flexion)?,
                 }),
+                follower: None,
             },
             patella: RigidMotion {
                 translation: [
@@ -124,6 +125,7 @@ impl Squat {
                     axis: flexion_axis,
                     angle: amplitude(patella_angle)?,
                 }),
+                follower: None,
             },
         })
     }

@@ -7,6 +7,8 @@
 //!   muscle parts and the bone ties;
 //! - [`files`]: the muscles from a mesh file (`--anatomy DIR`);
 //! - [`interactions`]: cohesive bonds and penalty contact;
+//! - [`patella`]: the patella held by the patellar tendon (a nonlinear spring) against
+//!   the pull the run measures;
 //! - [`run`]: one squat with either solver, the muscles' vm95 at every recorded instant;
 //! - [`peak_stress`]: vm95, where the peaks lie, and `peak_stress.csv`.
 //!
@@ -15,14 +17,16 @@
 //! We hold 50 % through the extension back to 0° (the quadriceps extend the knee while
 //! rising from a squat), so the extension rows of the active run are at 50 %.
 //!
-//! **The patellar tendon.** The patella's motion is prescribed by the kinematics of
-//! [`super::anatomy::kinematics`], which keep the tendon at its rest length (an
-//! inextensible tendon); the finite-element run has no tendon springs, since a spring
-//! between two prescribed bodies carries no information into the muscles.
+//! **The patellar tendon.** A nonlinear spring from the patella's apex to the tibial
+//! tuberosity ([`super::anatomy::tendon`]). The patella is not prescribed: at each
+//! increment it takes the pose where the tendon balances the quadriceps' pull that the
+//! run measured at the insertions ([`patella`]), so the tendon stretches (and the
+//! muscles shorten) as the pull grows.
 
 pub mod files;
 pub mod interactions;
 pub mod model;
+pub mod patella;
 pub mod peak_stress;
 pub mod run;
 

@@ -7,13 +7,16 @@ use std::sync::Arc;
 use anyhow::{Context, Result, bail};
 
 use musclefem_core::mesh::Mesh;
-use musclefem_core::solver::{Loads, Part, RigidTie};
+use musclefem_core::solver::{Loads, Part, RigidMotion, RigidTie};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
 use musclefem_materials::{Material, MaterialLibrary};
 
 use crate::elongation::ElementChoice;
 
-use super::super::anatomy::{Anatomy, BoneMotions, Quadriceps, Squat, TriangleSurface};
+use super::super::anatomy::{
+    Anatomy, BoneMotions, Quadriceps, Squat, TendonSpring, TriangleSurface,
+};
+use super::patella::{PatellaTable, TendonPatella};
 
 /// Density of muscle [kg/m³].
 pub const MUSCLE_DENSITY: f64 = 1060.0;
@@ -59,8 +62,11 @@ pub struct KneeGeometry {
     /// The tibia and patella at 0° (for the frames of the bones).
     pub tibia: TriangleSurface,
     pub patella: TriangleSurface,
-    /// The squat's bone motions.
+    /// The squat's bone motions with an inextensible tendon (the femur's and tibia's are
+    /// the run's; the patella's is the run's at zero tension).
     pub motions: BoneMotions,
+    /// The patella's poses with the patellar tendon as a spring (the run's patella).
+    pub patella_table: Arc<PatellaTable>,
 }
 
 impl KneeGeometry {
@@ -69,6 +75,12 @@ impl KneeGeometry {
         let motions = squat
             .motions(&anatomy.kinematics, &anatomy.patella_reference)
             .context("the squat's bone motions")?;
+        let patella_table = PatellaTable::new(
+            &anatomy.kinematics,
+            TendonSpring::default_knee(),
+            squat.peak_flexion,
+        )
+        .context("the patella's poses with the tendon stretched")?;
         Ok(KneeGeometry {
             mesh: anatomy.muscle_mesh(),
             muscles: anatomy.muscles.iter().map(|m| m.muscle).collect(),
@@ -76,6 +88,7 @@ impl KneeGeometry {
             tibia: anatomy.bones.tibia.clone(),
             patella: anatomy.bones.patella.clone(),
             motions,
+            patella_table: Arc::new(patella_table),
         })
     }
 
@@ -145,6 +158,10 @@ pub struct KneeModel {
     /// Every origin tied to the femur, every insertion to the patella.
     pub loads: Loads,
     pub material: Arc<dyn Material>,
+    /// The patella, held by the tendon against the pull the run reports.
+    pub patella: Arc<TendonPatella>,
+    /// Indices in `loads.rigid_ties` of the insertions (their reactions are the pull).
+    pub insertion_ties: Vec<usize>,
 }
 
 impl KneeModel {
@@ -178,17 +195,20 @@ impl KneeModel {
                 density: MUSCLE_DENSITY,
             })
             .collect();
+        let patella = Arc::new(TendonPatella::new(geometry.patella_table.clone(), *squat));
         let mut rigid_ties = Vec::new();
+        let mut insertion_ties = Vec::new();
         for (b, muscle) in geometry.muscles.iter().enumerate() {
             rigid_ties.push(RigidTie {
                 name: format!("{}_origin", muscle.abbreviation()),
                 nodes: geometry.end_nodes(b, "origin")?,
                 motion: geometry.motions.femur.clone(),
             });
+            insertion_ties.push(rigid_ties.len());
             rigid_ties.push(RigidTie {
                 name: format!("{}_insertion", muscle.abbreviation()),
                 nodes: geometry.end_nodes(b, "insertion")?,
-                motion: geometry.motions.patella.clone(),
+                motion: RigidMotion::followed(patella.clone()),
             });
         }
         Ok(KneeModel {
@@ -199,6 +219,8 @@ impl KneeModel {
                 ..Loads::default()
             },
             material,
+            patella,
+            insertion_ties,
         })
     }
 }

@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::solver::RigidReaction;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
 use musclefem_core::solver::implicit::{
@@ -23,6 +24,7 @@ use musclefem_fibers::FiberField;
 use super::super::anatomy::Squat;
 use super::interactions::{InteractionSummary, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
+use super::patella::{LARGEST_TENDON_STRAIN, TendonPatella, TendonRow};
 use super::peak_stress::{
     ElementRegions, PeakStressRow, StressSample, peak_stress_rows, percentile,
 };
@@ -150,6 +152,8 @@ pub struct SquatRun {
     /// |W_int + W_visc + W_c + K − W_ext| over the largest energy.
     pub added_mass_fraction: Option<f64>,
     pub energy_error: Option<f64>,
+    /// The patellar tendon at every report of the quadriceps' pull.
+    pub tendon: Vec<TendonRow>,
 }
 
 /// Run the squat of `activation` on `geometry` with `fibers`.
@@ -206,6 +210,9 @@ pub fn run_squat(
         largest_energy: 0.0,
         energy_error: 0.0,
         stall: StallDetector::default(),
+        patella: &model.patella,
+        insertion_ties: &model.insertion_ties,
+        tendon: Vec::new(),
     };
     let duration = settings.squat.duration;
     let context = || {
@@ -298,6 +305,7 @@ pub fn run_squat(
         newton_steps,
         added_mass_fraction,
         energy_error,
+        tendon: std::mem::take(&mut recorder.tendon),
     })
 }
 
@@ -324,6 +332,10 @@ struct Recorder<'a> {
     energy_error: f64,
     /// Implicit: stops a run that no longer advances.
     stall: StallDetector,
+    /// The patella, told the quadriceps' pull at every report.
+    patella: &'a TendonPatella,
+    insertion_ties: &'a [usize],
+    tendon: Vec<TendonRow>,
 }
 
 /// Implicit increments over which a stall is judged.
@@ -373,6 +385,35 @@ impl Recorder<'_> {
         .zip(&self.reference_volumes)
         .map(|(j, v)| j / v)
         .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Tells the patella the quadriceps' pull at `time`: T = Σ |R| over the insertions'
+    /// ties. Records the tendon's state the run had at that time (from the pull reported
+    /// before); stops the run if the pull stretches the tendon beyond the table.
+    fn report_pull(&mut self, time: f64, reactions: &[RigidReaction]) -> ControlFlow<()> {
+        let tension: f64 = self
+            .insertion_ties
+            .iter()
+            .map(|&i| reactions[i].force.norm())
+            .sum();
+        let applied = self.patella.state_at(time);
+        self.patella.report(time, tension);
+        let measured = self.patella.state_at(time);
+        self.tendon.push(TendonRow {
+            time,
+            measured_tension: tension,
+            applied,
+        });
+        if measured.beyond_table {
+            self.error = Some(anyhow::anyhow!(
+                "at t = {time:.4} s (knee flexion {:.1}°) the quadriceps pull the patella \
+                 with {tension:.0} N, which would stretch the patellar tendon beyond {:.0} %",
+                measured.knee_angle.to_degrees(),
+                100.0 * LARGEST_TENDON_STRAIN
+            ));
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
     }
 
     fn record(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
@@ -440,6 +481,7 @@ impl StallDetector {
 impl Observer<ImplicitHistoryRow> for Recorder<'_> {
     fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
         self.watcher.implicit_row(row);
+        self.report_pull(row.time, &row.rigid_reactions)?;
         self.record(snapshot)?;
         if let Some(message) = self.stall.advance(row.time, self.squat) {
             self.error = Some(anyhow::anyhow!(message));
@@ -464,6 +506,7 @@ impl Observer<HistoryRow> for Recorder<'_> {
                 - row.external_work;
         self.energy_error = self.energy_error.max(balance.abs());
         self.watcher.explicit_row(row);
+        self.report_pull(row.time, &row.rigid_reactions)?;
         self.record(snapshot)
     }
 
