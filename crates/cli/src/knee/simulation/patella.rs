@@ -115,7 +115,7 @@ pub fn tendon_summary(rows: &[TendonRow]) -> String {
         .iter()
         .max_by(|a, b| a.applied.tendon_force.total_cmp(&b.applied.tendon_force))
     else {
-        return "patellar tendon: no pull reported".to_string();
+        return "patellar tendon: no pull reported\n".to_string();
     };
     let largest_pull = rows.iter().map(|r| r.measured_tension).fold(0.0, f64::max);
     let lag = rows
@@ -142,8 +142,9 @@ pub struct PatellaTable {
     tendon: TendonSpring,
     angle_count: usize,
     strain_count: usize,
-    /// Centroid (x, y) and flexion φ at each (angle, strain), angle-major.
-    poses: Vec<[f64; 3]>,
+    /// Centroid (x, y), flexion φ and groove coordinate u at each (angle, strain),
+    /// angle-major.
+    poses: Vec<[f64; 4]>,
     /// r = −∂W*/∂ℓ at each (angle, strain).
     ratios: Vec<f64>,
     /// The pose at 0° with a slack tendon: the muscles' mesh is in it.
@@ -190,7 +191,7 @@ impl PatellaTable {
             strain_count,
             poses: entries
                 .iter()
-                .map(|(p, _)| [p.centre.x, p.centre.y, p.flexion])
+                .map(|(p, _)| [p.centre.x, p.centre.y, p.flexion, p.groove_coordinate])
                 .collect(),
             ratios,
             reference: entries[0].0,
@@ -200,11 +201,6 @@ impl PatellaTable {
     /// The tendon the table was built with.
     pub fn tendon(&self) -> &TendonSpring {
         &self.tendon
-    }
-
-    /// The pose at 0° with a slack tendon.
-    pub fn reference(&self) -> &PatellaPose {
-        &self.reference
     }
 
     /// Bilinear interpolation of `value(index)` at knee flexion `angle` [rad] and tendon
@@ -233,7 +229,7 @@ impl PatellaTable {
         PatellaPose {
             centre: Vector3::new(component(0), component(1), self.reference.centre.z),
             flexion: component(2),
-            groove_coordinate: f64::NAN,
+            groove_coordinate: component(3),
         }
     }
 
@@ -296,6 +292,12 @@ struct Reports {
 }
 
 impl Reports {
+    /// The tension the patella is posed with at `time` [s]: the second stage, never
+    /// negative (0 before any report).
+    fn applied_tension(&self, time: f64) -> f64 {
+        self.stages(time)[1].max(0.0)
+    }
+
     /// The two filter stages (T₁, T_a) at `time` [s] (see [`PULL_RELAXATION_TIME`]).
     fn stages(&self, time: f64) -> [f64; 2] {
         match self.latest {
@@ -367,7 +369,7 @@ impl TendonPatella {
 
     /// The tension the patella is posed with at `time` [s] (0 before any report).
     pub fn tension_at(&self, time: f64) -> f64 {
-        self.reports().stages(time)[1].max(0.0)
+        self.reports().applied_tension(time)
     }
 
     /// The equilibrium at `time` [s].
@@ -379,13 +381,20 @@ impl TendonPatella {
 
 impl PoseFollower for TendonPatella {
     fn isometry_at(&self, time: f64) -> Isometry3<f64> {
-        if let Some((t, iso)) = self.reports().cached
+        // One lock for the lookup and the update: a report cannot slip in between.
+        let mut reports = self.reports();
+        if let Some((t, iso)) = reports.cached
             && t == time
         {
             return iso;
         }
-        let iso = self.state_at(time).pose.isometry() * self.table.reference.isometry().inverse();
-        self.reports().cached = Some((time, iso));
+        let tension = reports.applied_tension(time);
+        let pose = self
+            .table
+            .equilibrium(self.squat.flexion_at(time), tension)
+            .pose;
+        let iso = pose.isometry() * self.table.reference.isometry().inverse();
+        reports.cached = Some((time, iso));
         iso
     }
 
