@@ -372,9 +372,13 @@ impl TendonPatella {
         self.reports().applied_tension(time)
     }
 
-    /// The equilibrium at `time` [s].
+    /// The equilibrium at `time` [s], posed with the applied pull.
     pub fn state_at(&self, time: f64) -> TendonState {
-        let tension = self.tension_at(time);
+        self.equilibrium(time, self.tension_at(time))
+    }
+
+    /// The equilibrium at `time` [s] under the pull `tension` [N].
+    pub fn equilibrium(&self, time: f64, tension: f64) -> TendonState {
         self.table.equilibrium(self.squat.flexion_at(time), tension)
     }
 }

@@ -389,7 +389,8 @@ impl Recorder<'_> {
 
     /// Tells the patella the quadriceps' pull at `time`: T = Σ |R| over the insertions'
     /// ties. Records the tendon's state the run had at that time (from the pull reported
-    /// before); stops the run if the pull stretches the tendon beyond the table.
+    /// before); stops the run if the measured pull would stretch the tendon beyond the
+    /// table.
     fn report_pull(&mut self, time: f64, reactions: &[RigidReaction]) -> ControlFlow<()> {
         let tension: f64 = self
             .insertion_ties
@@ -398,7 +399,7 @@ impl Recorder<'_> {
             .sum();
         let applied = self.patella.state_at(time);
         self.patella.report(time, tension);
-        let measured = self.patella.state_at(time);
+        let measured = self.patella.equilibrium(time, tension);
         self.tendon.push(TendonRow {
             time,
             measured_tension: tension,
