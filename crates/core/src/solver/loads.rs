@@ -151,8 +151,11 @@ impl Loads {
             }
         }
         for tie in &self.rigid_ties {
+            // The body's pose once per tie, not per node (a follower's pose takes a lock).
+            let pose = tie.motion.isometry_at(time);
             for &n in &tie.nodes {
-                let u = tie.motion.displacement_at(&reference[n as usize], time);
+                let x = reference[n as usize];
+                let u = pose.transform_point(&x.into()).coords - x;
                 target[3 * n as usize..3 * n as usize + 3].copy_from_slice(u.as_slice());
             }
         }
