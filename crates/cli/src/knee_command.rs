@@ -474,6 +474,7 @@ fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
         text.push_str(&format!(
             "evaluations = {}\nelement_s = {:.1}\nassembly_s = {:.1}\nlinear_solves = {}\n\
              krylov_solves = {}\nkrylov_iterations = {}\nkrylov_failures = {}\nnumeric_factorizations = {}\n\
+             indefinite_factorizations = {}\ncholesky_factor_entries = {}\nfill_reducing_order = {}\n\
              factorization_s = {:.1}\nsubstitution_s = {:.1}\n",
             evaluations.evaluations,
             evaluations.element_seconds,
@@ -483,6 +484,9 @@ fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
             solves.krylov_iterations,
             solves.krylov_failures,
             solves.numeric_factorizations,
+            solves.indefinite_factorizations,
+            solves.factor_entries,
+            solves.ordering.map_or("none", |o| o.name()),
             solves.numeric_seconds,
             solves.substitution_seconds,
         ));

@@ -85,13 +85,32 @@ fn a_nearby_matrix_is_solved_with_the_factor_at_hand() {
 }
 
 #[test]
-fn indefinite_systems_fall_back_to_lu() {
+fn indefinite_symmetric_systems_use_lblt() {
     let indefinite = |r: usize, c: usize| match (r == c, r % 2) {
         (true, 0) => 4.0,
         (true, _) => -4.0,
         _ => coupling(r, c),
     };
     let (used, error) = solve_one_hex(indefinite, true);
+    assert_eq!(used, Factorization::SymmetricIndefinite);
+    assert!(error < 1e-13, "{error}");
+}
+
+/// A zero diagonal (a saddle point: unknowns coupled only to others) needs 2 × 2 pivots.
+/// faer factorizes a system this small simplicially, LDLᵀ without pivoting: it meets a
+/// zero pivot, the solve is rejected and LU takes it, accurately.
+#[test]
+fn a_symmetric_system_lblt_cannot_pivot_goes_to_lu() {
+    let saddle = |r: usize, c: usize| {
+        if r == c {
+            0.0
+        } else if r / 2 == c / 2 {
+            3.0
+        } else {
+            coupling(r, c)
+        }
+    };
+    let (used, error) = solve_one_hex(saddle, true);
     assert_eq!(used, Factorization::Lu);
     assert!(error < 1e-13, "{error}");
 }
@@ -108,4 +127,50 @@ fn unsymmetric_systems_use_lu() {
     let (used, error) = solve_one_hex(unsymmetric, false);
     assert_eq!(used, Factorization::Lu);
     assert!(error < 1e-13, "{error}");
+}
+
+/// The Cholesky analysis keeps whichever of nested dissection and AMD gives the smaller
+/// factor; on a block of hexes that is nested dissection, and AMD's factor is larger.
+#[test]
+fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
+    let mesh = box_of_hexes([1.0; 3], [8, 8, 8]).unwrap();
+    let nodes = mesh.nodes.len();
+    let positions: Vec<_> = (0..nodes).map(|n| mesh.nodes.position(n)).collect();
+    let equation: Vec<u32> = (0..3 * nodes as u32).collect();
+    let mut system =
+        SparseSystem::new(&positions, &equation, 3 * nodes, mesh.blocks.iter(), &[], usize::MAX);
+    // A diagonally dominant symmetric matrix on the pattern.
+    let free = system.size();
+    for column in 0..free {
+        let symbolic = system.matrix.symbolic();
+        let range = symbolic.col_ptr()[column]..symbolic.col_ptr()[column + 1];
+        let rows: Vec<usize> = symbolic.row_idx()[range.clone()].to_vec();
+        for (offset, row) in range.zip(rows) {
+            system.values_mut()[offset] = if row == column { 100.0 } else { -0.5 };
+        }
+    }
+    let mut rhs = vec![1.0; free];
+    assert_eq!(
+        system.solve(&mut rhs, true, None).unwrap(),
+        Factorization::Cholesky
+    );
+    let amd = factorize_symbolic_cholesky(
+        system.matrix.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        Default::default(),
+    )
+    .unwrap();
+    let statistics = system.statistics();
+    println!(
+        "{free} unknowns: {:?} factor {} entries, AMD {}",
+        statistics.ordering,
+        statistics.factor_entries,
+        amd.len_val()
+    );
+    assert_eq!(
+        statistics.ordering,
+        Some(FillReducingOrder::NestedDissection)
+    );
+    assert!(statistics.factor_entries < amd.len_val());
 }
