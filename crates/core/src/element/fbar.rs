@@ -107,6 +107,7 @@ pub(super) fn add_element_forces(
 ///
 /// The forces derive from the potential Σ_q w_q Ψ(F̄_q) for a hyperelastic material, and
 /// K is then symmetric; it is unsymmetric exactly when 𝔸 is (the solver then uses LU).
+/// With `upper_blocks_only` (for a symmetric 𝔸) only the blocks K_ab with b ≥ a are added.
 pub(super) fn add_element_stiffness(
     kernel: &BlockKernel,
     element: usize,
@@ -114,6 +115,7 @@ pub(super) fn add_element_stiffness(
     stress: &[VoigtStress],
     tangents: &[Tangent],
     stiffness: &mut [f64],
+    upper_blocks_only: bool,
 ) {
     const P: usize = 8;
     const N: usize = 8;
@@ -151,9 +153,10 @@ pub(super) fn add_element_stiffness(
         let scale = kernel.weight(element * P + q) * jacobian[q] / current_volume;
         let g = &spatial[q];
         for a in 0..N {
+            let first = if upper_blocks_only { a } else { 0 };
             for i in 0..3 {
                 let row = &mut mean_derivative[3 * a + i];
-                for b in 0..N {
+                for b in first..N {
                     for k in 0..3 {
                         row[3 * b + k] += scale * (g[b][k] * g[a][i] - g[b][i] * g[a][k]);
                     }
@@ -162,8 +165,9 @@ pub(super) fn add_element_stiffness(
         }
     }
     for a in 0..N {
+        let first = if upper_blocks_only { a } else { 0 };
         for i in 0..3 {
-            for b in 0..N {
+            for b in first..N {
                 for k in 0..3 {
                     mean_derivative[3 * a + i][3 * b + k] -=
                         mean_gradient[a][i] * mean_gradient[b][k];
@@ -218,12 +222,14 @@ pub(super) fn add_element_stiffness(
             w * alpha * alpha,
             &tangents[q],
             stiffness,
+            upper_blocks_only,
         );
         for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
             let (a, i) = (row / 3, row % 3);
+            let first = if upper_blocks_only { a } else { 0 };
             let (c_row, x_row) = (c[row], x[row]);
             let zc = z * c_row;
-            for (b, block) in out.chunks_exact_mut(3).enumerate() {
+            for (b, block) in out.chunks_exact_mut(3).enumerate().skip(first) {
                 let tg = t * g[b][i];
                 for k in 0..3 {
                     let col = 3 * b + k;
@@ -233,7 +239,8 @@ pub(super) fn add_element_stiffness(
         }
     }
     for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
-        for (o, m) in out.iter_mut().zip(&mean_derivative[row]) {
+        let first = if upper_blocks_only { 3 * (row / 3) } else { 0 };
+        for (o, m) in out[first..].iter_mut().zip(&mean_derivative[row][first..]) {
             *o += mean_coefficient * m;
         }
     }

@@ -38,6 +38,7 @@ mod tet4;
 pub(crate) mod tet4_nodal_average;
 
 pub use hex8_one_point::DEFAULT_HOURGLASS_FACTOR;
+pub use stiffness::{SYMMETRY_TOLERANCE, has_major_symmetry};
 
 use nalgebra::{Matrix3, Vector3};
 use thiserror::Error;

@@ -10,11 +10,8 @@ use musclefem_materials::{Material, MaterialError};
 
 use super::chunk::ElementChunk;
 use super::element_fields::AcceptedPoints;
-use crate::element::BlockKernel;
+use crate::element::{BlockKernel, has_major_symmetry};
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
-
-/// Largest |𝔸 − 𝔸ᵀ| relative to the largest |𝔸| for a tangent to count as symmetric.
-const SYMMETRY_TOLERANCE: f64 = 1e-9;
 
 #[derive(Debug)]
 pub(crate) struct ImplicitChunk {
@@ -74,6 +71,7 @@ impl ImplicitChunk {
             self.stiffness.fill(0.0);
             let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
             let npe = kernel.nodes_per_element();
+            self.symmetric = true;
             for (local, element) in self.chunk.elements.clone().enumerate() {
                 for (x, &id) in element_positions
                     .iter_mut()
@@ -82,19 +80,18 @@ impl ImplicitChunk {
                     *x = positions[id as usize];
                 }
                 let points = local * ppe..(local + 1) * ppe;
-                let added = kernel.add_element_stiffness(
+                let symmetric = tangents[points.clone()].iter().all(has_major_symmetry);
+                self.symmetric &= symmetric;
+                let added = kernel.add_element_stiffness_with(
                     element,
                     &element_positions[..npe],
                     &stresses[points.clone()],
                     &tangents[points],
                     &mut self.stiffness[local * size..(local + 1) * size],
+                    symmetric,
                 );
                 debug_assert!(added, "checked when the part was prepared");
             }
-            self.symmetric = tangents.iter().all(|t| {
-                let limit = SYMMETRY_TOLERANCE * t.amax();
-                (0..9).all(|r| (r + 1..9).all(|c| (t[(r, c)] - t[(c, r)]).abs() <= limit))
-            });
         }
         Ok(())
     }

@@ -137,8 +137,14 @@ fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
     let nodes = mesh.nodes.len();
     let positions: Vec<_> = (0..nodes).map(|n| mesh.nodes.position(n)).collect();
     let equation: Vec<u32> = (0..3 * nodes as u32).collect();
-    let mut system =
-        SparseSystem::new(&positions, &equation, 3 * nodes, mesh.blocks.iter(), &[], usize::MAX);
+    let mut system = SparseSystem::new(
+        &positions,
+        &equation,
+        3 * nodes,
+        mesh.blocks.iter(),
+        &[],
+        usize::MAX,
+    );
     // A diagonally dominant symmetric matrix on the pattern.
     let free = system.size();
     for column in 0..free {
