@@ -68,7 +68,7 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
             "the default: on the coarse knee its active vm95 was the explicit solver's \
-             within 1.9 %, and passive and active take 282 s side by side on an idle \
+             within 1.9 %, and passive and active take 129-154 s side by side on a \
              2-core machine (explicit: 1290 s for the active squat with other jobs beside \
              it); without inertia Newton stalls at the activation's onset"
         }
@@ -234,10 +234,11 @@ pub fn run_squat(
             solver_settings.residual_tolerance = settings.residual_tolerance;
             solver_settings.correction_tolerance = settings.correction_tolerance;
             // Every Newton iteration factorizes: on the coarse knee a Cholesky factorization
-            // (≈ 45 ms) costs about 15 conjugate-gradient iterations preconditioned with the
-            // last factor, and the tangents change too much between iterations for fewer.
-            // Measured on an idle 2-core machine, default run: 282 s without reuse, 322 s
-            // with the default reuse (2026-11-23).
+            // (≈ 45 ms then, in the nested-dissection order) costs about 15 conjugate-gradient
+            // iterations preconditioned with the last factor, and the tangents change too much
+            // between iterations for fewer. Measured on an idle 2-core machine, default run:
+            // 282 s without reuse, 322 s with the default reuse (2026-11-23, before the AMD
+            // order and LBLᵀ, which made factorizations 3× cheaper and reuse less worth it).
             solver_settings.factor_reuse = None;
             if settings.inertia {
                 solver_settings.dynamics = Some(Newmark::default());
