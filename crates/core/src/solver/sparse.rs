@@ -148,12 +148,12 @@ struct Cholesky {
     order: FillReducingOrder,
     factor: Vec<f64>,
     /// LBLᵀ's subdiagonal of B and its pivoting permutation (used only for indefinite
-    /// tangents), and a copy of the right-hand side and the residual to check that solve.
+    /// tangents), and a copy of the right-hand side and room for K x to check that solve.
     subdiagonal: Vec<f64>,
     pivot_forward: Vec<usize>,
     pivot_inverse: Vec<usize>,
     right_hand_side: Vec<f64>,
-    residual: Vec<f64>,
+    product: Vec<f64>,
     scratch: MemBuffer,
 }
 
@@ -410,28 +410,16 @@ impl SparseSystem {
             par,
             stack,
         );
-        // The backward error, from the residual b − K x.
-        let b_norm = cholesky
-            .right_hand_side
+        // The backward error ‖b − K x‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞).
+        let largest = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let product = &mut cholesky.product;
+        multiply(&self.matrix, rhs, product);
+        let r_norm = product
             .iter()
-            .fold(0.0, |m, v| v.abs().max(m));
-        let x_norm = rhs.iter().fold(0.0, |m, v| v.abs().max(m));
-        let residual = &mut cholesky.residual;
-        residual.copy_from_slice(&cholesky.right_hand_side);
-        let mut k_norm: f64 = 0.0;
-        let symbolic = self.matrix.symbolic();
-        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
-        let values = self.matrix.val();
-        for (column, &xc) in rhs.iter().enumerate() {
-            let range = col_ptr[column]..col_ptr[column + 1];
-            let mut column_sum = 0.0;
-            for (&row, &value) in row_idx[range.clone()].iter().zip(&values[range]) {
-                residual[row] -= value * xc;
-                column_sum += value.abs();
-            }
-            k_norm = k_norm.max(column_sum);
-        }
-        let r_norm = residual.iter().fold(0.0, |m, v| v.abs().max(m));
+            .zip(&cholesky.right_hand_side)
+            .fold(0.0_f64, |m, (kx, b)| m.max((b - kx).abs()));
+        let (b_norm, x_norm) = (largest(&cholesky.right_hand_side), largest(rhs));
+        let k_norm = infinity_norm(&self.matrix);
         self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
         let backward_error = r_norm / (k_norm * x_norm + b_norm);
         // (A NaN would slip through the folds of maxima: check x itself.)
@@ -509,6 +497,20 @@ impl SparseSystem {
     pub fn statistics(&self) -> &LinearSolveStatistics {
         &self.statistics
     }
+}
+
+/// ‖K‖∞, the largest row sum of |K_ij| (the largest column sum: K is symmetric here).
+fn infinity_norm(matrix: &SparseColMat<usize, f64>) -> f64 {
+    let col_ptr = matrix.symbolic().col_ptr();
+    let values = matrix.val();
+    (0..matrix.ncols())
+        .map(|c| {
+            values[col_ptr[c]..col_ptr[c + 1]]
+                .iter()
+                .map(|v| v.abs())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
 }
 
 /// y = K x (both triangles are stored; serial, so the sums do not depend on the thread
@@ -596,7 +598,7 @@ impl Cholesky {
             pivot_forward: vec![0; n],
             pivot_inverse: vec![0; n],
             right_hand_side: vec![0.0; n],
-            residual: vec![0.0; n],
+            product: vec![0.0; n],
             scratch,
         })
     }
