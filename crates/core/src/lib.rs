@@ -18,9 +18,10 @@
 //!   current acoustic modulus, mass scaling, bulk viscosity, energy balance with hourglass
 //!   and viscous energies, parallel deterministic assembly) and the implicit solver
 //!   (quasi-static or Newmark dynamics, Newton with the consistent tangent, line search,
-//!   step cutting, faer supernodal Cholesky with a nested-dissection order and factor
-//!   reuse as a CG preconditioner, LU for unsymmetric tangents), both under the same
-//!   [`solver::Loads`]: prescribed displacements, nodal forces, rigid ties.
+//!   step cutting, faer supernodal Cholesky in nested-dissection or AMD order and factor
+//!   reuse as a CG preconditioner, LBLᵀ for indefinite and LU for unsymmetric tangents),
+//!   both under the same [`solver::Loads`]: prescribed displacements, nodal forces, rigid
+//!   ties.
 //!
 //! Not built yet: the implicit tangent of the nodally averaged tet4, and the trait
 //! through which contact forces enter a solve (interactions issue).

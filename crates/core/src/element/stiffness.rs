@@ -52,7 +52,9 @@ impl BlockKernel {
     /// consistent tangent (see [`Self::has_consistent_tangent`]).
     ///
     /// When every tangent has major symmetry ([`has_major_symmetry`]) K is symmetric: only
-    /// its blocks K_ab with b ≥ a are computed, and the others mirrored.
+    /// its blocks K_ab with b ≥ a are computed, and the others mirrored (overwritten with
+    /// the transposed upper blocks, so `stiffness` must then be symmetric on entry, zero as
+    /// the solver passes it).
     pub fn add_element_stiffness(
         &self,
         element: usize,

@@ -19,10 +19,11 @@
 //! - Prescribed degrees of freedom are eliminated: the sparse matrix holds the free ones
 //!   only (pattern built once from the connectivity, values refilled every iteration,
 //!   serially in element order, so results do not depend on the thread count). Solved with
-//!   faer's supernodal Cholesky in a nested-dissection order (symbolic analysis once per
-//!   run), by conjugate gradients preconditioned with the last factor while that converges
-//!   fast ([`FactorReuse`]; the corrections are still those of the current tangent, to
-//!   1e-12), LU if Cholesky fails or a material tangent is not symmetric; serially unless
+//!   faer's supernodal Cholesky in nested-dissection or AMD order, whichever fills less
+//!   (symbolic analysis once per pattern), by conjugate gradients preconditioned with the
+//!   last factor while that converges fast ([`FactorReuse`]; the corrections are still
+//!   those of the current tangent, to 1e-12), LBLᵀ if Cholesky fails, LU if that is not
+//!   accurate or a material tangent is not symmetric (`sparse.rs`); serially unless
 //!   [`ImplicitSettings::parallel_factorization_unknowns`] says otherwise.
 //! - [`ImplicitResult`] reports counts and wall-clock times of the evaluations and solves.
 //! - Steps: a fixed number, or with [`StepCutting`] a failed step (no convergence within
