@@ -189,6 +189,13 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         settings.solver.name(),
         musclefem::knee::simulation::run::solver_rationale(settings.solver)
     );
+    if args.anatomy.is_none() {
+        println!(
+            "  {} resolution: {}",
+            format!("{:?}", args.resolution).to_lowercase(),
+            musclefem::knee::simulation::run::resolution_rationale(args.resolution)
+        );
+    }
     // The runs go side by side: each one's sparse factorizations are serial, so on two
     // cores the other run's element updates fill the idle one.
     let bars = MultiProgress::with_draw_target(if std::io::stderr().is_terminal() {
