@@ -27,6 +27,7 @@ use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
 use musclefem::knee::simulation::patella::{tendon_summary, write_tendon_csv};
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
+use musclefem::knee::simulation::resolution::{resolution_rationale, resolution_within};
 use musclefem::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
     SquatWatcher, StressSample, run_squat,
@@ -67,6 +68,10 @@ pub struct KneeArgs {
     /// fine: 8960).
     #[arg(long, value_enum, default_value = "coarse")]
     pub resolution: Resolution,
+    /// Choose the resolution as the cheapest whose measured vm95 error (passive squat,
+    /// against the medium mesh) is at most this [%]; the finest measured when none is.
+    #[arg(long, value_name = "PERCENT", conflicts_with_all = ["resolution", "anatomy"])]
+    pub tolerance: Option<f64>,
     /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
     /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
     /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
@@ -133,7 +138,15 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     }
     let activations = args.activations();
     let settings = args.settings();
-    let anatomy = Anatomy::default_knee(args.resolution).context("the default knee")?;
+    let resolution = match args.tolerance {
+        Some(percent) => {
+            let (resolution, why) = resolution_within(percent)?;
+            println!("{why}");
+            resolution
+        }
+        None => args.resolution,
+    };
+    let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
         Some(directory) => musclefem::knee::simulation::files::geometry_from_directory(
@@ -180,7 +193,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         args.element.name(),
         match &args.anatomy {
             Some(d) => format!("from {}", d.display()),
-            None => format!("default anatomy, {:?} resolution", args.resolution).to_lowercase(),
+            None => format!("default anatomy, {resolution:?} resolution").to_lowercase(),
         },
         fibers.solve_time + fibers.setup_time,
     );
@@ -192,8 +205,8 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     if args.anatomy.is_none() {
         println!(
             "  {} resolution: {}",
-            format!("{:?}", args.resolution).to_lowercase(),
-            musclefem::knee::simulation::run::resolution_rationale(args.resolution)
+            format!("{resolution:?}").to_lowercase(),
+            resolution_rationale(resolution)
         );
     }
     // The runs go side by side: each one's sparse factorizations are serial, so on two

@@ -275,4 +275,18 @@ fn bad_knee_arguments_are_refused_before_any_output() {
         text(&output.stderr)
     );
     assert!(!dir.join("out3").exists());
+    let output = musclefem(&dir, &["knee", "--tolerance", "0", "--out", "out4"]);
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("--tolerance 0 must be a positive percentage"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.join("out4").exists());
+    let output = musclefem(
+        &dir,
+        &["knee", "--tolerance", "5", "--resolution", "coarse"],
+    );
+    assert!(!output.status.success());
+    assert!(text(&output.stderr).contains("cannot be used with"));
 }

@@ -10,7 +10,8 @@
 //! - [`patella`]: the patella held by the patellar tendon (a nonlinear spring) against
 //!   the pull the run measures;
 //! - [`run`]: one squat with either solver, the muscles' vm95 at every recorded instant;
-//! - [`peak_stress`]: vm95, where the peaks lie, and `peak_stress.csv`.
+//! - [`peak_stress`]: vm95, where the peaks lie, and `peak_stress.csv`;
+//! - [`resolution`]: the measured cost and error of each resolution, `--tolerance`.
 //!
 //! **Activation during extension.** The paper activates the quadriceps at about 35° and
 //! holds the level "until maximum flexion was achieved"; it does not say what follows.
@@ -28,6 +29,7 @@ pub mod interactions;
 pub mod model;
 pub mod patella;
 pub mod peak_stress;
+pub mod resolution;
 pub mod run;
 
 pub use model::{Activation, KneeGeometry, KneeModel};

@@ -21,7 +21,7 @@ use musclefem_core::solver::implicit::{
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_fibers::FiberField;
 
-use super::super::anatomy::{Resolution, Squat};
+use super::super::anatomy::Squat;
 use super::interactions::{InteractionSummary, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::{LARGEST_TENDON_STRAIN, TendonPatella, TendonRow};
@@ -61,27 +61,6 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
-
-/// What a resolution of the default knee costs and how far its answer is from a finer
-/// one, as measured (README, "The knee"): printed with every run.
-pub fn resolution_rationale(resolution: Resolution) -> &'static str {
-    match resolution {
-        Resolution::Coarse => {
-            "the default: passive and active in 2-3 minutes on 2 cores, but not converged: \
-             its passive vm95 differed from medium's by up to 37 % (mean 18 %, 2026-11-24), \
-             so read the table as the coarse model's answer"
-        }
-        Resolution::Medium => {
-            "the finest measured: the passive squat alone took 934 s on 2 busy cores \
-             (2026-11-24), passive and active together take 40-50 minutes; its own error \
-             against fine is not measured"
-        }
-        Resolution::Fine => {
-            "not run yet: 35 840 muscle elements, about 4 times medium's unknowns; expect \
-             hours, and memory for a Cholesky factor of order 1e8 entries"
-        }
-    }
-}
 
 /// Why a solver is the one to use on the knee, from the runs measured on the coarse knee
 /// (README, "The knee").
