@@ -129,10 +129,9 @@ fn unsymmetric_systems_use_lu() {
     assert!(error < 1e-13, "{error}");
 }
 
-/// The Cholesky analysis keeps whichever of nested dissection and AMD gives the smaller
-/// factor; on a block of hexes that is nested dissection, and AMD's factor is larger.
-#[test]
-fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
+/// A system over the 2187 unknowns of a free 8 × 8 × 8 block of hexes with the values
+/// `entry(row, column)` on its pattern; returns it and K 1.
+fn hex_block_system(entry: impl Fn(usize, usize) -> f64) -> (SparseSystem, Vec<f64>) {
     let mesh = box_of_hexes([1.0; 3], [8, 8, 8]).unwrap();
     let nodes = mesh.nodes.len();
     let positions: Vec<_> = (0..nodes).map(|n| mesh.nodes.position(n)).collect();
@@ -145,17 +144,25 @@ fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
         &[],
         usize::MAX,
     );
-    // A diagonally dominant symmetric matrix on the pattern.
-    let free = system.size();
-    for column in 0..free {
+    let mut k_one = vec![0.0; system.size()];
+    for column in 0..system.size() {
         let symbolic = system.matrix.symbolic();
         let range = symbolic.col_ptr()[column]..symbolic.col_ptr()[column + 1];
         let rows: Vec<usize> = symbolic.row_idx()[range.clone()].to_vec();
         for (offset, row) in range.zip(rows) {
-            system.values_mut()[offset] = if row == column { 100.0 } else { -0.5 };
+            system.values_mut()[offset] = entry(row, column);
+            k_one[row] += entry(row, column);
         }
     }
-    let mut rhs = vec![1.0; free];
+    (system, k_one)
+}
+
+/// The Cholesky analysis keeps whichever of nested dissection and AMD gives the smaller
+/// factor; on a block of hexes that is nested dissection, and AMD's factor is larger.
+#[test]
+fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
+    // A diagonally dominant symmetric matrix on the pattern.
+    let (mut system, mut rhs) = hex_block_system(|r, c| if r == c { 100.0 } else { -0.5 });
     assert_eq!(
         system.solve(&mut rhs, true, None).unwrap(),
         Factorization::Cholesky
@@ -169,7 +176,8 @@ fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
     .unwrap();
     let statistics = system.statistics();
     println!(
-        "{free} unknowns: {:?} factor {} entries, AMD {}",
+        "{} unknowns: {:?} factor {} entries, AMD {}",
+        system.size(),
         statistics.ordering,
         statistics.factor_entries,
         amd.len_val()
@@ -186,34 +194,11 @@ fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
 /// exact solution within 1e-12.
 #[test]
 fn a_large_symmetric_indefinite_system_is_solved_by_lblt() {
-    let mesh = box_of_hexes([1.0; 3], [8, 8, 8]).unwrap();
-    let nodes = mesh.nodes.len();
-    let positions: Vec<_> = (0..nodes).map(|n| mesh.nodes.position(n)).collect();
-    let equation: Vec<u32> = (0..3 * nodes as u32).collect();
-    let mut system = SparseSystem::new(
-        &positions,
-        &equation,
-        3 * nodes,
-        mesh.blocks.iter(),
-        &[],
-        usize::MAX,
-    );
-    let free = system.size();
-    let entry = |row: usize, column: usize| match (row == column, row % 3) {
+    let (mut system, mut rhs) = hex_block_system(|row, column| match (row == column, row % 3) {
         (true, 0) => -100.0,
         (true, _) => 100.0,
         _ => 0.5 + 0.01 * ((row + column) % 7) as f64,
-    };
-    let mut rhs = vec![0.0; free];
-    for column in 0..free {
-        let symbolic = system.matrix.symbolic();
-        let range = symbolic.col_ptr()[column]..symbolic.col_ptr()[column + 1];
-        let rows: Vec<usize> = symbolic.row_idx()[range.clone()].to_vec();
-        for (offset, row) in range.zip(rows) {
-            system.values_mut()[offset] = entry(row, column);
-            rhs[row] += entry(row, column);
-        }
-    }
+    });
     assert_eq!(
         system.solve(&mut rhs, true, None).unwrap(),
         Factorization::SymmetricIndefinite

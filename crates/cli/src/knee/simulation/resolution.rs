@@ -45,14 +45,14 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
     }
     let tolerance = 1e-2 * percent;
     let name = |r: Resolution| format!("{r:?}").to_lowercase();
+    let reference = RESOLUTION_CHART
+        .iter()
+        .find(|m| m.error.is_none())
+        .expect("the chart has a reference");
     if let Some(m) = RESOLUTION_CHART
         .iter()
         .find(|m| m.error.is_some_and(|e| e <= tolerance))
     {
-        let reference = RESOLUTION_CHART
-            .iter()
-            .find(|m| m.error.is_none())
-            .expect("the chart has a reference");
         return Ok((
             m.resolution,
             format!(
@@ -65,10 +65,6 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
             ),
         ));
     }
-    let reference = RESOLUTION_CHART
-        .iter()
-        .find(|m| m.error.is_none())
-        .expect("the chart has a reference");
     let misses: Vec<String> = RESOLUTION_CHART
         .iter()
         .filter_map(|m| {
