@@ -15,7 +15,7 @@
 
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -25,7 +25,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
-use musclefem::knee::simulation::patella::{tendon_summary, write_tendon_csv};
+use musclefem::knee::simulation::patella::write_tendon_csv;
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
 use musclefem::knee::simulation::resolution::{resolution_rationale, resolution_within};
 use musclefem::knee::simulation::{
@@ -35,10 +35,10 @@ use musclefem::knee::simulation::{
 use musclefem::knee::{Anatomy, Quadriceps, Resolution};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::HistoryRow;
-use musclefem_core::solver::implicit::{ImplicitHistoryRow, StepReport};
+use musclefem_core::solver::implicit::ImplicitHistoryRow;
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{
-    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
+    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory,
 };
 use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
 
@@ -281,6 +281,10 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     Ok(())
 }
 
+#[path = "knee_run_files.rs"]
+mod run_files;
+use run_files::{run_log, run_summary, write_newton_steps, write_vm95};
+
 /// The message of a run stopped because the other one failed.
 const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
 
@@ -431,153 +435,6 @@ fn progress_bar(duration: f64, activation: Activation) -> ProgressBar {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar
-}
-
-/// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
-/// Jacobian ratio (positive: no element inverted).
-fn write_vm95(path: &Path, muscles: &[Quadriceps], samples: &[StressSample]) -> Result<()> {
-    let mut header = "time_s,knee_angle_deg".to_string();
-    for m in muscles {
-        header.push_str(&format!(",{}_vm95_pa", m.abbreviation()));
-    }
-    header.push_str(",min_jacobian_ratio");
-    let rows = samples.iter().map(|s| {
-        let mut row = vec![s.time, s.flexion.to_degrees()];
-        row.extend(&s.vm95);
-        row.push(s.min_jacobian_ratio);
-        row
-    });
-    let text = musclefem_io::csv::format_table(&header, rows);
-    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
-    Ok(())
-}
-
-/// The implicit run's Newton convergence, one row per converged increment: its relative
-/// residuals ‖r‖/‖f‖ after the predictor and after each iteration, separated by spaces.
-fn write_newton_steps(path: &Path, steps: &[StepReport]) -> Result<()> {
-    let mut text = String::from(
-        "time_s,increment_s,iterations,line_search_cuts,factorization,relative_residuals\n",
-    );
-    for step in steps {
-        let residuals: Vec<String> = step.residuals.iter().map(|r| format!("{r:.3e}")).collect();
-        text.push_str(&format!(
-            "{},{},{},{},{:?},{}\n",
-            step.time,
-            step.increment,
-            step.iterations,
-            step.line_search_cuts,
-            step.factorization,
-            residuals.join(" ")
-        ));
-    }
-    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
-    Ok(())
-}
-
-fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
-    let mut text = format!(
-        "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
-        run.activation.name(),
-        settings.solver.name(),
-        settings.squat.duration,
-        settings.time_step,
-        run.elements,
-        run.nodes,
-        run.steps,
-    );
-    if let (Some(iterations), Some(cuts)) = (run.newton_iterations, run.cuts) {
-        text.push_str(&format!(
-            "newton_iterations = {iterations}\ncuts = {cuts}\n"
-        ));
-    }
-    if let Some((evaluations, solves)) = &run.implicit_times {
-        text.push_str(&format!(
-            "evaluations = {}\nelement_s = {:.1}\nassembly_s = {:.1}\nlinear_solves = {}\n\
-             krylov_solves = {}\nkrylov_iterations = {}\nkrylov_failures = {}\nnumeric_factorizations = {}\n\
-             indefinite_factorizations = {}\ncholesky_factor_entries = {}\nfill_reducing_order = {}\n\
-             factorization_s = {:.1}\nsubstitution_s = {:.1}\n",
-            evaluations.evaluations,
-            evaluations.element_seconds,
-            evaluations.assembly_seconds,
-            solves.solves,
-            solves.krylov_solves,
-            solves.krylov_iterations,
-            solves.krylov_failures,
-            solves.numeric_factorizations,
-            solves.indefinite_factorizations,
-            solves.factor_entries,
-            solves.ordering.map_or("none", |o| o.name()),
-            solves.numeric_seconds,
-            solves.substitution_seconds,
-        ));
-    }
-    for s in &run.interactions {
-        text.push_str(&format!(
-            "interaction {} = {}, {} nodes, {:.2} cm²\n",
-            s.name,
-            s.kind,
-            s.nodes,
-            1e4 * s.area
-        ));
-    }
-    RunLog::new(text)
-}
-
-/// The summary of one run, as one block of text (the runs finish on their own threads).
-fn run_summary(run: &SquatRun) -> String {
-    let solver = match (run.newton_iterations, run.cuts) {
-        (Some(iterations), Some(cuts)) => {
-            format!(
-                "{} increments, {iterations} Newton iterations, {cuts} cuts",
-                run.steps
-            )
-        }
-        _ => format!(
-            "{} steps, mass scaling added {:.2e} of the mass, energy balance within {:.2} %",
-            run.steps,
-            run.added_mass_fraction.unwrap_or(0.0),
-            100.0 * run.energy_error.unwrap_or(0.0)
-        ),
-    };
-    let mut text = format!(
-        "{} squat: {} elements, {solver}, in {:.1?}\n",
-        run.activation.name(),
-        run.elements,
-        run.solve_time
-    );
-    let bonds: Vec<String> = run
-        .interactions
-        .iter()
-        .filter(|s| s.kind == "cohesive")
-        .map(|s| format!("{} ({} bonds)", s.name, s.nodes))
-        .collect();
-    text.push_str(&format!("  cohesive: {}\n", bonds.join(", ")));
-    text.push_str(&format!("  {}", tendon_summary(&run.tendon)));
-    if let Some((evaluations, solves)) = &run.implicit_times {
-        text.push_str(&format!(
-            "  time: elements {:.0} s, assembly {:.0} s, {} factorizations {:.0} s, \
-             {} solves {:.0} s\n",
-            evaluations.element_seconds,
-            evaluations.assembly_seconds,
-            solves.numeric_factorizations,
-            solves.numeric_seconds,
-            solves.solves,
-            solves.substitution_seconds,
-        ));
-    }
-    for row in run
-        .rows
-        .iter()
-        .filter(|r| r.angle_degrees == 90.0 && r.phase == Phase::Flexion)
-    {
-        text.push_str(&format!(
-            "  {} at 90°: vm95 {:.1} kPa, elements above it at: {}\n",
-            row.muscle.abbreviation(),
-            1e-3 * row.vm95,
-            row.location.describe()
-        ));
-    }
-    text
 }
 
 /// The vm95 table: one line per muscle and angle, passive and active in both phases.

@@ -1,4 +1,7 @@
 //! Tests of the sparse system (`sparse.rs`).
+use faer::Side;
+use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
+
 use super::*;
 use crate::mesh::generate::box_of_hexes;
 

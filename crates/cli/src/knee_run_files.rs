@@ -1,0 +1,163 @@
+//! A knee run's own files and summary (see `knee_command.rs`): `vm95.csv`, `newton.csv`,
+//! `run.log` and the lines printed after the run.
+
+use std::path::Path;
+
+use anyhow::Result;
+
+use musclefem::knee::Quadriceps;
+use musclefem::knee::simulation::patella::tendon_summary;
+use musclefem::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
+use musclefem_core::solver::implicit::StepReport;
+use musclefem_io::output::RunLog;
+
+/// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
+/// Jacobian ratio (positive: no element inverted).
+pub(super) fn write_vm95(
+    path: &Path,
+    muscles: &[Quadriceps],
+    samples: &[StressSample],
+) -> Result<()> {
+    let mut header = "time_s,knee_angle_deg".to_string();
+    for m in muscles {
+        header.push_str(&format!(",{}_vm95_pa", m.abbreviation()));
+    }
+    header.push_str(",min_jacobian_ratio");
+    let rows = samples.iter().map(|s| {
+        let mut row = vec![s.time, s.flexion.to_degrees()];
+        row.extend(&s.vm95);
+        row.push(s.min_jacobian_ratio);
+        row
+    });
+    let text = musclefem_io::csv::format_table(&header, rows);
+    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
+    Ok(())
+}
+
+/// The implicit run's Newton convergence, one row per converged increment: its relative
+/// residuals ‖r‖/‖f‖ after the predictor and after each iteration, separated by spaces.
+pub(super) fn write_newton_steps(path: &Path, steps: &[StepReport]) -> Result<()> {
+    let mut text = String::from(
+        "time_s,increment_s,iterations,line_search_cuts,factorization,relative_residuals\n",
+    );
+    for step in steps {
+        let residuals: Vec<String> = step.residuals.iter().map(|r| format!("{r:.3e}")).collect();
+        text.push_str(&format!(
+            "{},{},{},{},{:?},{}\n",
+            step.time,
+            step.increment,
+            step.iterations,
+            step.line_search_cuts,
+            step.factorization,
+            residuals.join(" ")
+        ));
+    }
+    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
+    Ok(())
+}
+
+pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
+    let mut text = format!(
+        "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
+        run.activation.name(),
+        settings.solver.name(),
+        settings.squat.duration,
+        settings.time_step,
+        run.elements,
+        run.nodes,
+        run.steps,
+    );
+    if let (Some(iterations), Some(cuts)) = (run.newton_iterations, run.cuts) {
+        text.push_str(&format!(
+            "newton_iterations = {iterations}\ncuts = {cuts}\n"
+        ));
+    }
+    if let Some((evaluations, solves)) = &run.implicit_times {
+        text.push_str(&format!(
+            "evaluations = {}\nelement_s = {:.1}\nassembly_s = {:.1}\nlinear_solves = {}\n\
+             krylov_solves = {}\nkrylov_iterations = {}\nkrylov_failures = {}\nnumeric_factorizations = {}\n\
+             indefinite_factorizations = {}\ncholesky_factor_entries = {}\nfill_reducing_order = {}\n\
+             factorization_s = {:.1}\nsubstitution_s = {:.1}\n",
+            evaluations.evaluations,
+            evaluations.element_seconds,
+            evaluations.assembly_seconds,
+            solves.solves,
+            solves.krylov_solves,
+            solves.krylov_iterations,
+            solves.krylov_failures,
+            solves.numeric_factorizations,
+            solves.indefinite_factorizations,
+            solves.factor_entries,
+            solves.ordering.map_or("none", |o| o.name()),
+            solves.numeric_seconds,
+            solves.substitution_seconds,
+        ));
+    }
+    for s in &run.interactions {
+        text.push_str(&format!(
+            "interaction {} = {}, {} nodes, {:.2} cm²\n",
+            s.name,
+            s.kind,
+            s.nodes,
+            1e4 * s.area
+        ));
+    }
+    RunLog::new(text)
+}
+
+/// The summary of one run, as one block of text (the runs finish on their own threads).
+pub(super) fn run_summary(run: &SquatRun) -> String {
+    let solver = match (run.newton_iterations, run.cuts) {
+        (Some(iterations), Some(cuts)) => {
+            format!(
+                "{} increments, {iterations} Newton iterations, {cuts} cuts",
+                run.steps
+            )
+        }
+        _ => format!(
+            "{} steps, mass scaling added {:.2e} of the mass, energy balance within {:.2} %",
+            run.steps,
+            run.added_mass_fraction.unwrap_or(0.0),
+            100.0 * run.energy_error.unwrap_or(0.0)
+        ),
+    };
+    let mut text = format!(
+        "{} squat: {} elements, {solver}, in {:.1?}\n",
+        run.activation.name(),
+        run.elements,
+        run.solve_time
+    );
+    let bonds: Vec<String> = run
+        .interactions
+        .iter()
+        .filter(|s| s.kind == "cohesive")
+        .map(|s| format!("{} ({} bonds)", s.name, s.nodes))
+        .collect();
+    text.push_str(&format!("  cohesive: {}\n", bonds.join(", ")));
+    text.push_str(&format!("  {}", tendon_summary(&run.tendon)));
+    if let Some((evaluations, solves)) = &run.implicit_times {
+        text.push_str(&format!(
+            "  time: elements {:.0} s, assembly {:.0} s, {} factorizations {:.0} s, \
+             {} solves {:.0} s\n",
+            evaluations.element_seconds,
+            evaluations.assembly_seconds,
+            solves.numeric_factorizations,
+            solves.numeric_seconds,
+            solves.solves,
+            solves.substitution_seconds,
+        ));
+    }
+    for row in run
+        .rows
+        .iter()
+        .filter(|r| r.angle_degrees == 90.0 && r.phase == Phase::Flexion)
+    {
+        text.push_str(&format!(
+            "  {} at 90°: vm95 {:.1} kPa, elements above it at: {}\n",
+            row.muscle.abbreviation(),
+            1e-3 * row.vm95,
+            row.location.describe()
+        ));
+    }
+    text
+}
