@@ -27,7 +27,7 @@ use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
 use musclefem::knee::simulation::patella::write_tendon_csv;
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
-use musclefem::knee::simulation::resolution::{resolution_rationale, resolution_within};
+use musclefem::knee::simulation::resolution::resolution_rationale;
 use musclefem::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
     SquatWatcher, StressSample, run_squat,
@@ -68,10 +68,23 @@ pub struct KneeArgs {
     /// fine: 8960).
     #[arg(long, value_enum, default_value = "coarse")]
     pub resolution: Resolution,
-    /// Choose the resolution as the cheapest whose measured vm95 error (passive squat,
-    /// against the medium mesh) is at most this [%]; the finest measured when none is.
-    #[arg(long, value_name = "PERCENT", conflicts_with_all = ["resolution", "anatomy"])]
+    /// Choose solver, element, resolution and step as the cheapest whose measured vm95
+    /// error (passive squat, against the medium mesh) is at most this [%]: from the knee
+    /// rows of --bench-table when it has some, else from the chart measured with the
+    /// program; medium (the reference) when none is within it.
+    #[arg(
+        long,
+        value_name = "PERCENT",
+        conflicts_with_all = ["resolution", "anatomy", "solver", "element", "time_step"]
+    )]
     pub tolerance: Option<f64>,
+    /// The work–precision table --tolerance reads (`musclefem bench --problem knee`).
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "out/bench/work_precision.csv"
+    )]
+    pub bench_table: PathBuf,
     /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
     /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
     /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
@@ -98,16 +111,27 @@ pub struct KneeArgs {
 }
 
 impl KneeArgs {
-    /// The settings of the runs: the recommended ones of the solver, with the element,
-    /// duration and time step given.
-    fn settings(&self) -> SquatSettings {
-        let mut settings = SquatSettings::recommended(self.solver);
-        settings.element = self.element;
+    /// The settings of the runs and the resolution: those `--tolerance` chose (its reason
+    /// printed), or the recommended ones of the solver with the element, resolution and
+    /// time step given; the duration given.
+    fn settings(&self) -> Result<(SquatSettings, Resolution)> {
+        let (mut settings, resolution) = match self.tolerance {
+            Some(percent) => {
+                let (settings, resolution, why) = setting_within(percent, &self.bench_table)?;
+                println!("{why}");
+                (settings, resolution)
+            }
+            None => {
+                let mut settings = SquatSettings::recommended(self.solver);
+                settings.element = self.element;
+                if let Some(step) = self.time_step {
+                    settings.time_step = step;
+                }
+                (settings, self.resolution)
+            }
+        };
         settings.squat.duration = self.duration;
-        if let Some(step) = self.time_step {
-            settings.time_step = step;
-        }
-        settings
+        Ok((settings, resolution))
     }
 
     fn activations(&self) -> Vec<Activation> {
@@ -137,15 +161,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         );
     }
     let activations = args.activations();
-    let settings = args.settings();
-    let resolution = match args.tolerance {
-        Some(percent) => {
-            let (resolution, why) = resolution_within(percent)?;
-            println!("{why}");
-            resolution
-        }
-        None => args.resolution,
-    };
+    let (settings, resolution) = args.settings()?;
     let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
@@ -280,6 +296,10 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     );
     Ok(())
 }
+
+#[path = "knee_tolerance.rs"]
+mod tolerance;
+use tolerance::setting_within;
 
 #[path = "knee_run_files.rs"]
 mod run_files;

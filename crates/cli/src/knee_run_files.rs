@@ -93,6 +93,12 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
             solves.substitution_seconds,
         ));
     }
+    if let Some(approach) = run.patella_approach {
+        text.push_str(&format!(
+            "patella_closest_approach_mm = {:.2}\n",
+            1e3 * approach.distance
+        ));
+    }
     for s in &run.interactions {
         text.push_str(&format!(
             "interaction {} = {}, {} nodes, {:.2} cm²\n",
@@ -135,6 +141,19 @@ pub(super) fn run_summary(run: &SquatRun) -> String {
         .collect();
     text.push_str(&format!("  cohesive: {}\n", bonds.join(", ")));
     text.push_str(&format!("  {}", tendon_summary(&run.tendon)));
+    if let Some(approach) = run.patella_approach {
+        let millimetres = 1e3 * approach.distance.abs();
+        text.push_str(&format!(
+            "  patella (no contact surface): {} {} at t = {:.2} s\n",
+            approach.muscle.abbreviation(),
+            if approach.distance < 0.0 {
+                format!("went {millimetres:.1} mm into it")
+            } else {
+                format!("came within {millimetres:.1} mm of it")
+            },
+            approach.time
+        ));
+    }
     if let Some((evaluations, solves)) = &run.implicit_times {
         text.push_str(&format!(
             "  time: elements {:.0} s, assembly {:.0} s, {} factorizations {:.0} s, \

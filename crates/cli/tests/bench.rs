@@ -56,19 +56,25 @@ fn the_quick_cube_bench_writes_the_table_chart_and_log() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The knee has no quick matrix: `--quick --problem knee` says why before any run.
 #[test]
-fn the_knee_is_refused_with_the_reason() {
+fn the_quick_knee_is_refused_with_the_reason() {
+    let dir = std::env::temp_dir().join(format!(
+        "musclefem-bench-knee-unused-{}",
+        std::process::id()
+    ));
     let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(["bench", "--problem", "knee", "--out"])
-        .arg(std::env::temp_dir().join("musclefem-bench-knee-unused"))
+        .args(["bench", "--quick", "--problem", "knee", "--out"])
+        .arg(&dir)
         .output()
         .unwrap();
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(
-        stderr.contains("--problem knee is not benchmarked"),
+        stderr.contains("--problem knee has no --quick matrix") && stderr.contains("medium mesh"),
         "{stderr}"
     );
+    assert!(!dir.exists(), "nothing is written");
 }
 
 /// `musclefem elongate --tolerance`: the cheapest setting of a work–precision table within

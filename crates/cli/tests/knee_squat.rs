@@ -122,6 +122,19 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
         assert_eq!(newton_header.last().unwrap(), "relative_residuals");
         assert_eq!(increments.len(), history.len());
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
+        // The patella has no contact surface: no muscle node (the insertions' excepted)
+        // enters it.
+        let log = std::fs::read_to_string(run.join("run.log")).unwrap();
+        let approach: f64 = log
+            .lines()
+            .find_map(|l| l.strip_prefix("patella_closest_approach_mm = "))
+            .unwrap_or_else(|| panic!("{activation}: no patella approach in\n{log}"))
+            .parse()
+            .unwrap();
+        assert!(
+            approach > 0.0,
+            "{activation}: a node {approach} mm from the patella"
+        );
         // The patellar tendon, one row per increment: its force follows its law, and where
         // the pull is steady (at 90°) the patella is posed with the pull just measured.
         let (tendon_header, tendon) = read_csv(&run.join("tendon.csv"));
@@ -289,4 +302,63 @@ fn bad_knee_arguments_are_refused_before_any_output() {
     );
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("cannot be used with"));
+}
+
+/// `knee --tolerance` reads the knee rows of a work–precision table: the cheapest run
+/// within the tolerance, the bench's reference (medium) when none is. The choice is
+/// printed before the run, which the earlier results in `out` then refuse.
+#[test]
+fn knee_tolerance_picks_the_cheapest_knee_run_of_the_bench_table() {
+    let dir = test_dir("knee_squat", "tolerance_table");
+    std::fs::create_dir_all(dir.join("out")).unwrap();
+    std::fs::write(dir.join("out/peak_stress.csv"), "earlier results\n").unwrap();
+    std::fs::write(
+        dir.join("table.csv"),
+        "problem,solver,element,mesh_size_mm,step_setting,wall_s,error,error_metric
+cube,implicit,hex8-fbar,2.5,increment=0.1s,0.1,1e-3,m
+knee,implicit,hex8-fbar,12.753,increment=0.04s,30,1.5e-1,m
+knee,implicit,hex8-one-point,12.753,increment=0.02s,20,3e-1,m
+knee,explicit,hex8-fbar,12.753,mass_scaling=2e-5s;safety=0.9,600,1e-1,m
+",
+    )
+    .unwrap();
+    let chosen = |percent: &str| {
+        let output = musclefem(
+            &dir,
+            &[
+                "knee",
+                "--passive",
+                "--tolerance",
+                percent,
+                "--bench-table",
+                "table.csv",
+                "--out",
+                "out",
+            ],
+        );
+        assert!(!output.status.success());
+        assert!(
+            text(&output.stderr).contains("exists: use --force"),
+            "{}",
+            text(&output.stderr)
+        );
+        text(&output.stdout)
+    };
+    let stdout = chosen("20");
+    assert!(
+        stdout.contains("implicit hex8-fbar, 12.753 mm, increment=0.04s (15.0 % off")
+            && stdout.contains("of the 3 knee runs in table.csv"),
+        "{stdout}"
+    );
+    let stdout = chosen("12");
+    assert!(
+        stdout.contains("explicit hex8-fbar, 12.753 mm, mass_scaling=2e-5s;safety=0.9"),
+        "{stdout}"
+    );
+    let stdout = chosen("5");
+    assert!(
+        stdout.contains("implicit hex8-fbar, 6.97 mm, increment=0.02s, the bench's reference")
+            && stdout.contains("the best is 10.0 % off"),
+        "{stdout}"
+    );
 }

@@ -1,6 +1,7 @@
 //! `work_precision.png`: per problem, error against wall time on log–log axes, one line
 //! per method family (solver + element, its runs in order of time), the Pareto front
-//! marked with squares. Failed runs and the reference are not drawn.
+//! marked with squares. Failed runs and the reference are not drawn; a family whose every
+//! run failed is named so in the legend.
 
 use std::collections::BTreeMap;
 
@@ -45,8 +46,13 @@ fn problem_panel(problem: &str, runs: &[&WorkPrecisionRow]) -> Panel {
     for (family, mut points) in families {
         points.retain(|p| p.1.is_finite() && p.1 > 0.0);
         points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let label = if points.is_empty() {
+            format!("{family} (every run failed)")
+        } else {
+            family
+        };
         panel =
-            panel.with_series(Series::new(family, points).with_style(SeriesStyle::LineWithMarkers));
+            panel.with_series(Series::new(label, points).with_style(SeriesStyle::LineWithMarkers));
     }
     let points: Vec<(f64, f64)> = runs
         .iter()
@@ -58,4 +64,41 @@ fn problem_panel(problem: &str, runs: &[&WorkPrecisionRow]) -> Panel {
         Series::new("Pareto front", front.into_iter().map(|i| points[i]))
             .with_style(SeriesStyle::Markers),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_family_whose_every_run_failed_says_so_in_the_legend() {
+        let row = |element: &str, wall_s: f64, error: f64| WorkPrecisionRow {
+            problem: "knee".to_string(),
+            solver: "implicit".to_string(),
+            element: element.to_string(),
+            mesh_size_mm: 12.753,
+            step_setting: "increment=0.02s".to_string(),
+            wall_s,
+            error,
+            error_metric: "m".to_string(),
+        };
+        let figure = work_precision_figure(&[
+            row("hex8-fbar", 51.4, 0.117),
+            row("hex8-one-point", 37.1, f64::NAN),
+        ]);
+        let labels: Vec<&str> = figure.panels[0]
+            .series
+            .iter()
+            .map(|s| s.label.as_str())
+            .collect();
+        assert_eq!(
+            labels,
+            [
+                "implicit hex8-fbar",
+                "implicit hex8-one-point (every run failed)",
+                "Pareto front"
+            ]
+        );
+        assert_eq!(figure.panels[0].series[1].points, []);
+    }
 }

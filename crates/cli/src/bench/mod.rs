@@ -4,7 +4,7 @@
 //!
 //! - [`method`]: what one run is ([`Method`], [`StepSetting`]);
 //! - [`matrix`]: which methods each problem runs, quick or full, and its reference;
-//! - [`cube`], [`elongate`]: the problems, each returning a [`Response`] (the quantity
+//! - [`cube`], [`elongate`], [`knee`]: the problems, each returning a [`Response`] (the quantity
 //!   compared, sampled at fixed instants);
 //! - [`reference`]: the error of a response against the reference's;
 //! - [`pareto`]: the runs no other run beats in both time and error;
@@ -15,6 +15,7 @@ pub mod chart;
 pub mod csv;
 pub mod cube;
 pub mod elongate;
+pub mod knee;
 pub mod matrix;
 pub mod method;
 pub mod pareto;
@@ -36,6 +37,9 @@ pub enum Problem {
     Cube,
     /// The paper's passive elongation of the 50 mm fusiform Hill muscle to 20 % strain.
     Elongate,
+    /// The passive knee squat 0° → 90° → 0° in 2 s on the default anatomy (no quick
+    /// matrix: its reference takes about 15 minutes).
+    Knee,
 }
 
 impl Problem {
@@ -43,6 +47,7 @@ impl Problem {
         match self {
             Problem::Cube => "cube",
             Problem::Elongate => "elongate",
+            Problem::Knee => "knee",
         }
     }
 
@@ -51,6 +56,7 @@ impl Problem {
         match self {
             Problem::Cube => cube::ERROR_METRIC,
             Problem::Elongate => elongate::ERROR_METRIC,
+            Problem::Knee => knee::ERROR_METRIC,
         }
     }
 
@@ -59,6 +65,7 @@ impl Problem {
         match self {
             Problem::Cube => cube::run_cube(method),
             Problem::Elongate => elongate::run_elongate(method),
+            Problem::Knee => knee::run_knee(method),
         }
     }
 }

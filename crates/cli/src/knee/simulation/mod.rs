@@ -28,6 +28,7 @@ pub mod files;
 pub mod interactions;
 pub mod model;
 pub mod patella;
+pub mod patella_clearance;
 pub mod peak_stress;
 pub mod resolution;
 pub mod run;

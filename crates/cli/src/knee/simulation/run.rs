@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::solver::PoseFollower;
 use musclefem_core::solver::RigidReaction;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
@@ -25,6 +26,7 @@ use super::super::anatomy::Squat;
 use super::interactions::{InteractionSummary, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::{LARGEST_TENDON_STRAIN, TendonPatella, TendonRow};
+use super::patella_clearance::{PatellaApproach, PatellaClearance};
 use super::peak_stress::{
     ElementRegions, PeakStressRow, StressSample, peak_stress_rows, percentile,
 };
@@ -154,6 +156,9 @@ pub struct SquatRun {
     pub energy_error: Option<f64>,
     /// The patellar tendon at every report of the quadriceps' pull.
     pub tendon: Vec<TendonRow>,
+    /// The closest any muscle node (the insertions' excepted) came to the patella, which
+    /// has no contact surface (`None`: none came within range).
+    pub patella_approach: Option<PatellaApproach>,
 }
 
 /// Run the squat of `activation` on `geometry` with `fibers`.
@@ -213,6 +218,7 @@ pub fn run_squat(
         patella: &model.patella,
         insertion_ties: &model.insertion_ties,
         tendon: Vec::new(),
+        patella_clearance: PatellaClearance::new(geometry)?,
     };
     let duration = settings.squat.duration;
     let context = || {
@@ -307,6 +313,7 @@ pub fn run_squat(
         added_mass_fraction,
         energy_error,
         tendon: std::mem::take(&mut recorder.tendon),
+        patella_approach: recorder.patella_clearance.closest,
     })
 }
 
@@ -337,6 +344,8 @@ struct Recorder<'a> {
     patella: &'a TendonPatella,
     insertion_ties: &'a [usize],
     tendon: Vec<TendonRow>,
+    /// The muscles' nodes against the patella (which has no contact surface).
+    patella_clearance: PatellaClearance,
 }
 
 /// Implicit increments over which a stall is judged.
@@ -441,6 +450,10 @@ impl Recorder<'_> {
                 .location
                 .push(self.regions[part.block].locate(&von_mises, vm95));
         }
+        let motion = self.patella.isometry_at(snapshot.time);
+        let (mesh, u) = (self.mesh, snapshot.displacement);
+        self.patella_clearance
+            .check(snapshot.time, &motion, |n| mesh.nodes.position(n) + u[n]);
         let flow = self.watcher.recorded(&sample, snapshot, &fields);
         self.samples.push(sample);
         flow
@@ -471,8 +484,9 @@ impl StallDetector {
             "the implicit solver stalled at t = {time:.4} s (knee flexion {:.1}°): its last \
              {STALL_WINDOW} increments advanced the squat by {:.2} ms, {:.2} % of it, and \
              the run would go on for hours. Newton's method follows the motion there only \
-             in tiny increments (quasi-static, this happens at the active squat's onset of \
-             activation); the explicit solver (--solver explicit) runs through it",
+             in tiny increments. Measured cases: the quasi-static active squat at the onset \
+             of activation, which the explicit solver (--solver explicit) runs through, and \
+             the one-point hex8's passive squat at 43°, which F-bar hex8 runs through",
             squat.flexion_at(time).to_degrees(),
             1e3 * advanced,
             100.0 * advanced / squat.duration,
