@@ -2,7 +2,7 @@
 //! module), written as DIR/work_precision.csv, DIR/work_precision.png and DIR/bench.log.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -37,12 +37,23 @@ pub struct BenchArgs {
     /// Which problem to benchmark.
     #[arg(long, value_enum, default_value = "all")]
     pub problem: ProblemChoice,
+    /// Instead of the problems: this scene file's step settings (implicit increments,
+    /// explicit mass scaling) against its reference run, on its own mesh and elements;
+    /// `musclefem run SCENE --tolerance` reads the rows.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["problem", "quick"])]
+    pub scene: Option<PathBuf>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
 }
 
+#[path = "bench_scene.rs"]
+mod scene;
+
 pub fn bench(args: &BenchArgs) -> Result<()> {
+    if let Some(scene_path) = &args.scene {
+        return scene::bench_scene(scene_path, &args.out);
+    }
     let problems: &[Problem] = match (args.problem, args.quick) {
         (ProblemChoice::Cube, _) => &[Problem::Cube],
         (ProblemChoice::Elongate, _) => &[Problem::Elongate],
@@ -126,20 +137,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
             log.push('\n');
             rows.push(WorkPrecisionRow::new(&measurement, error));
         }
-        let points: Vec<(f64, f64)> = rows[first..].iter().map(|r| (r.wall_s, r.error)).collect();
-        log += &format!("{} Pareto front (fastest first):\n", problem.name());
-        for i in pareto_front(&points) {
-            let row = &rows[first + i];
-            log += &format!(
-                "  {} {} {} mm {}: {:.3} s, error {:.3e}\n",
-                row.solver,
-                row.element,
-                millimetres(1e-3 * row.mesh_size_mm),
-                row.step_setting,
-                row.wall_s,
-                row.error
-            );
-        }
+        log += &pareto_log(problem.name(), &rows[first..]);
     }
     bar.finish_and_clear();
     if args.quick && args.problem == ProblemChoice::All {
@@ -147,11 +145,36 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
     } else if problems.len() < 3 {
         log += "(not all problems run)\n";
     }
-    let csv_path = args.out.join("work_precision.csv");
-    let png_path = args.out.join("work_precision.png");
-    let log_path = args.out.join("bench.log");
-    let csv = PendingFile::stage_bytes(&csv_path, to_csv(&rows).as_bytes())?;
-    let png = stage_png(&png_path, &work_precision_figure(&rows))?;
+    write_outputs(&args.out, &rows, &log)
+}
+
+/// The Pareto front of one problem's `rows` for the log (fastest first).
+fn pareto_log(problem: &str, rows: &[WorkPrecisionRow]) -> String {
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.wall_s, r.error)).collect();
+    let mut log = format!("{problem} Pareto front (fastest first):\n");
+    for i in pareto_front(&points) {
+        let row = &rows[i];
+        log += &format!(
+            "  {} {} {} mm {}: {:.3} s, error {:.3e}\n",
+            row.solver,
+            row.element,
+            millimetres(1e-3 * row.mesh_size_mm),
+            row.step_setting,
+            row.wall_s,
+            row.error
+        );
+    }
+    log
+}
+
+/// Writes DIR/work_precision.csv, DIR/work_precision.png and DIR/bench.log (all staged
+/// first: nothing half-written) and prints the Pareto fronts and the paths.
+fn write_outputs(out: &Path, rows: &[WorkPrecisionRow], log: &str) -> Result<()> {
+    let csv_path = out.join("work_precision.csv");
+    let png_path = out.join("work_precision.png");
+    let log_path = out.join("bench.log");
+    let csv = PendingFile::stage_bytes(&csv_path, to_csv(rows).as_bytes())?;
+    let png = stage_png(&png_path, &work_precision_figure(rows))?;
     let log_file = PendingFile::stage_bytes(&log_path, log.as_bytes())?;
     csv.commit()?;
     png.commit()?;

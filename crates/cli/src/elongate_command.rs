@@ -81,7 +81,7 @@ fn setting_within(percent: f64, table: &Path) -> Result<(Solver, ElementChoice, 
         )
     })?;
     let rows = select::read_table(&text).with_context(|| format!("reading {}", table.display()))?;
-    let Some(row) = select::cheapest_within(&rows, Problem::Elongate, 1e-2 * percent) else {
+    let Some(row) = select::cheapest_within(&rows, Problem::Elongate.name(), 1e-2 * percent) else {
         let best = rows
             .iter()
             .filter(|r| r.problem == "elongate" && r.error.is_finite())

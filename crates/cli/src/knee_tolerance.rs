@@ -46,7 +46,7 @@ pub fn setting_within(percent: f64, table: &Path) -> Result<(SquatSettings, Reso
         ));
     }
     let tolerance = 1e-2 * percent;
-    let (method, why) = match select::cheapest_within(&rows, Problem::Knee, tolerance) {
+    let (method, why) = match select::cheapest_within(&rows, Problem::Knee.name(), tolerance) {
         Some(row) => {
             let method = select::method_of(row)?;
             let why = format!(

@@ -111,6 +111,18 @@ pub struct RunArgs {
     /// duration and output interval.
     #[arg(long, value_enum)]
     pub solver: Option<SolverChoice>,
+    /// Run the cheapest solver and step setting whose measured error (`musclefem bench
+    /// --scene SCENE`: displacements at the end against its reference run) is at most
+    /// this [%].
+    #[arg(long, value_name = "PERCENT", conflicts_with = "solver")]
+    pub tolerance: Option<f64>,
+    /// The work–precision table --tolerance reads.
+    #[arg(
+        long,
+        value_name = "FILE",
+        default_value = "out/bench/work_precision.csv"
+    )]
+    pub bench_table: PathBuf,
     /// Worker threads [default: one per core].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,

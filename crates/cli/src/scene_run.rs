@@ -23,6 +23,10 @@ use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
 use crate::{CheckArgs, RunArgs, SolverChoice};
+use musclefem::bench::scene::{SceneProblem, scene_name};
+
+#[path = "scene_tolerance.rs"]
+mod tolerance;
 
 /// Print what the scene holds, or fail naming the file, line and key.
 pub fn check(args: &CheckArgs) -> Result<()> {
@@ -95,6 +99,17 @@ pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(choice) = args.solver {
         model.analysis = switch_solver(&model, choice);
         model.solver_rationale = None;
+    }
+    if let Some(percent) = args.tolerance {
+        let scene = SceneProblem {
+            name: scene_name(&args.scene)?,
+            model,
+        };
+        let (analysis, why) =
+            tolerance::analysis_within(&scene, &args.scene, percent, &args.bench_table)?;
+        model = scene.model;
+        model.analysis = analysis;
+        model.solver_rationale = Some(why);
     }
     let scene_text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;

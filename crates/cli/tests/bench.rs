@@ -1,5 +1,6 @@
 //! `musclefem bench`: the work–precision table and chart of the cube (the elongation's
-//! quick matrix takes about a minute; it is run by hand, see README).
+//! quick matrix takes about a minute and the knee's half an hour; they are run by hand,
+//! see README), of a scene of one's own, and the `--tolerance` choices read from them.
 
 use std::process::Command;
 
@@ -137,5 +138,126 @@ fn elongate_with_a_tolerance_runs_the_cheapest_measured_setting() {
         stderr.contains("musclefem bench --problem elongate"),
         "{stderr}"
     );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `musclefem bench --scene`: a scene's step settings against its reference run, in the
+/// same table and chart; the homogeneous hyperelastic cube does not depend on the
+/// increment, and the heavily mass-scaled explicit run is flagged.
+#[test]
+fn a_scene_of_ones_own_is_benchmarked_against_its_reference() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-bench-scene-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/neo_hookean_cube_stretch.toml");
+    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(["bench", "--scene"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let table = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();
+    let mut lines = table.lines();
+    assert_eq!(lines.next(), Some(WORK_PRECISION_HEADER));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 5);
+    for row in &rows {
+        assert_eq!(
+            row[..4],
+            ["neo_hookean_cube_stretch", row[1], "hex8-fbar", "2.5"]
+        );
+        assert_eq!(row[7], "max_nodal_displacement_error_at_the_end");
+        let error: f64 = row[6].parse().unwrap();
+        if row[1] == "implicit" {
+            assert!(error < 1e-9, "{row:?}");
+        } else {
+            assert!(error > 0.0 && error < 0.1, "{row:?}");
+        }
+    }
+    let log = std::fs::read_to_string(dir.join("bench.log")).unwrap();
+    assert!(
+        log.contains("neo_hookean_cube_stretch reference: implicit increment=0.025s"),
+        "{log}"
+    );
+    assert!(
+        log.lines()
+            .any(|l| l.contains("mass_scaling=1e-2s") && l.contains("warning: the kinetic energy")),
+        "{log}"
+    );
+    assert!(dir.join("work_precision.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `musclefem run --tolerance`: the cheapest measured run of the scene within the
+/// tolerance; runs of another scene or mesh, or none within it, are errors before any
+/// output.
+#[test]
+fn run_with_a_tolerance_takes_the_cheapest_measured_run_of_the_scene() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-run-tolerance-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/neo_hookean_cube_stretch.toml");
+    let name = "neo_hookean_cube_stretch";
+    let metric = "max_nodal_displacement_error_at_the_end";
+    std::fs::write(
+        dir.join("table.csv"),
+        format!(
+            "{WORK_PRECISION_HEADER}
+{name},implicit,hex8-fbar,2.5,increment=0.1s,0.5,1e-3,{metric}
+{name},implicit,hex8-fbar,2.5,increment=0.05s,0.9,1e-5,{metric}
+{name},explicit,hex8-fbar,2.5,mass_scaling=1e-2s;safety=0.9,0.1,5e-2,{metric}
+{name},implicit,tet4,2.5,increment=0.5s,0.01,0,{metric}
+other,implicit,hex8-fbar,2.5,increment=0.5s,0.01,0,{metric}
+"
+        ),
+    )
+    .unwrap();
+    let run = |percent: &str, out: &str| {
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .arg("run")
+            .arg(&scene)
+            .args(["--tolerance", percent, "--bench-table"])
+            .arg(dir.join("table.csv"))
+            .arg("--out")
+            .arg(dir.join(out))
+            .output()
+            .unwrap()
+    };
+    // 10 %: the mass-scaled explicit run (5 %, 0.1 s); the tet4 row is another mesh.
+    let output = run("10", "loose");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("--tolerance 10 %: explicit mass_scaling=1e-2s;safety=0.9")
+            && stdout.contains("of the 3 measured runs"),
+        "{stdout}"
+    );
+    assert!(dir.join("loose/history.csv").is_file());
+    // 0.01 %: only the 0.05 s increments.
+    let output = run("0.01", "tight");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}");
+    assert!(stdout.contains("implicit increment=0.05s"), "{stdout}");
+    assert!(stdout.contains("1 s in 20 increments"), "{stdout}");
+    // 1e-4 %: none.
+    let output = run("1e-4", "none");
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("no run of 'neo_hookean_cube_stretch'")
+            && stderr.contains("meets 0.0001 %"),
+        "{stderr}"
+    );
+    assert!(!dir.join("none").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

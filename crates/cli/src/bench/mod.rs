@@ -9,6 +9,7 @@
 //! - [`reference`]: the error of a response against the reference's;
 //! - [`pareto`]: the runs no other run beats in both time and error;
 //! - [`csv`], [`chart`]: `work_precision.csv` and `work_precision.png`;
+//! - [`scene`]: a scene of the user's own, its step settings against a reference run;
 //! - [`select`]: the cheapest measured setting within an error tolerance.
 
 pub mod chart;
@@ -20,6 +21,7 @@ pub mod matrix;
 pub mod method;
 pub mod pareto;
 pub mod reference;
+pub mod scene;
 pub mod select;
 
 use std::time::{Duration, Instant};

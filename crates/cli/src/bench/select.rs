@@ -6,7 +6,6 @@ use anyhow::{Context, Result, bail};
 
 use crate::elongation::ElementChoice;
 
-use super::Problem;
 use super::csv::{WORK_PRECISION_HEADER, WorkPrecisionRow};
 use super::method::{Method, StepSetting};
 
@@ -41,14 +40,15 @@ pub fn read_table(text: &str) -> Result<Vec<WorkPrecisionRow>> {
         .collect()
 }
 
-/// The fastest row of `problem` with error ≤ `tolerance` [1] (failed runs never qualify).
-pub fn cheapest_within(
-    rows: &[WorkPrecisionRow],
-    problem: Problem,
+/// The fastest row of the problem named `problem` (a [`super::Problem`]'s name or a
+/// scene's) with error ≤ `tolerance` [1] (failed runs never qualify).
+pub fn cheapest_within<'a>(
+    rows: &'a [WorkPrecisionRow],
+    problem: &str,
     tolerance: f64,
-) -> Option<&WorkPrecisionRow> {
+) -> Option<&'a WorkPrecisionRow> {
     rows.iter()
-        .filter(|r| r.problem == problem.name() && r.error.is_finite() && r.error <= tolerance)
+        .filter(|r| r.problem == problem && r.error.is_finite() && r.error <= tolerance)
         .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s))
 }
 
@@ -60,6 +60,16 @@ pub fn method_of(row: &WorkPrecisionRow) -> Result<Method> {
         .copied()
         .find(|&e| e.name() == row.element)
         .with_context(|| format!("unknown element '{}'", row.element))?;
+    Ok(Method {
+        element,
+        mesh_size: 1e-3 * row.mesh_size_mm,
+        step: step_of(row)?,
+    })
+}
+
+/// The step setting a row describes (its `step_setting` column, see
+/// [`StepSetting::label`]).
+pub fn step_of(row: &WorkPrecisionRow) -> Result<StepSetting> {
     let seconds = |text: &str| -> Result<f64> {
         text.trim_end_matches('s')
             .parse()
@@ -67,31 +77,25 @@ pub fn method_of(row: &WorkPrecisionRow) -> Result<Method> {
     };
     let mut settings = row.step_setting.split(';');
     let first = settings.next().unwrap_or_default();
-    let step = if let Some(increment) = first.strip_prefix("increment=") {
-        StepSetting::Implicit {
+    if let Some(increment) = first.strip_prefix("increment=") {
+        return Ok(StepSetting::Implicit {
             increment: seconds(increment)?,
-        }
-    } else {
-        let mass_scaling = match first.strip_prefix("mass_scaling=") {
-            Some(target) => Some(seconds(target)?),
-            None if first == "no_mass_scaling" => None,
-            None => bail!("bad step setting '{}'", row.step_setting),
-        };
-        let safety = settings
-            .next()
-            .and_then(|s| s.strip_prefix("safety="))
-            .with_context(|| format!("no safety factor in '{}'", row.step_setting))?;
-        StepSetting::Explicit {
-            mass_scaling,
-            safety: safety
-                .parse()
-                .with_context(|| format!("bad step setting '{}'", row.step_setting))?,
-        }
+        });
+    }
+    let mass_scaling = match first.strip_prefix("mass_scaling=") {
+        Some(target) => Some(seconds(target)?),
+        None if first == "no_mass_scaling" => None,
+        None => bail!("bad step setting '{}'", row.step_setting),
     };
-    Ok(Method {
-        element,
-        mesh_size: 1e-3 * row.mesh_size_mm,
-        step,
+    let safety = settings
+        .next()
+        .and_then(|s| s.strip_prefix("safety="))
+        .with_context(|| format!("no safety factor in '{}'", row.step_setting))?;
+    Ok(StepSetting::Explicit {
+        mass_scaling,
+        safety: safety
+            .parse()
+            .with_context(|| format!("bad step setting '{}'", row.step_setting))?,
     })
 }
 
@@ -111,11 +115,11 @@ cube,explicit,hex8-one-point,2.5,no_mass_scaling;safety=0.9,0.2,3e-3,m
     fn the_cheapest_row_within_the_tolerance_is_chosen_and_read_back() {
         let rows = read_table(TABLE).unwrap();
         assert_eq!(rows.len(), 5);
-        let loose = cheapest_within(&rows, Problem::Elongate, 0.2).unwrap();
+        let loose = cheapest_within(&rows, "elongate", 0.2).unwrap();
         assert_eq!(loose.step_setting, "increment=0.4s"); // 3.9 s beats 4.6 s
-        let any = cheapest_within(&rows, Problem::Elongate, 2.0).unwrap();
+        let any = cheapest_within(&rows, "elongate", 2.0).unwrap();
         assert_eq!(any.element, "tet4");
-        assert!(cheapest_within(&rows, Problem::Elongate, 0.01).is_none());
+        assert!(cheapest_within(&rows, "elongate", 0.01).is_none());
         let method = method_of(&rows[2]).unwrap();
         assert_eq!(method.element, ElementChoice::Hex8OnePoint);
         assert_eq!(

@@ -22,7 +22,7 @@ pub use format::{SCHEMA_VERSION, SceneFile};
 pub use interactions::InteractionModel;
 pub use locking::{LOCKING_BULK_TO_SHEAR, locking_warning, small_strain_bulk_modulus};
 pub use parse::{parse_scene, read_scene_file};
-pub use solver_choice::{AutoSolver, SLOW_MOTION_RATIO, choose_solver};
+pub use solver_choice::{AutoSolver, SLOW_MOTION_RATIO, choose_solver, fastest_wave_speed};
 
 /// Read the scene at `path` and build its model (plugins loaded into `library`).
 pub fn load_scene(path: &Path, library: &mut MaterialLibrary) -> Result<Model, SceneError> {

@@ -84,7 +84,7 @@ pub fn choose_solver(
 }
 
 /// √((K + 4μ/3) / ρ) of the stiffest part [m/s]; `None` when no part has one.
-fn fastest_wave_speed(parts: &[Part]) -> Option<f64> {
+pub fn fastest_wave_speed(parts: &[Part]) -> Option<f64> {
     parts
         .iter()
         .filter_map(|part| {
