@@ -58,13 +58,8 @@ pub struct ElongateArgs {
     /// --solver, --element, --mesh-size and --time-step.
     #[arg(long, value_name = "PERCENT")]
     pub tolerance: Option<f64>,
-    /// The work–precision table --tolerance reads.
-    #[arg(
-        long,
-        value_name = "FILE",
-        default_value = "out/bench/work_precision.csv"
-    )]
-    pub bench_table: PathBuf,
+    #[command(flatten)]
+    pub bench_table: crate::BenchTable,
 }
 
 /// The cheapest measured setting of the passive elongation within `percent` (see
@@ -121,7 +116,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
     }
     let (solver, element, mesh_size, time_step) = match args.tolerance {
         Some(percent) => {
-            let (solver, element, size, step) = setting_within(percent, &args.bench_table)?;
+            let (solver, element, size, step) = setting_within(percent, &args.bench_table.path)?;
             (solver, element, size, Some(step))
         }
         None => (

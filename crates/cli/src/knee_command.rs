@@ -78,13 +78,8 @@ pub struct KneeArgs {
         conflicts_with_all = ["resolution", "anatomy", "solver", "element", "time_step"]
     )]
     pub tolerance: Option<f64>,
-    /// The work–precision table --tolerance reads (`musclefem bench --problem knee`).
-    #[arg(
-        long,
-        value_name = "FILE",
-        default_value = "out/bench/work_precision.csv"
-    )]
-    pub bench_table: PathBuf,
+    #[command(flatten)]
+    pub bench_table: crate::BenchTable,
     /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
     /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
     /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
@@ -117,7 +112,7 @@ impl KneeArgs {
     fn settings(&self) -> Result<(SquatSettings, Resolution)> {
         let (mut settings, resolution) = match self.tolerance {
             Some(percent) => {
-                let (settings, resolution, why) = setting_within(percent, &self.bench_table)?;
+                let (settings, resolution, why) = setting_within(percent, &self.bench_table.path)?;
                 println!("{why}");
                 (settings, resolution)
             }

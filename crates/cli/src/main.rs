@@ -116,19 +116,26 @@ pub struct RunArgs {
     /// this [%].
     #[arg(long, value_name = "PERCENT", conflicts_with = "solver")]
     pub tolerance: Option<f64>,
-    /// The work–precision table --tolerance reads.
-    #[arg(
-        long,
-        value_name = "FILE",
-        default_value = "out/bench/work_precision.csv"
-    )]
-    pub bench_table: PathBuf,
+    #[command(flatten)]
+    pub bench_table: crate::BenchTable,
     /// Worker threads [default: one per core].
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
     pub force: bool,
+}
+
+/// The work–precision table that `--tolerance` reads (written by `musclefem bench`).
+#[derive(Debug, Args)]
+pub struct BenchTable {
+    /// The work–precision table --tolerance reads (`musclefem bench`).
+    #[arg(
+        long = "bench-table",
+        value_name = "FILE",
+        default_value = "out/bench/work_precision.csv"
+    )]
+    pub path: PathBuf,
 }
 
 #[derive(Debug, Args)]

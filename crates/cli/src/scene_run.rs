@@ -106,7 +106,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             model,
         };
         let (analysis, why) =
-            tolerance::analysis_within(&scene, &args.scene, percent, &args.bench_table)?;
+            tolerance::analysis_within(&scene, &args.scene, percent, &args.bench_table.path)?;
         model = scene.model;
         model.analysis = analysis;
         model.solver_rationale = Some(why);
