@@ -15,8 +15,8 @@ use musclefem::elongation::options::TestOptions;
 use musclefem::elongation::run::run_on;
 use musclefem::elongation::setup::setup;
 use musclefem::elongation::{
-    Curve, CurvePoint, ElementChoice, ElongationRun, ElongationTest, ElongationWatcher, Grips,
-    Mode, Shape, Solver,
+    Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
+    ElongationTest, ElongationWatcher, Grips, Mode, Shape, Solver,
 };
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{ElementFieldArrays, ExistingResults, Frame, RunDirectory, RunLog};
@@ -126,6 +126,12 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
             args.test.time_step,
         ),
     };
+    if args.tolerance.is_none()
+        && (solver, element) == (Solver::Implicit, ElementChoice::Hex8Fbar)
+        && (mesh_size - DEFAULT_MESH_SIZE).abs() < 1e-12
+    {
+        println!("{DEFAULT_SETTING_RATIONALE}");
+    }
     let mut runs = Vec::new();
     for &mode in modes {
         let test = ElongationTest {

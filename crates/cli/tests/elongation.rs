@@ -264,6 +264,11 @@ fn the_command_writes_both_runs_and_one_chart() {
         2,
         "{stdout}"
     );
+    // The default setting says why it is the default, from the measured chart.
+    assert!(
+        stdout.contains("implicit F-bar hex8 at 4 mm, the default: on the measured"),
+        "{stdout}"
+    );
     assert!(dir.join("curve.png").is_file());
     for mode in ["passive", "active"] {
         let csv = std::fs::read_to_string(dir.join(mode).join("curve.csv")).unwrap();
