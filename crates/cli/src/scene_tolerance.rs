@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
+use musclefem::bench::method::millimetres;
 use musclefem::bench::scene::SceneProblem;
 use musclefem::bench::select;
 use musclefem_io::scene::Analysis;
@@ -45,15 +46,16 @@ pub fn analysis_within(
             scene.name
         );
     }
-    let (element, size_mm) = (scene.element(), 1e3 * scene.mean_element_size());
+    // The table holds sizes in millimetres to three decimals: compare them as written.
+    let (element, size_mm) = (scene.element(), millimetres(scene.mean_element_size()));
     let rows: Vec<_> = rows
         .into_iter()
-        .filter(|r| r.element == element && (r.mesh_size_mm - size_mm).abs() <= 1e-3 * size_mm)
+        .filter(|r| r.element == element && millimetres(1e-3 * r.mesh_size_mm) == size_mm)
         .collect();
     if rows.is_empty() {
         bail!(
             "the runs of '{}' in {} were measured on another mesh or other elements than the \
-             scene's ({element}, {size_mm:.3} mm): measure them again with `{measure}`",
+             scene's ({element}, {size_mm} mm): measure them again with `{measure}`",
             scene.name,
             table.display()
         );
