@@ -15,7 +15,9 @@
 //!   is at round-off (max |δu| ≤ 1e-10 max |u|, see
 //!   [`ImplicitSettings::round_off_correction`]), or when ‖r_f‖ is at its round-off floor
 //!   10 ε max|x| max|K_ii| √n (F = Σ x_a ⊗ ∇N_a carries errors ε|x|/h): for a nearly
-//!   incompressible material at small loads that floor lies above tol_r ‖f_int‖.
+//!   incompressible material at small loads that floor lies above tol_r ‖f_int‖. The
+//!   floor counts only up to twice the one at the step's start, so that a diverging
+//!   iterate (whose stiffness, and so floor, explodes) is never taken for converged.
 //! - Prescribed degrees of freedom are eliminated: the sparse matrix holds the free ones
 //!   only (pattern built once from the connectivity, values refilled every iteration,
 //!   serially in element order, so results do not depend on the thread count). Solved with
@@ -405,7 +407,7 @@ fn newton_step(
     let error = |e: SolverError| StepFailure::Error(e);
 
     // Predictor.
-    model
+    let start_norms = model
         .evaluate(&positions, end, step, true, Some(&delta))
         .map_err(error)?;
     let mut correction: Vec<f64> = model
@@ -474,7 +476,7 @@ fn newton_step(
             || settings
                 .energy_tolerance
                 .is_some_and(|tol| work_ratio <= tol);
-        let at_round_off = norms.residual <= norms.floor
+        let at_round_off = norms.is_at_round_off(start_norms)
             || largest_correction <= settings.round_off_correction * largest_displacement;
         if converged || at_round_off {
             return Ok(StepReport {
@@ -524,7 +526,7 @@ fn newton_step(
                 && trial_norms.residual.is_finite()
                 && (trial_norms.residual <= (1.0 - 1e-4 * alpha) * norms.residual
                     || trial_norms.relative() <= settings.residual_tolerance
-                    || trial_norms.residual <= trial_norms.floor
+                    || trial_norms.is_at_round_off(start_norms)
                     || round_off)
             {
                 accepted = true;

@@ -100,7 +100,20 @@ pub(super) struct Norms {
     pub floor: f64,
 }
 
+/// How far the round-off floor may grow within one step before a state's own floor stops
+/// counting (see [`Norms::is_at_round_off`]).
+const FLOOR_GROWTH: f64 = 2.0;
+
 impl Norms {
+    /// Whether ‖r_f‖ is at its round-off floor, the floor taken no larger than
+    /// [`FLOOR_GROWTH`] times the floor at the step's start (`start`). Within a converging
+    /// step the floor hardly changes; a diverging iterate's does: near-inverted elements
+    /// raise max|K_ii| by orders of magnitude, and with its own floor the line search took
+    /// residuals of 1e8–1e18 N as round-off (the coarse active squat, 2026-11-24).
+    pub fn is_at_round_off(self, start: Norms) -> bool {
+        self.residual <= self.floor.min(FLOOR_GROWTH * start.floor)
+    }
+
     pub fn relative(self) -> f64 {
         if self.residual == 0.0 {
             0.0
@@ -479,5 +492,34 @@ impl<'a> Model<'a> {
             loads.displacement_reactions(&reaction),
             loads.rigid_reactions(time, positions, &reaction),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Norms;
+
+    fn norms(residual: f64, floor: f64) -> Norms {
+        Norms {
+            residual,
+            force: 1.0,
+            floor,
+        }
+    }
+
+    #[test]
+    fn a_state_at_its_floor_is_at_round_off_while_the_floor_stays_near_the_starts() {
+        let start = norms(10.0, 1.0);
+        assert!(norms(0.9, 1.0).is_at_round_off(start));
+        assert!(norms(1.9, 1.95).is_at_round_off(start));
+        assert!(!norms(1.1, 1.0).is_at_round_off(start));
+    }
+
+    #[test]
+    fn a_diverging_state_whose_floor_exploded_is_not_at_round_off() {
+        // The coarse active squat: a trial near inversion, residual 1e18 N, floor above it.
+        let start = norms(10.0, 1e-6);
+        assert!(!norms(1e18, 1e19).is_at_round_off(start));
+        assert!(!norms(3e-6, 1e-5).is_at_round_off(start));
     }
 }

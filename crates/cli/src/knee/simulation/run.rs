@@ -61,6 +61,24 @@ pub const DEFAULT_SQUAT_DURATION: f64 = 2.0;
 /// keeps the knee's turn per increment below 2.2°.
 pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 
+/// Halvings of the line search per Newton iteration on the knee (the solver's default is
+/// 8). A correction that must be cut below 1/8 to reduce the residual is a sign the
+/// increment is too long: cutting the increment is cheaper than crawling on. Measured on
+/// the coarse default squat (2026-11-24; runs side by side, so the wall times are rough):
+///
+/// | halvings | passive: iterations, evaluations | active: iterations, evaluations, cuts |
+/// |---|---|---|
+/// | 8 | 765, 1397 | 2487, 4982, 15 |
+/// | 4 | | 2557, 4853, 21 |
+/// | 3 | 753, 1262 | 2319, 3752, 26 |
+/// | 2 | | 2371, 3652, 47 |
+///
+/// (the row of 8 with the older round-off test of the line search, which took diverging
+/// iterates for converged ones; with today's test and 8 halvings the active squat stalls
+/// at 59° in extension). With 3 the default run took 125 s against 132 s, and its vm95
+/// moved by up to 1.9 % (mean 0.2 %), the size a different history of cuts makes.
+pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
+
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
 
@@ -70,7 +88,7 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
             "the default: on the coarse knee its active vm95 was the explicit solver's \
-             within 1.9 %, and passive and active take 129-154 s side by side on a \
+             within 1.9 %, and passive and active take about 140 s side by side on a \
              2-core machine (explicit: 1290 s for the active squat with other jobs beside \
              it); without inertia Newton stalls at the activation's onset"
         }
@@ -246,6 +264,7 @@ pub fn run_squat(
             // 282 s without reuse, 322 s with the default reuse (2026-11-23, before the AMD
             // order and LBLᵀ, which made factorizations 3× cheaper and reuse less worth it).
             solver_settings.factor_reuse = None;
+            solver_settings.line_search_cuts = KNEE_LINE_SEARCH_CUTS;
             if settings.inertia {
                 solver_settings.dynamics = Some(Newmark::default());
             }
