@@ -73,10 +73,13 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// | 3 | 753, 1262 | 2319, 3752, 26 |
 /// | 2 | | 2371, 3652, 47 |
 ///
-/// (the row of 8 with the older round-off test of the line search, which took diverging
-/// iterates for converged ones; with today's test and 8 halvings the active squat stalls
-/// at 59° in extension). With 3 the default run took 125 s against 132 s, and its vm95
-/// moved by up to 1.9 % (mean 0.2 %), the size a different history of cuts makes.
+/// The row of 8 is with the older round-off test of the line search, which took
+/// diverging iterates for converged ones; with today's test and 8 halvings the active
+/// squat stalls at 59° in extension. The rows of 2 and 4 are with a stricter draft of
+/// today's test (the trial's floor no larger than the iteration's), which gave the row of
+/// 3 to the count. Back to back, the default run took 138 s with 3 halvings against 158 s
+/// before, and its vm95 moved by up to 1.9 % (mean 0.2 %), the size a different history
+/// of cuts makes.
 pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
 
 /// Default mass-scaling target step of the explicit solver [s].
