@@ -38,7 +38,9 @@
 //!
 //! Element technologies: those with a consistent element stiffness
 //! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8FBar (with the
-//! linearization through J̄ of `element/fbar.rs`), Hex8OnePoint, Tet4 and Tet10. The
+//! linearization through J̄ of `element/fbar.rs`, and by default the mixed element pressure
+//! in its tangent, `mixed_pressure.rs`, which spares nearly incompressible tissue most of
+//! its Newton iterations), Hex8OnePoint, Tet4 and Tet10. The
 //! nodally averaged tet4 is refused ([`SolverError::NoConsistentTangent`]): its tangent
 //! couples the 2-ring of elements around a node, a wider sparsity pattern not built yet.
 //! Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes tied to
@@ -171,6 +173,7 @@ pub fn run_implicit_with(
         loads,
         interactions,
         settings.parallel_factorization_unknowns,
+        settings.mixed_pressure_tangent,
     )?;
     let node_count = mesh.nodes.len();
     let reference: Vec<Vector3<f64>> = (0..node_count).map(|i| mesh.nodes.position(i)).collect();
@@ -407,6 +410,7 @@ fn newton_step(
     let error = |e: SolverError| StepFailure::Error(e);
 
     // Predictor.
+    model.start_step();
     let start_norms = model
         .evaluate(&positions, end, step, true, Some(&delta))
         .map_err(error)?;

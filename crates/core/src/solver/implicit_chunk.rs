@@ -1,17 +1,21 @@
 //! A chunk of elements for the implicit solver: the shared [`ElementChunk`] (states,
 //! stresses, tangents, forces) plus the element stiffness matrices assembled from its
-//! tangents.
+//! tangents (for F-bar hex8, with the mixed element pressure of `mixed_pressure.rs`).
 
 use std::ops::Range;
 
 use nalgebra::Vector3;
 
-use musclefem_materials::{Material, MaterialError};
+use musclefem_materials::{Material, MaterialError, Tangent, VoigtStress};
 
 use super::chunk::ElementChunk;
 use super::element_fields::AcceptedPoints;
-use crate::element::{BlockKernel, has_major_symmetry};
+use super::mixed_pressure::MixedPressure;
+use crate::element::{BlockKernel, Technology, has_major_symmetry};
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
+
+/// Most integration points of an element (the 2×2×2 hex8).
+const MAX_POINTS_PER_ELEMENT: usize = 8;
 
 #[derive(Debug)]
 pub(crate) struct ImplicitChunk {
@@ -20,6 +24,9 @@ pub(crate) struct ImplicitChunk {
     pub stiffness: Vec<f64>,
     /// Whether every tangent of the last update with stiffness had major symmetry.
     pub symmetric: bool,
+    /// The mixed pressure's linearization points (F-bar hex8 with
+    /// [`super::implicit::ImplicitSettings::mixed_pressure_tangent`]).
+    mixed: Option<MixedPressure>,
 }
 
 impl ImplicitChunk {
@@ -28,9 +35,13 @@ impl ImplicitChunk {
         kernel: &BlockKernel,
         block: &ElementBlock,
         material: &dyn Material,
+        mixed_pressure_tangent: bool,
     ) -> Self {
         let dofs = kernel.element_dofs();
+        let mixed = (mixed_pressure_tangent && kernel.technology() == Technology::Hex8FBar)
+            .then(|| MixedPressure::new(elements.len()));
         ImplicitChunk {
+            mixed,
             stiffness: vec![0.0; elements.len() * dofs * dofs],
             chunk: ElementChunk::new(elements, kernel, block, material),
             symmetric: true,
@@ -71,6 +82,9 @@ impl ImplicitChunk {
             self.stiffness.fill(0.0);
             let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
             let npe = kernel.nodes_per_element();
+            // The stresses and tangents of an element shifted to its mixed pressure.
+            let mut shifted_stress = [VoigtStress::zeros(); MAX_POINTS_PER_ELEMENT];
+            let mut shifted = [Tangent::zeros(); MAX_POINTS_PER_ELEMENT];
             self.symmetric = true;
             for (local, element) in self.chunk.elements.clone().enumerate() {
                 for (x, &id) in element_positions
@@ -82,11 +96,28 @@ impl ImplicitChunk {
                 let points = local * ppe..(local + 1) * ppe;
                 let symmetric = tangents[points.clone()].iter().all(has_major_symmetry);
                 self.symmetric &= symmetric;
+                let (stress, tangent) = match &mut self.mixed {
+                    Some(mixed) => {
+                        let (stress, tangent) = (&mut shifted_stress[..ppe], &mut shifted[..ppe]);
+                        stress.copy_from_slice(&stresses[points.clone()]);
+                        tangent.copy_from_slice(&tangents[points]);
+                        mixed.shift_to_mixed_pressure(
+                            local,
+                            kernel,
+                            element,
+                            &element_positions[..npe],
+                            stress,
+                            tangent,
+                        );
+                        (&*stress, &*tangent)
+                    }
+                    None => (&stresses[points.clone()], &tangents[points]),
+                };
                 let added = kernel.add_element_stiffness_with(
                     element,
                     &element_positions[..npe],
-                    &stresses[points.clone()],
-                    &tangents[points],
+                    stress,
+                    tangent,
                     &mut self.stiffness[local * size..(local + 1) * size],
                     symmetric,
                 );
@@ -94,6 +125,20 @@ impl ImplicitChunk {
             }
         }
         Ok(())
+    }
+
+    /// The last stiffness computed is being solved with (see [`MixedPressure::promote`]).
+    pub fn stiffness_solved(&mut self) {
+        if let Some(mixed) = &mut self.mixed {
+            mixed.promote();
+        }
+    }
+
+    /// A step starts (or restarts) from a converged state.
+    pub fn start_step(&mut self) {
+        if let Some(mixed) = &mut self.mixed {
+            mixed.restart();
+        }
     }
 
     /// Accept the step: the new state and deformation become the old ones.

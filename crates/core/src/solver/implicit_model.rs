@@ -154,6 +154,7 @@ impl<'a> Model<'a> {
         loads: &Loads,
         interactions: &'a mut [Box<dyn Interaction>],
         parallel_factorization_unknowns: usize,
+        mixed_pressure_tangent: bool,
     ) -> Result<Self, SolverError> {
         let node_count = mesh.nodes.len();
         let mut runs = Vec::with_capacity(parts.len());
@@ -184,7 +185,9 @@ impl<'a> Model<'a> {
             }
             let material = part.material.as_ref();
             let chunks = chunk_ranges(block.len())
-                .map(|range| ImplicitChunk::new(range, &kernel, block, material))
+                .map(|range| {
+                    ImplicitChunk::new(range, &kernel, block, material, mixed_pressure_tangent)
+                })
                 .collect();
             runs.push(PartRun {
                 block: part.block,
@@ -420,12 +423,25 @@ impl<'a> Model<'a> {
         }
     }
 
+    /// A step starts (or restarts) from the last converged state.
+    pub fn start_step(&mut self) {
+        for run in &mut self.runs {
+            run.chunks.iter_mut().for_each(ImplicitChunk::start_step);
+        }
+    }
+
+    /// Solve K x = `rhs` with the stiffness last evaluated, in place.
     pub fn solve(
         &mut self,
         rhs: &mut [f64],
         time: f64,
         reuse: Option<&FactorReuse>,
     ) -> Result<super::sparse::Factorization, SolverError> {
+        for run in &mut self.runs {
+            run.chunks
+                .iter_mut()
+                .for_each(ImplicitChunk::stiffness_solved);
+        }
         self.system
             .solve(rhs, self.symmetric, reuse)
             .map_err(|reason| SolverError::LinearSolve { time, reason })

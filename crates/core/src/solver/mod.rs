@@ -24,6 +24,7 @@ mod implicit_settings;
 pub mod interaction;
 mod krylov;
 mod loads;
+mod mixed_pressure;
 mod nodal;
 mod nodal_average;
 pub mod observer;
