@@ -93,7 +93,7 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {
         Resolution::Coarse => {
-            "the default: passive and active in 2-3 minutes on 2 cores, but not converged: \
+            "the default: passive and active in about 75 s on 2 cores, but not converged: \
              its passive vm95 differed from medium's by up to 37 % (mean 18 %, 2026-11-24), \
              so read the table as the coarse model's answer"
         }

@@ -79,7 +79,8 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// today's test (the trial's floor no larger than the iteration's), which gave the row of
 /// 3 to the count. Back to back, the default run took 138 s with 3 halvings against 158 s
 /// before, and its vm95 moved by up to 1.9 % (mean 0.2 %), the size a different history
-/// of cuts makes.
+/// of cuts makes. All of this was measured with the displacement tangent, before the
+/// mixed element pressure (core `mixed_pressure.rs`), and not again since.
 pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
 
 /// Default mass-scaling target step of the explicit solver [s].
@@ -91,7 +92,7 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
             "the default: on the coarse knee its active vm95 was the explicit solver's \
-             within 1.9 %, and passive and active take about 140 s side by side on a \
+             within 1.9 %, and passive and active take about 75 s side by side on a \
              2-core machine (explicit: 1290 s for the active squat with other jobs beside \
              it); without inertia Newton stalls at the activation's onset"
         }
