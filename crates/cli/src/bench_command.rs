@@ -23,7 +23,8 @@ pub enum ProblemChoice {
     Cube,
     /// The passive elongation of the fusiform Hill muscle.
     Elongate,
-    /// The passive knee squat, coarse against medium (about 30 minutes; no --quick).
+    /// The passive knee squat, coarse against medium (no --quick; its medium reference
+    /// takes about 5 minutes).
     Knee,
     /// Cube, elongate and (without --quick) knee.
     All,
@@ -62,8 +63,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         (ProblemChoice::All, true) => &[Problem::Cube, Problem::Elongate],
         (ProblemChoice::Knee, true) => bail!(
             "--problem knee has no --quick matrix: its reference, the passive squat on the \
-             medium mesh, takes about 15 minutes on 2 cores; run it without --quick (about \
-             30 minutes)"
+             medium mesh, takes about 5 minutes on 2 cores; run it without --quick"
         ),
     };
     std::fs::create_dir_all(&args.out)

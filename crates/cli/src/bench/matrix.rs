@@ -13,7 +13,8 @@
 //! only (F-bar and one-point hex8, 20 and 40 ms increments, and the explicit solver at
 //! the default mass scaling), so its error is that of the coarse mesh against medium,
 //! and medium's own error is not measured. It has no quick matrix (`quick` is ignored):
-//! the reference alone takes about 15 minutes.
+//! the reference alone takes about 5 minutes (277 s on 2026-11-24 with the mixed pressure
+//! in Newton's tangent; about 15 before).
 //!
 //! `--quick` keeps each problem under a minute on a loaded 2-core machine: fewer
 //! elements and steps, and for the elongation one matrix mesh (4 mm; the fusiform's end

@@ -10,7 +10,9 @@
 //! (fine was not run), so no tolerance can promise more than "as medium".
 //! `musclefem bench --problem knee` measures the same chart on the user's machine (and
 //! `knee --tolerance` reads it when given); its run of 2026-11-24 reproduced 11.7 %, with
-//! medium in 914 s.
+//! medium in 914 s. The wall times are those of the same day with the mixed pressure in
+//! Newton's tangent (each squat alone; before it 37 s and 934 s); the errors did not
+//! change with it (11.7 %).
 
 use anyhow::{Result, bail};
 
@@ -31,12 +33,12 @@ pub const RESOLUTION_CHART: [MeasuredResolution; 2] = [
     MeasuredResolution {
         resolution: Resolution::Coarse,
         error: Some(0.117),
-        passive_wall_s: 37.0,
+        passive_wall_s: 21.0,
     },
     MeasuredResolution {
         resolution: Resolution::Medium,
         error: None,
-        passive_wall_s: 934.0,
+        passive_wall_s: 268.0,
     },
 ];
 
@@ -98,9 +100,9 @@ pub fn resolution_rationale(resolution: Resolution) -> &'static str {
              so read the table as the coarse model's answer"
         }
         Resolution::Medium => {
-            "the finest measured: the passive squat alone took 934 s on 2 busy cores \
-             (2026-11-24), passive and active together take 40-50 minutes; its own error \
-             against fine is not measured"
+            "the finest measured: passive and active side by side took 703 s on 2 cores \
+             (2026-11-24), the passive squat alone 268 s; its own error against fine is not \
+             measured"
         }
         Resolution::Fine => {
             "not run yet: 35 840 muscle elements, about 4 times medium's unknowns; expect \
