@@ -33,8 +33,9 @@ use musclefem_materials::{Tangent, VoigtStress};
 
 use crate::element::BlockKernel;
 
-/// Nodes of the hex8 the mixed pressure is defined on.
+/// Nodes and integration points of the F-bar hex8 the mixed pressure is defined on.
 const NODES: usize = 8;
+const POINTS: usize = 8;
 
 /// An element's state at a linearization point x_k.
 #[derive(Debug, Clone, Copy)]
@@ -45,7 +46,7 @@ struct Linearization {
     gradient: [Vector3<f64>; NODES],
     /// x_k [m].
     positions: [Vector3<f64>; NODES],
-    /// p′ = dp/dJ̄ at x_k [Pa].
+    /// p′ = dp/dJ̄ at x_k, the mean over the element's points [Pa].
     modulus: f64,
 }
 
@@ -93,7 +94,8 @@ impl MixedPressure {
         tangents: &mut [Tangent],
     ) {
         let ppe = kernel.points_per_element();
-        let mut f_bar = [Matrix3::zeros(); NODES];
+        debug_assert!(ppe <= POINTS && positions.len() == NODES);
+        let mut f_bar = [Matrix3::zeros(); POINTS];
         let (mut volume, mut reference) = (0.0, 0.0);
         let mut gradient = [Vector3::zeros(); NODES];
         for (q, f) in f_bar.iter_mut().enumerate().take(ppe) {
