@@ -32,6 +32,36 @@ fn mean_dilatation(kernel: &BlockKernel, element: usize, f: &[Matrix3<f64>]) -> 
     current / reference
 }
 
+/// J̄ = v/V of the hex8 `element` at its current `positions` and its gradient
+/// ∂J̄/∂x_a = (1/V) Σ_q w_q J_q F_q⁻ᵀ ∇_X N_a(q) = J̄ b̄_a [1/m].
+pub(super) fn mean_dilatation_gradient(
+    kernel: &BlockKernel,
+    element: usize,
+    positions: &[Vector3<f64>],
+) -> (f64, [Vector3<f64>; 8]) {
+    let ppe = kernel.points_per_element();
+    let mut gradient = [Vector3::zeros(); 8];
+    let (mut current, mut reference) = (0.0, 0.0);
+    for q in 0..ppe {
+        let point = element * ppe + q;
+        let f = kernel.deformation_gradient(point, positions);
+        let jacobian = f.determinant();
+        let inverse_transpose = f
+            .try_inverse()
+            .map_or_else(Matrix3::zeros, |inv| inv.transpose());
+        let w = kernel.weight(point);
+        for (g, shape_gradient) in gradient.iter_mut().zip(kernel.gradients(point)) {
+            *g += inverse_transpose * shape_gradient * (jacobian * w);
+        }
+        current += jacobian * w;
+        reference += w;
+    }
+    for g in &mut gradient {
+        *g /= reference;
+    }
+    (current / reference, gradient)
+}
+
 /// F̄ = (J̄/J)^{1/3} F for every point's F in `f` (the plain F on entry).
 pub(super) fn modify(kernel: &BlockKernel, element: usize, f: &mut [Matrix3<f64>]) {
     let mean = mean_dilatation(kernel, element, f);

@@ -222,6 +222,17 @@ impl BlockKernel {
         f
     }
 
+    /// F-bar hex8 only: the element's mean dilatation J̄ = v/V at its current `positions`
+    /// and ∂J̄/∂x_a per node [1/m] (`fbar.rs`).
+    pub(crate) fn mean_dilatation_gradient(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+    ) -> (f64, [Vector3<f64>; 8]) {
+        debug_assert_eq!(self.technology, Technology::Hex8FBar);
+        fbar::mean_dilatation_gradient(self, element, positions)
+    }
+
     /// The deformation gradients the material sees at every point of `element`, from its
     /// current nodal `positions`: F itself (with the mean gradient for the one-point hex8),
     /// or F̄ for F-bar.

@@ -215,6 +215,12 @@ impl ElementChunk {
         &self.tangent
     }
 
+    /// The deformation gradients of the last update, as the material saw them (F̄ for
+    /// F-bar), `points_per_element` per element.
+    pub fn deformation_gradients(&self) -> &[Matrix3<f64>] {
+        &self.f_new
+    }
+
     /// Accept the step: the new state and deformation become the old ones.
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.state_old, &mut self.state_new);

@@ -79,6 +79,7 @@ impl ImplicitChunk {
             let size = kernel.element_dofs().pow(2);
             let tangents = self.chunk.tangents();
             let stresses = self.chunk.stresses();
+            let deformation_gradients = self.chunk.deformation_gradients();
             self.stiffness.fill(0.0);
             let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
             let npe = kernel.nodes_per_element();
@@ -100,12 +101,13 @@ impl ImplicitChunk {
                     Some(mixed) => {
                         let (stress, tangent) = (&mut shifted_stress[..ppe], &mut shifted[..ppe]);
                         stress.copy_from_slice(&stresses[points.clone()]);
-                        tangent.copy_from_slice(&tangents[points]);
+                        tangent.copy_from_slice(&tangents[points.clone()]);
                         mixed.shift_to_mixed_pressure(
                             local,
                             kernel,
                             element,
                             &element_positions[..npe],
+                            &deformation_gradients[points],
                             stress,
                             tangent,
                         );

@@ -82,45 +82,28 @@ impl MixedPressure {
     }
 
     /// Shift the `stress` and `tangents` of the chunk's element `local` (block element
-    /// `element`, nodes at `positions`) from p(J̄) to the mixed pressure p_e, for its
-    /// stiffness, and record this state as the candidate linearization point.
+    /// `element`, nodes at `positions`, the material's F̄ at its points `f_bar`) from
+    /// p(J̄) to the mixed pressure p_e, for its stiffness, and record this state as the
+    /// candidate linearization point.
+    #[allow(clippy::too_many_arguments)]
     pub fn shift_to_mixed_pressure(
         &mut self,
         local: usize,
         kernel: &BlockKernel,
         element: usize,
         positions: &[Vector3<f64>],
+        f_bar: &[Matrix3<f64>],
         stress: &mut [VoigtStress],
         tangents: &mut [Tangent],
     ) {
-        let ppe = kernel.points_per_element();
-        debug_assert!(ppe <= POINTS && positions.len() == NODES);
-        let mut f_bar = [Matrix3::zeros(); POINTS];
-        let (mut volume, mut reference) = (0.0, 0.0);
-        let mut gradient = [Vector3::zeros(); NODES];
-        for (q, f) in f_bar.iter_mut().enumerate().take(ppe) {
-            let point = element * ppe + q;
-            *f = kernel.deformation_gradient(point, positions);
-            let jacobian = f.determinant();
-            let inverse_transpose = f
-                .try_inverse()
-                .map_or_else(Matrix3::zeros, |i| i.transpose());
-            let w = kernel.weight(point);
-            for (g, shape_gradient) in gradient.iter_mut().zip(kernel.gradients(point)) {
-                *g += inverse_transpose * shape_gradient * (jacobian * w);
-            }
-            volume += jacobian * w;
-            reference += w;
-        }
-        let dilatation = volume / reference;
-        for g in &mut gradient {
-            *g /= reference;
-        }
-        let mut modulus = 0.0;
-        for (q, f) in f_bar.iter_mut().enumerate().take(ppe) {
-            *f *= (dilatation / f.determinant()).cbrt();
-            modulus += volumetric_modulus(&stress[q], &tangents[q], f) / ppe as f64;
-        }
+        debug_assert!(f_bar.len() <= POINTS && positions.len() == NODES);
+        let (dilatation, gradient) = kernel.mean_dilatation_gradient(element, positions);
+        let modulus = f_bar
+            .iter()
+            .zip(stress.iter().zip(tangents.iter()))
+            .map(|(f, (sigma, tangent))| volumetric_modulus(sigma, tangent, f))
+            .sum::<f64>()
+            / f_bar.len() as f64;
         let shift = if self.has_base {
             let base = &self.base[local];
             let linear = base.dilatation
@@ -140,8 +123,8 @@ impl MixedPressure {
             modulus,
         };
         if shift != 0.0 {
-            for q in 0..ppe {
-                shift_pressure(&mut stress[q], &mut tangents[q], &f_bar[q], shift);
+            for ((sigma, tangent), f) in stress.iter_mut().zip(tangents.iter_mut()).zip(f_bar) {
+                shift_pressure(sigma, tangent, f, shift);
             }
         }
     }
