@@ -8,8 +8,9 @@
 //! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
 //!   fibers, activation), `history.csv` (the solver's convergence and energies, forces
 //!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
-//!   instant), `newton.csv` (implicit: every increment's Newton residuals), `tendon.csv`
-//!   (the quadriceps' pull, the patellar tendon's force and strain, the patella's pose)
+//!   instant), `newton.csv` (implicit: every increment's Newton residuals), `cuts.csv`
+//!   (implicit: every failed attempt that was cut, and why), `tendon.csv` (the
+//!   quadriceps' pull, the patellar tendon's force and strain, the patella's pose)
 //!   and `run.log`;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
 
@@ -298,7 +299,7 @@ use tolerance::setting_within;
 
 #[path = "knee_run_files.rs"]
 mod run_files;
-use run_files::{run_log, run_summary, write_newton_steps, write_vm95};
+use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};
 
 /// The message of a run stopped because the other one failed.
 const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
@@ -348,6 +349,7 @@ fn run_one(
     )?;
     if !run.newton_steps.is_empty() {
         write_newton_steps(&directory.join("newton.csv"), &run.newton_steps)?;
+        write_cut_attempts(&directory.join("cuts.csv"), &run.cut_attempts)?;
     }
     write_tendon_csv(&directory.join("tendon.csv"), &run.tendon)?;
     output.write_run_log(&run_log(&run, settings).timing("solve", run.solve_time))?;

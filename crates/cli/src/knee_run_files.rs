@@ -8,7 +8,7 @@ use anyhow::Result;
 use musclefem::knee::Quadriceps;
 use musclefem::knee::simulation::patella::tendon_summary;
 use musclefem::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
-use musclefem_core::solver::implicit::StepReport;
+use musclefem_core::solver::implicit::{CutAttempt, Factorization, StepReport};
 use musclefem_io::output::RunLog;
 
 /// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
@@ -56,6 +56,31 @@ pub(super) fn write_newton_steps(path: &Path, steps: &[StepReport]) -> Result<()
     Ok(())
 }
 
+/// The implicit run's failed attempts, one row per attempt that was cut: the time it
+/// aimed at, its increment, its Newton iterations, its last relative residual, the
+/// factorization of its last solve (an indefinite tangent, `SymmetricIndefinite`, means
+/// the muscle was near a loss of stability there) and why it failed.
+pub(super) fn write_cut_attempts(path: &Path, attempts: &[CutAttempt]) -> Result<()> {
+    let mut text =
+        String::from("time_s,increment_s,iterations,relative_residual,factorization,reason\n");
+    for attempt in attempts {
+        let factorization = attempt
+            .factorization
+            .map_or("none".to_string(), |f| format!("{f:?}"));
+        text.push_str(&format!(
+            "{},{},{},{:.3e},{},\"{}\"\n",
+            attempt.time,
+            attempt.increment,
+            attempt.iterations,
+            attempt.residual,
+            factorization,
+            attempt.reason.replace('"', "\"\"")
+        ));
+    }
+    musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
+    Ok(())
+}
+
 pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
     let mut text = format!(
         "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
@@ -68,8 +93,14 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
         run.steps,
     );
     if let (Some(iterations), Some(cuts)) = (run.newton_iterations, run.cuts) {
+        let indefinite = run
+            .cut_attempts
+            .iter()
+            .filter(|a| a.factorization == Some(Factorization::SymmetricIndefinite))
+            .count();
         text.push_str(&format!(
-            "newton_iterations = {iterations}\ncuts = {cuts}\n"
+            "newton_iterations = {iterations}\ncuts = {cuts}\n\
+             cuts_after_an_indefinite_tangent = {indefinite}\n"
         ));
     }
     if let Some((evaluations, solves)) = &run.implicit_times {

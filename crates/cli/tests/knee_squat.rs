@@ -121,6 +121,23 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
         let (newton_header, increments) = read_csv(&run.join("newton.csv"));
         assert_eq!(newton_header.last().unwrap(), "relative_residuals");
         assert_eq!(increments.len(), history.len());
+        // Every failed attempt that was cut, as many as run.log counts, each with a reason.
+        let (cuts_header, cut_attempts) = read_csv(&run.join("cuts.csv"));
+        assert_eq!(cuts_header.last().unwrap(), "reason");
+        let log_cuts: usize = std::fs::read_to_string(run.join("run.log"))
+            .unwrap()
+            .lines()
+            .find_map(|l| l.strip_prefix("cuts = "))
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(cut_attempts.len(), log_cuts);
+        for row in &cut_attempts {
+            // The reason is quoted (it may hold commas) and not empty.
+            assert!(row.len() >= 6 && row[5].len() > 2 && row[5].starts_with('"'));
+            let increment: f64 = row[1].parse().unwrap();
+            assert!(increment > 0.0, "{activation}: {row:?}");
+        }
         assert!(run.join("result.pvd").is_file() && run.join("run.log").is_file());
         // The patella has no contact surface: no muscle node (the insertions' excepted)
         // enters it.

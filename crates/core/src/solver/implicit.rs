@@ -57,72 +57,18 @@ use nalgebra::Vector3;
 use super::explicit::all_nodal_fields;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
-use super::interaction::{Interaction, InteractionReport};
+use super::interaction::Interaction;
 use super::observer::{NoObserver, Observer, Snapshot};
 use super::sparse::PRESCRIBED;
-use super::{Loads, Part, RigidReaction, SolverError};
+use super::{Loads, Part, SolverError};
 use crate::mesh::Mesh;
 
 pub use super::implicit_dynamics::{EnergyBalance, Newmark};
 use super::implicit_dynamics::{Inertia, lumped_mass};
 pub use super::implicit_model::EvaluationTimes;
+pub use super::implicit_report::{CutAttempt, ImplicitHistoryRow, ImplicitResult, StepReport};
 pub use super::implicit_settings::{ImplicitSettings, StepCutting};
 pub use super::sparse::{FactorReuse, Factorization, LinearSolveStatistics};
-
-/// One converged step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ImplicitHistoryRow {
-    /// Time at the end of the step [s].
-    pub time: f64,
-    /// Increment of the step [s].
-    pub increment: f64,
-    /// Newton iterations (predictor included).
-    pub iterations: usize,
-    /// Reaction force of each prescribed displacement, in its direction, summed over its
-    /// nodes [N].
-    pub reactions: Vec<f64>,
-    /// Resultant reaction force and moment of each rigid tie.
-    pub rigid_reactions: Vec<RigidReaction>,
-    /// Kinetic energy and works at the end of the step (dynamics; zero when quasi-static).
-    pub energy: EnergyBalance,
-    /// Totals of each interaction at the end of the step, in the order given.
-    pub interactions: Vec<InteractionReport>,
-}
-
-/// How one converged step went.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StepReport {
-    pub time: f64,
-    pub increment: f64,
-    pub iterations: usize,
-    /// ‖r_f‖ / ‖f_int‖ after the predictor and after each iteration.
-    pub residuals: Vec<f64>,
-    /// Line-search halvings taken over the step.
-    pub line_search_cuts: usize,
-    /// The factorization of the last solve.
-    pub factorization: Factorization,
-}
-
-/// What a quasi-static run returns.
-#[derive(Debug, Clone)]
-pub struct ImplicitResult {
-    pub history: Vec<ImplicitHistoryRow>,
-    pub steps: Vec<StepReport>,
-    /// Failed attempts that were cut.
-    pub cuts: usize,
-    /// Nodal displacements at the end [m].
-    pub displacement: Vec<Vector3<f64>>,
-    /// Unknowns (free degrees of freedom) and stored matrix entries.
-    pub equations: usize,
-    pub matrix_entries: usize,
-    /// Counts and times of the evaluations (element updates, assembly).
-    pub evaluation_times: EvaluationTimes,
-    /// Counts and times of the linear solves.
-    pub linear_solves: LinearSolveStatistics,
-    /// Nodal displacements after every converged step [m] (with
-    /// [`ImplicitSettings::record_displacements`]).
-    pub displacement_history: Vec<Vec<Vector3<f64>>>,
-}
 
 /// Why a step attempt failed.
 enum StepFailure {
@@ -130,6 +76,7 @@ enum StepFailure {
         iterations: usize,
         residual: f64,
         reason: String,
+        factorization: Factorization,
     },
     Error(SolverError),
 }
@@ -181,7 +128,7 @@ pub fn run_implicit_with(
     let mut converged = displacement.clone();
     let mut history = Vec::new();
     let mut steps = Vec::new();
-    let mut cuts = 0;
+    let mut cut_attempts = Vec::new();
     let end = settings.end_time;
     let initial = end / settings.increments as f64;
     let smallest = settings
@@ -302,7 +249,29 @@ pub fn run_implicit_with(
                 if settings.cutting.is_some() && half >= smallest * (1.0 - 1e-12) {
                     increment = half;
                     easy = 0;
-                    cuts += 1;
+                    cut_attempts.push(match failure {
+                        StepFailure::Error(error) => CutAttempt {
+                            time: time + step,
+                            increment: step,
+                            iterations: 0,
+                            residual: f64::NAN,
+                            factorization: None,
+                            reason: error.to_string(),
+                        },
+                        StepFailure::NotConverged {
+                            iterations,
+                            residual,
+                            reason,
+                            factorization,
+                        } => CutAttempt {
+                            time: time + step,
+                            increment: step,
+                            iterations,
+                            residual,
+                            factorization: Some(factorization),
+                            reason,
+                        },
+                    });
                     continue;
                 }
                 return Err(match failure {
@@ -311,6 +280,7 @@ pub fn run_implicit_with(
                         iterations,
                         residual,
                         reason,
+                        ..
                     } => SolverError::NotConverged {
                         time: time + step,
                         increment: step,
@@ -325,7 +295,8 @@ pub fn run_implicit_with(
     Ok(ImplicitResult {
         history,
         steps,
-        cuts,
+        cuts: cut_attempts.len(),
+        cut_attempts,
         displacement,
         equations: model.system.size(),
         matrix_entries: model.system.entries(),
@@ -458,6 +429,7 @@ fn newton_step(
                 Ok(norms) => norms,
                 Err(e) => {
                     return Err(StepFailure::NotConverged {
+                        factorization,
                         iterations,
                         residual: f64::INFINITY,
                         reason: e.to_string(),
@@ -469,6 +441,7 @@ fn newton_step(
         residuals.push(relative);
         if !relative.is_finite() {
             return Err(StepFailure::NotConverged {
+                factorization,
                 iterations,
                 residual: relative,
                 reason: "the residual is not finite".to_string(),
@@ -494,6 +467,7 @@ fn newton_step(
         }
         if iterations >= settings.max_iterations {
             return Err(StepFailure::NotConverged {
+                factorization,
                 iterations,
                 residual: relative,
                 reason: format!("iteration limit {} reached", settings.max_iterations),
@@ -542,6 +516,7 @@ fn newton_step(
         }
         if !accepted {
             return Err(StepFailure::NotConverged {
+                factorization,
                 iterations,
                 residual: relative,
                 reason: format!(

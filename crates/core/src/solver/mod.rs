@@ -20,6 +20,7 @@ mod implicit_chunk;
 mod implicit_dynamics;
 mod implicit_interactions;
 mod implicit_model;
+mod implicit_report;
 mod implicit_settings;
 pub mod interaction;
 mod krylov;

@@ -16,8 +16,8 @@ use musclefem_core::solver::RigidReaction;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
 use musclefem_core::solver::implicit::{
-    EvaluationTimes, ImplicitHistoryRow, ImplicitSettings, LinearSolveStatistics, Newmark,
-    StepReport, run_implicit_with,
+    CutAttempt, EvaluationTimes, ImplicitHistoryRow, ImplicitSettings, LinearSolveStatistics,
+    Newmark, StepReport, run_implicit_with,
 };
 use musclefem_core::solver::observer::{Observer, Snapshot};
 use musclefem_fibers::FiberField;
@@ -79,8 +79,10 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// today's test (the trial's floor no larger than the iteration's), which gave the row of
 /// 3 to the count. Back to back, the default run took 138 s with 3 halvings against 158 s
 /// before, and its vm95 moved by up to 1.9 % (mean 0.2 %), the size a different history
-/// of cuts makes. All of this was measured with the displacement tangent, before the
-/// mixed element pressure (core `mixed_pressure.rs`), and not again since.
+/// of cuts makes. All of this was with the displacement tangent. With the mixed element
+/// pressure (2026-11-24, active squat: increments, iterations, cuts), 4 halvings gave
+/// 168, 906, 18 on coarse (3: 240, 1241, 38) but 200, 1046, 28 on medium (3: 184, 951,
+/// 26), and 8 stalled at 43° in extension on coarse: 3 stays.
 pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
 
 /// Default mass-scaling target step of the explicit solver [s].
@@ -170,8 +172,10 @@ pub struct SquatRun {
     pub cuts: Option<usize>,
     /// Implicit: where the time went, evaluations (elements, assembly) and linear solves.
     pub implicit_times: Option<(EvaluationTimes, LinearSolveStatistics)>,
-    /// Implicit: every converged increment with its Newton residuals.
+    /// Implicit: every converged increment with its Newton residuals, and every attempt
+    /// that failed and was cut.
     pub newton_steps: Vec<StepReport>,
+    pub cut_attempts: Vec<CutAttempt>,
     /// Explicit: mass added by mass scaling over the physical mass, largest
     /// |W_int + W_visc + W_c + K − W_ext| over the largest energy.
     pub added_mass_fraction: Option<f64>,
@@ -252,7 +256,7 @@ pub fn run_squat(
         )
     };
     let started = Instant::now();
-    let mut newton_steps = Vec::new();
+    let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
     let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match settings
         .solver
     {
@@ -284,6 +288,7 @@ pub fn run_squat(
                 finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
             let iterations = result.steps.iter().map(|s| s.iterations).sum();
             newton_steps = result.steps;
+            cut_attempts = result.cut_attempts;
             (
                 result.history.len(),
                 Some(iterations),
@@ -333,6 +338,7 @@ pub fn run_squat(
         cuts,
         implicit_times,
         newton_steps,
+        cut_attempts,
         added_mass_fraction,
         energy_error,
         tendon: std::mem::take(&mut recorder.tendon),
