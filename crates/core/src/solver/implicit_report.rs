@@ -49,11 +49,14 @@ pub struct CutAttempt {
     /// Time the attempt aimed at, and its increment [s].
     pub time: f64,
     pub increment: f64,
-    /// Newton iterations it took (predictor included) and its last ‖r_f‖ / ‖f_int‖.
+    /// Newton iterations it took (predictor included) and its last ‖r_f‖ / ‖f_int‖; 0 and
+    /// NaN when it ended in an error (a failed linear solve or evaluation of the predictor)
+    /// rather than in Newton not converging.
     pub iterations: usize,
     pub residual: f64,
-    /// The factorization of its last solve (none if it failed before one).
+    /// The factorization of its last solve (`None` after an error).
     pub factorization: Option<Factorization>,
+    /// Why it failed, in words.
     pub reason: String,
 }
 
