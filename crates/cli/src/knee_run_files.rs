@@ -107,7 +107,8 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
         text.push_str(&format!(
             "evaluations = {}\nelement_s = {:.1}\nassembly_s = {:.1}\nlinear_solves = {}\n\
              krylov_solves = {}\nkrylov_iterations = {}\nkrylov_failures = {}\nnumeric_factorizations = {}\n\
-             indefinite_factorizations = {}\ncholesky_factor_entries = {}\nfill_reducing_order = {}\n\
+             indefinite_factorizations = {}\nmass_shifted_factorizations = {}\n\
+             cholesky_factor_entries = {}\nfill_reducing_order = {}\n\
              factorization_s = {:.1}\nsubstitution_s = {:.1}\n",
             evaluations.evaluations,
             evaluations.element_seconds,
@@ -118,6 +119,7 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
             solves.krylov_failures,
             solves.numeric_factorizations,
             solves.indefinite_factorizations,
+            solves.mass_shifted_factorizations,
             solves.factor_entries,
             solves.ordering.map_or("none", |o| o.name()),
             solves.numeric_seconds,

@@ -156,6 +156,7 @@ pub fn run_implicit_with(
             }
         }
         model.inertia = Some(inertia);
+        model.mass_shift = settings.mass_shift_for_indefinite_tangents;
     }
     while time < end {
         let mut step = increment.min(end - time);

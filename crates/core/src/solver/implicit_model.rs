@@ -59,6 +59,11 @@ pub(super) struct Model<'a> {
     pub times: EvaluationTimes,
     /// Lumped mass and Newmark state of a dynamic run (`None`: quasi-static).
     pub inertia: Option<Inertia>,
+    /// Whether an indefinite tangent is solved with a larger mass term
+    /// ([`super::implicit::ImplicitSettings::mass_shift_for_indefinite_tangents`]), and
+    /// each equation's mass term m/(β Δt²) at the last evaluation with stiffness [N/m].
+    pub mass_shift: bool,
+    pub mass_diagonal: Vec<f64>,
     /// Inertial forces M a⁺ at the last evaluation [N] (zero when quasi-static).
     pub inertial: Vec<Vector3<f64>>,
     /// Reference positions of the nodes [m].
@@ -236,6 +241,8 @@ impl<'a> Model<'a> {
             position_scale: 0.0,
             times: EvaluationTimes::default(),
             inertia: None,
+            mass_shift: false,
+            mass_diagonal: Vec::new(),
             inertial: vec![Vector3::zeros(); node_count],
             reference,
             interactions,
@@ -376,10 +383,12 @@ impl<'a> Model<'a> {
             }
             if with_stiffness {
                 let values = self.system.values_mut();
+                self.mass_diagonal.resize(self.diagonal.len(), 0.0);
                 for (d, &eq) in self.equation.iter().enumerate() {
                     if eq != PRESCRIBED {
-                        values[self.diagonal[eq as usize]] +=
-                            inertia.mass[d / 3] * inertia.coefficient;
+                        let mass = inertia.mass[d / 3] * inertia.coefficient;
+                        values[self.diagonal[eq as usize]] += mass;
+                        self.mass_diagonal[eq as usize] = mass;
                     }
                 }
             }
@@ -442,8 +451,10 @@ impl<'a> Model<'a> {
                 .iter_mut()
                 .for_each(ImplicitChunk::stiffness_solved);
         }
+        let mass_shift = (self.mass_shift && self.inertia.is_some())
+            .then_some((self.diagonal.as_slice(), self.mass_diagonal.as_slice()));
         self.system
-            .solve(rhs, self.symmetric, reuse)
+            .solve(rhs, self.symmetric, reuse, mass_shift)
             .map_err(|reason| SolverError::LinearSolve { time, reason })
     }
 

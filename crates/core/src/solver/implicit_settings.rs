@@ -77,6 +77,14 @@ pub struct ImplicitSettings {
     /// nearly incompressible material Newton needs far fewer iterations (the coarse
     /// passive knee squat: 389 against 753, and no cut against 13).
     pub mixed_pressure_tangent: bool,
+    /// With [`ImplicitSettings::dynamics`]: solve for Newton's correction with a larger mass
+    /// term when the tangent is indefinite (default true): K + (s − 1) M/(β Δt²) for
+    /// s = 4, 16, 64 (`sparse::MASS_SHIFTS`), the first Cholesky accepts, before LBLᵀ on
+    /// K. The residual is unchanged, so the converged states are the same; the correction
+    /// is taken with a shorter increment's tangent, so that a motion the increment is too
+    /// long to follow does not dominate it (see the README's "Newton's convergence on the
+    /// knee").
+    pub mass_shift_for_indefinite_tangents: bool,
     /// Keep the nodal displacements of every converged step in
     /// [`ImplicitResult::displacement_history`] (default false).
     pub record_displacements: bool,
@@ -99,6 +107,7 @@ impl ImplicitSettings {
             dynamics: None,
             energy_tolerance: None,
             mixed_pressure_tangent: true,
+            mass_shift_for_indefinite_tangents: true,
             record_displacements: false,
         }
     }

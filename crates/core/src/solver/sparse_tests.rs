@@ -12,7 +12,7 @@ fn solve_one_hex(entry: impl Fn(usize, usize) -> f64, symmetric: bool) -> (Facto
     let mut system = one_hex_system();
     assert_eq!(system.entries(), 24 * 24);
     let mut rhs = fill(&mut system, entry);
-    let used = system.solve(&mut rhs, symmetric, None).unwrap();
+    let used = system.solve(&mut rhs, symmetric, None, None).unwrap();
     (
         used,
         rhs.iter().map(|x| (x - 1.0).abs()).fold(0.0, f64::max),
@@ -72,11 +72,11 @@ fn a_nearby_matrix_is_solved_with_the_factor_at_hand() {
     let mut system = one_hex_system();
     let reuse = FactorReuse::default();
     let mut rhs = fill(&mut system, nearby(1.0));
-    system.solve(&mut rhs, true, Some(&reuse)).unwrap();
+    system.solve(&mut rhs, true, Some(&reuse), None).unwrap();
     assert_eq!(system.statistics().numeric_factorizations, 1);
     let mut rhs = fill(&mut system, nearby(1.1));
     assert_eq!(
-        system.solve(&mut rhs, true, Some(&reuse)).unwrap(),
+        system.solve(&mut rhs, true, Some(&reuse), None).unwrap(),
         Factorization::Cholesky
     );
     let statistics = system.statistics();
@@ -167,7 +167,7 @@ fn the_cholesky_order_is_the_one_with_the_smaller_factor() {
     // A diagonally dominant symmetric matrix on the pattern.
     let (mut system, mut rhs) = hex_block_system(|r, c| if r == c { 100.0 } else { -0.5 });
     assert_eq!(
-        system.solve(&mut rhs, true, None).unwrap(),
+        system.solve(&mut rhs, true, None, None).unwrap(),
         Factorization::Cholesky
     );
     let amd = factorize_symbolic_cholesky(
@@ -203,7 +203,7 @@ fn a_large_symmetric_indefinite_system_is_solved_by_lblt() {
         _ => 0.5 + 0.01 * ((row + column) % 7) as f64,
     });
     assert_eq!(
-        system.solve(&mut rhs, true, None).unwrap(),
+        system.solve(&mut rhs, true, None, None).unwrap(),
         Factorization::SymmetricIndefinite
     );
     assert!(matches!(
@@ -211,5 +211,67 @@ fn a_large_symmetric_indefinite_system_is_solved_by_lblt() {
         faer::sparse::linalg::cholesky::SymbolicCholeskyRaw::Supernodal(_)
     ));
     let error = rhs.iter().map(|x| (x - 1.0).abs()).fold(0.0, f64::max);
+    assert!(error < 1e-12, "{error}");
+}
+
+/// An indefinite K (one diagonal entry −1) with a mass term of 1 per equation: K + 3 M c
+/// (the first shift, s = 4) is positive definite, so the correction solves
+/// (K + 3 M c) x = b by Cholesky.
+#[test]
+fn an_indefinite_tangent_is_solved_with_the_first_mass_shift_cholesky_accepts() {
+    let entry = |r: usize, c: usize| match (r == c, r) {
+        (true, 5) => -1.0,
+        (true, _) => 4.0,
+        _ => coupling(r, c),
+    };
+    let mut system = one_hex_system();
+    let rhs = fill(&mut system, entry);
+    let positions: Vec<usize> = (0..24).map(|e| system.position(e, e)).collect();
+    let masses = vec![1.0; 24];
+    let mut x = rhs.clone();
+    let used = system
+        .solve(&mut x, true, None, Some((&positions, &masses)))
+        .unwrap();
+    assert_eq!(used, Factorization::Cholesky);
+    assert_eq!(system.statistics().mass_shifted_factorizations, 1);
+    // (K + 3 I) x = K 1.
+    for (row, &b) in rhs.iter().enumerate() {
+        let shifted: f64 = (0..24)
+            .map(|c| (entry(row, c) + if row == c { 3.0 } else { 0.0 }) * x[c])
+            .sum();
+        assert!(
+            (shifted - b).abs() < 1e-12,
+            "row {row}: {shifted} against {b}"
+        );
+    }
+    // K itself, refilled (as every evaluation does) and solved without the shift, needs
+    // LBLᵀ: the shift was needed.
+    let mut again = rhs.clone();
+    fill(&mut system, entry);
+    assert_eq!(
+        system.solve(&mut again, true, None, None).unwrap(),
+        Factorization::SymmetricIndefinite
+    );
+}
+
+/// When no mass shift makes K definite (a diagonal entry −1000, shifts of at most 63),
+/// LBLᵀ solves K itself: the exact solution of K x = K 1.
+#[test]
+fn a_tangent_no_mass_shift_makes_definite_is_solved_as_it_is() {
+    let entry = |r: usize, c: usize| match (r == c, r) {
+        (true, 5) => -1000.0,
+        (true, _) => 4.0,
+        _ => coupling(r, c),
+    };
+    let mut system = one_hex_system();
+    let mut x = fill(&mut system, entry);
+    let positions: Vec<usize> = (0..24).map(|e| system.position(e, e)).collect();
+    let masses = vec![1.0; 24];
+    let used = system
+        .solve(&mut x, true, None, Some((&positions, &masses)))
+        .unwrap();
+    assert_eq!(used, Factorization::SymmetricIndefinite);
+    assert_eq!(system.statistics().mass_shifted_factorizations, 0);
+    let error = x.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
     assert!(error < 1e-12, "{error}");
 }

@@ -95,12 +95,12 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {
         Resolution::Coarse => {
-            "the default: passive and active in about 75 s on 2 cores, but not converged: \
+            "the default: passive and active in about 65 s on 2 cores, but not converged: \
              its passive vm95 differed from medium's by up to 37 % (mean 18 %, 2026-11-24), \
              so read the table as the coarse model's answer"
         }
         Resolution::Medium => {
-            "the finest measured: passive and active side by side took 703 s on 2 cores \
+            "the finest measured: passive and active side by side took 652 s on 2 cores \
              (2026-11-24), the passive squat alone 268 s; its own error against fine is not \
              measured"
         }

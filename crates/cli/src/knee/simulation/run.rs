@@ -80,7 +80,7 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// 3 to the count. Back to back, the default run took 138 s with 3 halvings against 158 s
 /// before, and its vm95 moved by up to 1.9 % (mean 0.2 %), the size a different history
 /// of cuts makes. All of this was with the displacement tangent. With the mixed element
-/// pressure (2026-11-24, active squat: increments, iterations, cuts), 4 halvings gave
+/// pressure, before the mass shift (2026-11-24, active: increments, iterations, cuts), 4 gave
 /// 168, 906, 18 on coarse (3: 240, 1241, 38) but 200, 1046, 28 on medium (3: 184, 951,
 /// 26), and 8 stalled at 43° in extension on coarse: 3 stays.
 pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
@@ -94,7 +94,7 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
             "the default: on the coarse knee its active vm95 was the explicit solver's \
-             within 1.9 %, and passive and active take about 75 s side by side on a \
+             within 1.9 %, and passive and active take about 65 s side by side on a \
              2-core machine (explicit: 1290 s for the active squat with other jobs beside \
              it); without inertia Newton stalls at the activation's onset"
         }
