@@ -1,5 +1,5 @@
-//! `musclefem knee` end to end on the coarse default knee: the default run (passive and
-//! active side by side, implicit with inertia) goes 0° → 90° → 0° converged at every
+//! `musclefem knee` end to end on the coarse knee (the default run but for the mesh, whose
+//! default is medium): passive and active side by side, implicit with inertia, it goes 0° → 90° → 0° converged at every
 //! increment with no inverted element, the peak-stress table has every muscle, angle,
 //! phase and activation, the passive stress grows with flexion, the active exceeds the
 //! passive at 45°, 60° and 90° for every muscle, the passive muscles come back unloaded,
@@ -44,7 +44,7 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
         "{stdout}\n{}",
         text(&output.stderr)
     );
-    // Without options: both squats, implicit with inertia, and it says so.
+    // Without options but the mesh: both squats, implicit with inertia, and it says so.
     assert!(
         stdout.contains("passive and active side by side, implicit solver with inertia (Newmark)"),
         "{stdout}"

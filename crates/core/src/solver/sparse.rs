@@ -1,25 +1,34 @@
 //! The implicit solver's linear system: the free degrees of freedom, the sparsity pattern of
 //! the stiffness built once from the element connectivity, and the solves with faer:
 //! supernodal Cholesky LLᵀ, symbolic analysis done once per pattern and reused, in the
-//! fill-reducing order that gives the smaller factor: nested dissection of the nodes
-//! (`ordering.rs`) or faer's approximate minimum degree (AMD). A symmetric tangent that is
-//! not positive definite (contact, an active muscle, F-bar) is factorized LBLᵀ with
-//! Bunch–Kaufman pivoting inside the supernodes of the same analysis; LU when that solve
-//! is not accurate or the tangent is not symmetric. While the last Cholesky factor is a
-//! good preconditioner, conjugate gradients preconditioned with it (`krylov.rs`) instead
-//! of a new factorization ([`FactorReuse`]).
+//! fill-reducing order that gives the smallest factor: geometric nested dissection of the
+//! nodes, METIS's multilevel nested dissection of the nodes (both in `ordering.rs`) or
+//! faer's approximate minimum degree (AMD). A symmetric tangent that is not positive
+//! definite (contact, an active muscle, F-bar) is factorized LBLᵀ with Bunch–Kaufman
+//! pivoting inside the supernodes of the same analysis; LU when that solve is not accurate
+//! or the tangent is not symmetric. While the last Cholesky factor is a good
+//! preconditioner, conjugate gradients preconditioned with it (`krylov.rs`) instead of a
+//! new factorization ([`FactorReuse`]).
 //!
 //! The matrix holds only free degrees of freedom (prescribed ones are eliminated) and
 //! stores both triangles, so that LU and the product K x can use it; Cholesky reads the
 //! lower one.
 //!
-//! Measured on a 20 × 20 × 20 hex8 cube (26 019 unknowns, 1.88e6 stored entries), 2 busy
-//! cores: faer's default AMD order gives a factor of 2.84e7 entries and 4.0 s per numeric
-//! factorization; the nested-dissection order 1.64e7 entries and 1.0 s. One preconditioned
-//! conjugate-gradient iteration (a pair of triangular solves and a product) costs
-//! 0.04–0.06 s, and within a load step of the uniaxial stretch 5–7 of them reach 1e-12.
-//! On the coarse knee (5412 unknowns; four bonded, curved muscles) the order is reversed:
-//! nested dissection 2.52e6 entries, AMD 1.22e6.
+//! Factor entries of the three orders (2026-11-24):
+//!
+//! | system | unknowns | geometric | METIS | AMD |
+//! |---|---|---|---|---|
+//! | free 20 × 20 × 20 hex8 block | 27 783 | 1.79e7 | 1.82e7 | 2.97e7 |
+//! | coarse knee (four bonded, curved muscles) | 5 412 | 2.52e6 | 0.96e6 | 1.22e6 |
+//! | medium knee | 31 428 | 3.39e7 | 1.17e7 | 1.83e7 |
+//!
+//! A numeric factorization of the medium knee's first tangent alone (serial, 2-core AMD
+//! EPYC) took 1.0 s in the geometric order, 0.36 s in AMD's and 0.18 s in METIS's (of the
+//! equation graph); in the medium active squat 0.10 s on average in METIS's order of the
+//! nodes against 0.17 s in AMD's, run after run on the same machine (the whole default run
+//! 307 s against 386 s). One preconditioned conjugate-gradient iteration
+//! on a 26 019-unknown cube (a pair of triangular solves and a product) costs 0.04–0.06 s,
+//! and within a load step of the uniaxial stretch 5–7 of them reach 1e-12.
 
 use std::time::Instant;
 
@@ -28,7 +37,7 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use nalgebra::Vector3;
 
-use super::ordering::{NodeGraph, nested_dissection};
+use super::ordering::{NodeGraph, multilevel_nested_dissection, nested_dissection};
 use crate::mesh::ElementBlock;
 
 /// Marks a prescribed degree of freedom in the equation map.
@@ -57,11 +66,9 @@ pub(crate) struct SparseSystem {
     matrix: SparseColMat<usize, f64>,
     /// Parallelism of the factorizations and solves.
     par: Par,
-    /// Nested-dissection order of the equations (see `ordering.rs`): `order[k]` is the
-    /// equation eliminated k-th, `inverse` its inverse. One of the two candidates for the
-    /// Cholesky's order.
-    order: Vec<usize>,
-    inverse: Vec<usize>,
+    /// Nested-dissection orders of the equations (see `ordering.rs`), candidates for the
+    /// Cholesky's order besides faer's AMD.
+    orders: Vec<EquationOrder>,
     llt: Option<Cholesky>,
     lu: Option<Lu>,
     /// Whether `llt` holds a factor of an earlier matrix of this pattern that is still a
@@ -163,19 +170,25 @@ impl SparseSystem {
             }
         }
         debug_assert_eq!(col_ptr.len(), free + 1);
-        // Fill-reducing order of the equations: the nodes' nested-dissection order.
-        let mut order = Vec::with_capacity(free);
-        for node in nested_dissection(&graph, positions) {
-            for dof in 0..3 {
-                let eq = equation[3 * node as usize + dof];
-                if eq != PRESCRIBED {
-                    order.push(eq as usize);
-                }
-            }
-        }
-        let mut inverse = vec![0usize; free];
-        for (new, &old) in order.iter().enumerate() {
-            inverse[old] = new;
+        // Fill-reducing orders of the equations, from orders of the nodes.
+        let unknowns: Vec<u8> = equation
+            .chunks_exact(3)
+            .map(|dofs| dofs.iter().filter(|&&eq| eq != PRESCRIBED).count() as u8)
+            .collect();
+        let mut orders = vec![EquationOrder::of_nodes(
+            FillReducingOrder::NestedDissection,
+            &nested_dissection(&graph, positions),
+            equation,
+            free,
+        )];
+        match multilevel_nested_dissection(&graph, &unknowns) {
+            Ok(nodes) => orders.push(EquationOrder::of_nodes(
+                FillReducingOrder::MultilevelNestedDissection,
+                &nodes,
+                equation,
+                free,
+            )),
+            Err(reason) => eprintln!("warning: {reason}; METIS's order is not tried"),
         }
         let values = vec![0.0; row_idx.len()];
         let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, row_idx);
@@ -186,8 +199,7 @@ impl SparseSystem {
             } else {
                 Par::Seq
             },
-            order,
-            inverse,
+            orders,
             llt: None,
             lu: None,
             cholesky_is_fresh: false,
@@ -337,6 +349,45 @@ impl SparseSystem {
     /// Statistics of the solves so far.
     pub fn statistics(&self) -> &LinearSolveStatistics {
         &self.statistics
+    }
+}
+
+/// An order of the equations: `order[k]` is the equation eliminated k-th, `inverse` its
+/// inverse.
+pub(crate) struct EquationOrder {
+    kind: FillReducingOrder,
+    order: Vec<usize>,
+    inverse: Vec<usize>,
+}
+
+impl EquationOrder {
+    /// The order that numbers the free unknowns of each node in turn, the nodes in
+    /// `node_order`; `equation` as in [`SparseSystem::new`].
+    fn of_nodes(
+        kind: FillReducingOrder,
+        node_order: &[u32],
+        equation: &[u32],
+        free: usize,
+    ) -> Self {
+        let mut order = Vec::with_capacity(free);
+        for &node in node_order {
+            for dof in 0..3 {
+                let eq = equation[3 * node as usize + dof];
+                if eq != PRESCRIBED {
+                    order.push(eq as usize);
+                }
+            }
+        }
+        assert_eq!(order.len(), free, "the node order misses unknowns");
+        let mut inverse = vec![0usize; free];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old] = new;
+        }
+        EquationOrder {
+            kind,
+            order,
+            inverse,
+        }
     }
 }
 

@@ -15,13 +15,15 @@ use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::{Conj, Par, Side};
 
 use super::super::krylov::preconditioned_cg;
-use super::{FactorReuse, SparseSystem};
+use super::{EquationOrder, FactorReuse, SparseSystem};
 
 /// The fill-reducing order of a symmetric factorization.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FillReducingOrder {
     /// Geometric nested dissection of the nodes (`ordering.rs`).
     NestedDissection,
+    /// METIS's multilevel nested dissection of the nodes (`ordering.rs`).
+    MultilevelNestedDissection,
     /// faer's approximate minimum degree.
     MinimumDegree,
 }
@@ -30,6 +32,7 @@ impl FillReducingOrder {
     pub fn name(self) -> &'static str {
         match self {
             FillReducingOrder::NestedDissection => "nested dissection",
+            FillReducingOrder::MultilevelNestedDissection => "METIS nested dissection",
             FillReducingOrder::MinimumDegree => "approximate minimum degree",
         }
     }
@@ -71,8 +74,7 @@ impl SparseSystem {
         let (n, par) = (self.size(), self.par);
         if self.llt.is_none() {
             let start = Instant::now();
-            let order = PermRef::new_checked(&self.order, &self.inverse, n);
-            let cholesky = Cholesky::new(&self.matrix, order, par)?;
+            let cholesky = Cholesky::new(&self.matrix, &self.orders, par)?;
             self.statistics.factor_entries = cholesky.factor.len();
             self.statistics.ordering = Some(cholesky.order);
             self.llt = Some(cholesky);
@@ -255,14 +257,15 @@ pub(super) fn multiply(matrix: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f6
 }
 
 impl Cholesky {
-    /// The symbolic analysis in `nested_dissection` or in faer's AMD order, whichever
-    /// gives the factor fewer entries (the analyses cost a few percent of one numeric
+    /// The symbolic analysis in whichever of the `candidates` and faer's AMD order gives
+    /// the factor fewer entries (the analyses cost a few percent of one numeric
     /// factorization).
     fn new(
         matrix: &SparseColMat<usize, f64>,
-        nested_dissection: PermRef<'_, usize>,
+        candidates: &[EquationOrder],
         par: Par,
     ) -> Result<Self, String> {
+        let n = matrix.ncols();
         let analyse = |ordering| {
             factorize_symbolic_cholesky(
                 matrix.symbolic(),
@@ -272,20 +275,23 @@ impl Cholesky {
             )
             .map_err(|e| format!("symbolic Cholesky: {e:?}"))
         };
-        let dissected = analyse(SymmetricOrdering::Custom(nested_dissection))?;
-        let minimum_degree = analyse(SymmetricOrdering::Amd)?;
-        let (symbolic, order) = if minimum_degree.len_val() < dissected.len_val() {
-            (minimum_degree, FillReducingOrder::MinimumDegree)
-        } else {
-            (dissected, FillReducingOrder::NestedDissection)
-        };
+        let (mut symbolic, mut order) = (
+            analyse(SymmetricOrdering::Amd)?,
+            FillReducingOrder::MinimumDegree,
+        );
+        for candidate in candidates {
+            let permutation = PermRef::new_checked(&candidate.order, &candidate.inverse, n);
+            let analysis = analyse(SymmetricOrdering::Custom(permutation))?;
+            if analysis.len_val() < symbolic.len_val() {
+                (symbolic, order) = (analysis, candidate.kind);
+            }
+        }
         let scratch = symbolic
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .or(symbolic.factorize_numeric_intranode_lblt_scratch::<f64>(par, Default::default()))
             .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         let scratch = MemBuffer::try_new(scratch)
             .map_err(|e| format!("scratch memory of the Cholesky factorization: {e:?}"))?;
-        let n = matrix.ncols();
         Ok(Cholesky {
             factor: vec![0.0; symbolic.len_val()],
             symbolic,

@@ -11,8 +11,9 @@
 //! `musclefem bench --problem knee` measures the same chart on the user's machine (and
 //! `knee --tolerance` reads it when given); its run of 2026-11-24 reproduced 11.7 %, with
 //! medium in 914 s. The wall times are those of the same day with the mixed pressure in
-//! Newton's tangent (each squat alone; before it 37 s and 934 s); the errors did not
-//! change with it (11.7 %).
+//! Newton's tangent and METIS's fill-reducing order (each squat alone; before METIS 21 s
+//! and 268 s, before the mixed pressure 37 s and 934 s); the errors did not change with
+//! either (11.7 %).
 
 use anyhow::{Result, bail};
 
@@ -33,12 +34,12 @@ pub const RESOLUTION_CHART: [MeasuredResolution; 2] = [
     MeasuredResolution {
         resolution: Resolution::Coarse,
         error: Some(0.117),
-        passive_wall_s: 21.0,
+        passive_wall_s: 12.9,
     },
     MeasuredResolution {
         resolution: Resolution::Medium,
         error: None,
-        passive_wall_s: 268.0,
+        passive_wall_s: 124.0,
     },
 ];
 
@@ -95,14 +96,14 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {
         Resolution::Coarse => {
-            "the default: passive and active in about 65 s on 2 cores, but not converged: \
-             its passive vm95 differed from medium's by up to 37 % (mean 18 %, 2026-11-24), \
-             so read the table as the coarse model's answer"
+            "passive and active in about 40 s on 2 cores, but not converged: its passive \
+             vm95 differed from medium's by up to 37 % (mean 18 %, 2026-11-24), so read the \
+             table as the coarse model's answer"
         }
         Resolution::Medium => {
-            "the finest measured: passive and active side by side took 652 s on 2 cores \
-             (2026-11-24), the passive squat alone 268 s; its own error against fine is not \
-             measured"
+            "the default and the finest measured: passive and active side by side took \
+             307 s on 2 cores (2026-11-24), the passive squat alone 124 s; its own error \
+             against fine is not measured"
         }
         Resolution::Fine => {
             "not run yet: 35 840 muscle elements, about 4 times medium's unknowns; expect \

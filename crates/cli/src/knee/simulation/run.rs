@@ -94,9 +94,9 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
             "the default: on the coarse knee its active vm95 was the explicit solver's \
-             within 1.9 %, and passive and active take about 65 s side by side on a \
-             2-core machine (explicit: 1290 s for the active squat with other jobs beside \
-             it); without inertia Newton stalls at the activation's onset"
+             within 1.9 %, and passive and active take about 40 s side by side on a \
+             2-core machine there (explicit: 1290 s for the active squat with other jobs \
+             beside it); without inertia Newton stalls at the activation's onset"
         }
         Solver::Explicit => {
             "the paper's method: central differences, mass scaling to a 2e-5 s step \
