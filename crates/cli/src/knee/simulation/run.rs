@@ -100,7 +100,9 @@ pub fn solver_rationale(solver: Solver) -> &'static str {
         }
         Solver::Explicit => {
             "the paper's method: central differences, mass scaling to a 2e-5 s step \
-             (146 026 steps; 1290 s for the active coarse knee with other jobs beside it)"
+             (146 026 steps; 1290 s for the active coarse knee with other jobs beside it; \
+             the medium mesh has 6 times the elements, so expect hours there: add \
+             --resolution coarse for a first look)"
         }
     }
 }
