@@ -240,8 +240,8 @@ mod tests {
         NodeGraph { offsets, targets }
     }
 
-    /// METIS numbers every node that carries unknowns once and leaves out the others; two
-    /// threads that order the same graph at once get the same order as one alone.
+    /// METIS numbers every node that carries unknowns once and leaves out the others;
+    /// four threads that order the same graph at once get the same order as one alone.
     #[test]
     fn metis_orders_the_nodes_with_unknowns_the_same_in_every_thread() {
         let graph = lattice(12);

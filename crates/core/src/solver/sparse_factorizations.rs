@@ -31,7 +31,7 @@ pub enum FillReducingOrder {
 impl FillReducingOrder {
     pub fn name(self) -> &'static str {
         match self {
-            FillReducingOrder::NestedDissection => "nested dissection",
+            FillReducingOrder::NestedDissection => "geometric nested dissection",
             FillReducingOrder::MultilevelNestedDissection => "METIS nested dissection",
             FillReducingOrder::MinimumDegree => "approximate minimum degree",
         }
