@@ -26,9 +26,11 @@
 //! EPYC) took 1.0 s in the geometric order, 0.36 s in AMD's and 0.18 s in METIS's (of the
 //! equation graph); in the medium active squat 0.10 s on average in METIS's order of the
 //! nodes against 0.17 s in AMD's, run after run on the same machine (the whole default run
-//! 307 s against 386 s). One preconditioned conjugate-gradient iteration
-//! on a 26 019-unknown cube (a pair of triangular solves and a product) costs 0.04–0.06 s,
-//! and within a load step of the uniaxial stretch 5–7 of them reach 1e-12.
+//! 307 s against 386 s).
+//!
+//! One preconditioned conjugate-gradient iteration on a 26 019-unknown cube (a pair of
+//! triangular solves and a product) costs 0.04–0.06 s, and within a load step of the
+//! uniaxial stretch 5–7 of them reach 1e-12.
 
 use std::time::Instant;
 
