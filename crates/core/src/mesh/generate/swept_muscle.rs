@@ -248,19 +248,129 @@ impl SweptSolid {
     /// Arclengths s_0 = 0 < … < s_layers = L [m] of `layers + 1` cross-sections spaced in
     /// proportion to the local size √(ab): equal steps of Z(s) = ∫ ds / √(ab).
     pub fn graded_stations(&self, layers: usize) -> Vec<f64> {
-        let layers = layers.max(1);
-        let density = |t: f64| {
-            self.curve.derivative(t).norm()
-                / (self.curve.profile(HALF_WIDTH, t) * self.curve.profile(HALF_THICKNESS, t)).sqrt()
-        };
+        self.graded_stations_with_junctions(layers, &[])
+            .expect("without junctions the grading cannot fail")
+    }
+
+    /// [`Self::graded_stations`] with a cross-section at each of the `junctions`
+    /// (arclengths [m], increasing, inside (0, L)): the segments between them get
+    /// layers in proportion to their share of Z (at least one each, `layers` in all), and
+    /// each segment is graded on its own. Errors if a junction is out of order or out of
+    /// range, or if there are fewer layers than segments.
+    pub fn graded_stations_with_junctions(
+        &self,
+        layers: usize,
+        junctions: &[f64],
+    ) -> Result<Vec<f64>, MeshError> {
+        self.graded_segments(junctions, |shares| {
+            if layers.max(1) < shares.len() {
+                return Err(invalid(format!(
+                    "{layers} layers cannot mesh {} segments between junctions",
+                    shares.len()
+                )));
+            }
+            Ok(apportion(layers.max(1), shares))
+        })
+    }
+
+    /// Arclengths of the cross-sections with `segment_layers[i]` layers in the segment
+    /// before junction `i` (and the last after the last junction), each segment graded
+    /// on its own. Errors as [`Self::graded_stations_with_junctions`], and unless there is
+    /// one count (≥ 1) per segment.
+    pub fn graded_stations_per_segment(
+        &self,
+        junctions: &[f64],
+        segment_layers: &[usize],
+    ) -> Result<Vec<f64>, MeshError> {
+        self.graded_segments(junctions, |shares| {
+            if segment_layers.len() != shares.len() || segment_layers.contains(&0) {
+                return Err(invalid(format!(
+                    "{} segments need as many layer counts of at least 1, got {segment_layers:?}",
+                    shares.len()
+                )));
+            }
+            Ok(segment_layers.to_vec())
+        })
+    }
+
+    /// The graded sections between 0, the `junctions` and L, with the layers per segment
+    /// that `layers_of(shares of Z)` returns.
+    fn graded_segments(
+        &self,
+        junctions: &[f64],
+        layers_of: impl FnOnce(&[f64]) -> Result<Vec<usize>, MeshError>,
+    ) -> Result<Vec<f64>, MeshError> {
+        let length = self.length();
+        let mut ends = vec![0.0];
+        for &s in junctions {
+            let previous = ends[ends.len() - 1];
+            if !(s.is_finite() && s > previous && s < length) {
+                return Err(invalid(format!(
+                    "junction at arclength {s} m must lie after {previous} m and before the \
+                     end of the centreline ({length} m)"
+                )));
+            }
+            ends.push(s);
+        }
+        ends.push(length);
+        let segments = ends.len() - 1;
+        let density = |t: f64| self.size_density(t);
         let table = self.curve.cumulative(density);
-        let total = table[table.len() - 1].1;
-        (0..=layers)
-            .map(|k| {
-                let t = invert(&table, total * k as f64 / layers as f64, density);
-                self.arclength_of(t)
-            })
-            .collect()
+        let z_ends: Vec<f64> = ends.iter().map(|&s| self.sizes_along(&table, s)).collect();
+        let total = z_ends[segments] - z_ends[0];
+        let counts = layers_of(
+            &(0..segments)
+                .map(|i| (z_ends[i + 1] - z_ends[i]) / total)
+                .collect::<Vec<_>>(),
+        )?;
+        let mut stations = vec![0.0];
+        for i in 0..segments {
+            for k in 1..=counts[i] {
+                if k == counts[i] {
+                    stations.push(ends[i + 1]);
+                } else {
+                    let z = z_ends[i] + (z_ends[i + 1] - z_ends[i]) * k as f64 / counts[i] as f64;
+                    stations.push(self.arclength_of(invert(&table, z, density)));
+                }
+            }
+        }
+        Ok(stations)
+    }
+
+    /// dZ/dt = |c'(t)| / √(a b): the density of the grading in section sizes [1].
+    fn size_density(&self, t: f64) -> f64 {
+        self.curve.derivative(t).norm()
+            / (self.curve.profile(HALF_WIDTH, t) * self.curve.profile(HALF_THICKNESS, t)).sqrt()
+    }
+
+    /// Z(s) from the cumulative `table` of [`Self::size_density`] (linear between its
+    /// entries).
+    fn sizes_along(&self, table: &[(f64, f64)], s: f64) -> f64 {
+        let t = invert(&self.arclength, s, |t| self.curve.derivative(t).norm());
+        let j = table.partition_point(|&(tj, _)| tj < t).max(1);
+        let ((t0, z0), (t1, z1)) = (table[j - 1], table[j]);
+        if t1 == t0 {
+            z0
+        } else {
+            z0 + (z1 - z0) * (t - t0) / (t1 - t0)
+        }
+    }
+
+    /// Z(s₁) − Z(s₀) = ∫ ds / √(ab) between arclengths `from` and `to` [m]: how many
+    /// local section sizes the stretch spans (the measure the layers are graded by).
+    pub fn section_sizes_between(&self, from: f64, to: f64) -> f64 {
+        let table = self.curve.cumulative(|t| self.size_density(t));
+        self.sizes_along(&table, to) - self.sizes_along(&table, from)
+    }
+
+    /// V = ∫ π a b ds between arclengths `from` and `to` [m³].
+    pub fn volume_between(&self, from: f64, to: f64) -> f64 {
+        let table = self.curve.cumulative(|t| {
+            PI * self.curve.profile(HALF_WIDTH, t)
+                * self.curve.profile(HALF_THICKNESS, t)
+                * self.curve.derivative(t).norm()
+        });
+        self.sizes_along(&table, to) - self.sizes_along(&table, from)
     }
 
     fn arclength_of(&self, t: f64) -> f64 {
@@ -336,14 +446,29 @@ pub struct SweptMuscleSpec {
     pub per_side: usize,
     /// Ring layers m of the O-grid (≥ 1).
     pub radial: usize,
-    /// Element layers along the centreline (≥ 1).
+    /// Element layers along the centreline (≥ 1, and at least one per segment).
     pub axial: usize,
+    /// Arclengths [m] (increasing, inside the centreline) at which a layer of nodes must
+    /// lie: the junctions between segments of the muscle (e.g. belly and tendon).
+    pub junctions: Vec<f64>,
+    /// Layers of each segment, origin first (one more entry than `junctions`, each ≥ 1;
+    /// `axial` is then ignored); `None`: `axial` layers split among the segments in
+    /// proportion to the section sizes each spans.
+    pub segment_layers: Option<Vec<usize>>,
 }
 
 impl SweptMuscleSpec {
-    /// Elements of the mesh: (n² + 4 n m) · axial.
+    /// Element layers along the centreline: the sum of `segment_layers` if given, else
+    /// `axial`.
+    pub fn layers(&self) -> usize {
+        self.segment_layers
+            .as_ref()
+            .map_or(self.axial, |layers| layers.iter().sum())
+    }
+
+    /// Elements of the mesh: (n² + 4 n m) · layers.
     pub fn element_count(&self) -> usize {
-        (self.per_side * self.per_side + 4 * self.per_side * self.radial) * self.axial
+        (self.per_side * self.per_side + 4 * self.per_side * self.radial) * self.layers()
     }
 }
 
@@ -352,15 +477,17 @@ impl SweptMuscleSpec {
 /// Names: block `spec.name` (fibers along the centreline); element set `all`; node sets
 /// and surfaces `origin` (the first layer, s = 0) and `insertion` (the last layer,
 /// s = L), surface `lateral` (the other boundary faces) and `outer` (all boundary
-/// faces); node sets `lateral`. Nodes: layer k holds nodes k·P … k·P + P − 1, P the
-/// O-grid's node count.
+/// faces); node sets `lateral`. With junctions: element sets `segment_0`, `segment_1`, …
+/// (the layers between consecutive junctions, origin first) and node sets
+/// `junction_0`, … (the layer of nodes at each junction). Nodes: layer k holds nodes
+/// k·P … k·P + P − 1, P the O-grid's node count; elements run layer by layer.
 ///
 /// Errors as [`SweptSolid::new`], on divisions out of range or beyond 2³² ids, and if an
 /// element is inverted or flat (the centreline bends more sharply than the section is
 /// wide), naming the layer.
 pub fn swept_muscle_mesh(spec: &SweptMuscleSpec) -> Result<Mesh, MeshError> {
     let solid = SweptSolid::new(&spec.stations)?;
-    let (n, m, axial) = (spec.per_side, spec.radial, spec.axial);
+    let (n, m, axial) = (spec.per_side, spec.radial, spec.layers());
     if n < 2 || !n.is_multiple_of(2) || m < 1 || axial < 1 {
         return Err(invalid(format!(
             "divisions per_side {n} (even, ≥ 2), radial {m} (≥ 1), axial {axial} (≥ 1)"
@@ -378,7 +505,10 @@ pub fn swept_muscle_mesh(spec: &SweptMuscleSpec) -> Result<Mesh, MeshError> {
         )));
     }
     let scale = (PI / polygon_area(n)).sqrt();
-    let stations = solid.graded_stations(axial);
+    let stations = match &spec.segment_layers {
+        Some(layers) => solid.graded_stations_per_segment(&spec.junctions, layers)?,
+        None => solid.graded_stations_with_junctions(axial, &spec.junctions)?,
+    };
     let sections: Vec<Section> = stations.iter().map(|&s| solid.section(s)).collect();
     let mut nodes = Nodes::with_capacity(per_layer * (axial + 1));
     for sec in &sections {
@@ -416,7 +546,42 @@ pub fn swept_muscle_mesh(spec: &SweptMuscleSpec) -> Result<Mesh, MeshError> {
             )));
         }
     }
-    finish(nodes, block, per_layer, axial)
+    let mut mesh = finish(nodes, block, per_layer, axial)?;
+    insert_segment_sets(&mut mesh, &stations, &spec.junctions, per_layer, cells);
+    Ok(mesh)
+}
+
+/// The element sets `segment_i` and node sets `junction_i` of the layers at `stations`
+/// (arclengths, junctions among them exactly).
+fn insert_segment_sets(
+    mesh: &mut Mesh,
+    stations: &[f64],
+    junctions: &[f64],
+    per_layer: usize,
+    cells: usize,
+) {
+    if junctions.is_empty() {
+        return;
+    }
+    let layer_of = |s: f64| stations.iter().position(|&x| x == s);
+    let mut boundaries = vec![0];
+    for (i, &s) in junctions.iter().enumerate() {
+        let layer = layer_of(s).expect("every junction is a station");
+        boundaries.push(layer);
+        mesh.node_sets.insert(
+            format!("junction_{i}"),
+            ((layer * per_layer) as u32..((layer + 1) * per_layer) as u32).collect(),
+        );
+    }
+    boundaries.push(stations.len() - 1);
+    for (i, pair) in boundaries.windows(2).enumerate() {
+        mesh.element_sets.insert(
+            format!("segment_{i}"),
+            ((pair[0] * cells) as u32..(pair[1] * cells) as u32)
+                .map(|e| crate::mesh::ElementRef::new(0, e))
+                .collect(),
+        );
+    }
 }
 
 /// The mesh with its named sets (see [`swept_muscle_mesh`]).
@@ -429,6 +594,21 @@ fn finish(
     let mut mesh = Mesh::new(nodes, vec![block]);
     super::end_sets::insert_end_sets(&mut mesh, per_layer, axial)?;
     Ok(mesh)
+}
+
+/// `total` items split by the `shares` (summing to 1), at least one each, by largest
+/// remainders: Σ = `total` whenever `total` ≥ the number of shares.
+fn apportion(total: usize, shares: &[f64]) -> Vec<usize> {
+    let spare = total - shares.len();
+    let exact: Vec<f64> = shares.iter().map(|s| s * spare as f64).collect();
+    let mut counts: Vec<usize> = exact.iter().map(|x| x.floor() as usize).collect();
+    let mut order: Vec<usize> = (0..shares.len()).collect();
+    order.sort_by(|&i, &j| (exact[j] - exact[j].floor()).total_cmp(&(exact[i] - exact[i].floor())));
+    let left = spare - counts.iter().sum::<usize>();
+    for &i in order.iter().take(left) {
+        counts[i] += 1;
+    }
+    counts.iter().map(|c| c + 1).collect()
 }
 
 fn invalid(reason: String) -> MeshError {

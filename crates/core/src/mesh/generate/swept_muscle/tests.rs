@@ -51,6 +51,8 @@ fn spec(
         per_side,
         radial,
         axial,
+        junctions: Vec::new(),
+        segment_layers: None,
     }
 }
 
@@ -266,4 +268,60 @@ fn unusable_specs_are_rejected() {
         })
         .collect();
     assert!(SweptSolid::new(&thin).is_ok());
+}
+
+#[test]
+fn junctions_fall_on_layers_and_split_the_elements_into_segments() {
+    let solid = SweptSolid::new(&bent()).unwrap();
+    let length = solid.length();
+    let junctions = vec![0.12 * length, 0.8 * length];
+    let mut spec = spec(bent(), 4, 1, 20);
+    spec.junctions = junctions.clone();
+    let mesh = mesh(&spec);
+    let cells = 32;
+    // Every junction is a layer of nodes on the section at its arclength.
+    for (i, &s) in junctions.iter().enumerate() {
+        let nodes = mesh.node_set(&format!("junction_{i}")).unwrap();
+        assert_eq!(nodes.len(), mesh.node_count() / 21);
+        let section = solid.section(s);
+        for &n in nodes {
+            let offset = mesh.nodes.position(n as usize) - section.centre;
+            assert!(offset.dot(&section.tangent).abs() < 1e-12, "{offset:?}");
+        }
+    }
+    // The segments partition the elements, origin first, in proportion to the sizes they
+    // span (at least one layer each).
+    let counts: Vec<usize> = (0..3)
+        .map(|i| mesh.element_set(&format!("segment_{i}")).unwrap().len() / cells)
+        .collect();
+    assert_eq!(counts.iter().sum::<usize>(), 20);
+    let total = solid.section_sizes_between(0.0, length);
+    let ends = [0.0, junctions[0], junctions[1], length];
+    for i in 0..3 {
+        let share = solid.section_sizes_between(ends[i], ends[i + 1]) / total;
+        assert!(
+            (counts[i] as f64 - 1.0 - share * 17.0).abs() <= 1.0,
+            "segment {i}: {} layers for a share {share}",
+            counts[i]
+        );
+    }
+    // The volume between junctions adds up to the whole.
+    let parts: f64 = (0..3)
+        .map(|i| solid.volume_between(ends[i], ends[i + 1]))
+        .sum();
+    assert!((parts - solid.volume()).abs() < 1e-9 * solid.volume());
+    // Layers given per segment.
+    let mut given = spec.clone();
+    given.segment_layers = Some(vec![2, 9, 3]);
+    let counted = swept_muscle_mesh(&given).unwrap();
+    let counts: Vec<usize> = (0..3)
+        .map(|i| counted.element_set(&format!("segment_{i}")).unwrap().len() / cells)
+        .collect();
+    assert_eq!(counts, vec![2, 9, 3]);
+    given.segment_layers = Some(vec![2, 9]);
+    assert!(swept_muscle_mesh(&given).is_err());
+    // A junction out of range is refused.
+    let mut bad = spec.clone();
+    bad.junctions = vec![0.5 * length, 0.2 * length];
+    assert!(swept_muscle_mesh(&bad).is_err());
 }
