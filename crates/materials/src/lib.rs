@@ -8,7 +8,7 @@
 //! - [`parameters`]: typed parameter declarations (unit, default, range) and their checked
 //!   resolution from a name → value map;
 //! - [`registry`]: built-in materials registered with `inventory` plus run-time plugins;
-//! - [`neo_hookean`] and [`hill`]: the built-in materials;
+//! - [`neo_hookean`], [`hill`] and [`tendon`]: the built-in materials;
 //! - [`plugin`]: the C ABI (`include/musclefem_material.h`) and the plugin loader;
 //! - [`driver`]: a homogeneous material-point driver (uniaxial stress along the fiber).
 //!
@@ -23,6 +23,7 @@ pub mod neo_hookean;
 pub mod parameters;
 pub mod plugin;
 pub mod registry;
+pub mod tendon;
 pub mod tensor;
 
 pub use amplitude::Amplitude;

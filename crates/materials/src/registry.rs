@@ -133,7 +133,14 @@ mod tests {
     #[test]
     fn registry_holds_every_builtin() {
         let names = MaterialLibrary::with_builtins().names();
-        assert_eq!(names, vec!["hill".to_string(), "neo-hookean".to_string()]);
+        assert_eq!(
+            names,
+            vec![
+                "hill".to_string(),
+                "neo-hookean".to_string(),
+                "tendon".to_string()
+            ]
+        );
     }
 
     #[test]
@@ -143,7 +150,7 @@ mod tests {
             .unwrap_err();
         let text = err.to_string();
         assert!(
-            text.contains("'neohooke'") && text.contains("hill, neo-hookean"),
+            text.contains("'neohooke'") && text.contains("hill, neo-hookean, tendon"),
             "{text}"
         );
     }
