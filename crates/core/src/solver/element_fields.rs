@@ -31,6 +31,9 @@ pub struct PartFields {
     pub cauchy_stress: Vec<VoigtStress>,
     /// Unit fiber direction of each element in the current configuration.
     pub fiber_direction: Vec<Vector3<f64>>,
+    /// Fiber stretch λ_f = |F a₀| of each element, the mean over its points (a₀ the unit
+    /// reference fiber direction, F the deformation gradient the material saw) [1].
+    pub fiber_stretch: Vec<f64>,
     /// The material's state variables (names, units).
     pub state_variables: Vec<StateVariable>,
     /// Mean state of each element, `state_variables.len()` per element, element-major.
@@ -97,6 +100,7 @@ pub(crate) fn part_fields(
     for piece in pieces {
         fields.cauchy_stress.extend(piece.cauchy_stress);
         fields.fiber_direction.extend(piece.fiber_direction);
+        fields.fiber_stretch.extend(piece.fiber_stretch);
         fields.state.extend(piece.state);
     }
     Ok(fields)
@@ -107,6 +111,7 @@ fn empty_fields(block: usize, material: &dyn Material, time: f64) -> PartFields 
         block,
         cauchy_stress: Vec::new(),
         fiber_direction: Vec::new(),
+        fiber_stretch: Vec::new(),
         state_variables: material.state_variables().to_vec(),
         state: Vec::new(),
         activation: material.activation(time),
@@ -160,6 +165,11 @@ fn run_fields(
         fields
             .fiber_direction
             .push(fiber.try_normalize(0.0).unwrap_or_else(Vector3::zeros));
+        let stretch: f64 = range
+            .clone()
+            .map(|p| (run.deformation_gradient[p] * run.fiber[p].normalize()).norm())
+            .sum();
+        fields.fiber_stretch.push(stretch * weight);
         for k in 0..nstate {
             let sum: f64 = range.clone().map(|p| run.state[p * nstate + k]).sum();
             fields.state.push(sum * weight);
@@ -220,6 +230,9 @@ mod tests {
         assert!((fields.cauchy_stress[0] - one[0]).norm() <= 1e-12 * one[0].norm());
         assert!((fields.cauchy_stress[1] - 0.5 * one[0]).norm() <= 1e-12 * one[0].norm());
         assert_eq!(fields.fiber_direction[0], Vector3::x());
+        // The fiber stretch: 1.2 at both points of element 0, the mean of 1.2 and 1 in 1.
+        assert!((fields.fiber_stretch[0] - 1.2).abs() < 1e-15);
+        assert!((fields.fiber_stretch[1] - 1.1).abs() < 1e-15);
         assert_eq!(fields.activation, None);
         let von_mises = fields.von_mises();
         assert!(
