@@ -58,7 +58,7 @@ pub struct Bond {
     /// The bond's rest state δ_ref = Rᵀ (x_s − x_m) at formation [m], in the local frame:
     /// (g₀, 0, 0) with g₀ the signed gap for a node over the face; with in-plane parts for
     /// a node that bonded to an edge or a vertex. A sliding bond uses the gap it measures
-    /// at formation instead (see `super::slide`).
+    /// at formation instead (see `super::slide` and `super::smooth_slide`).
     pub reference_separation: Vector3<f64>,
 }
 
@@ -84,7 +84,10 @@ pub struct BondState {
     pub traction: Vector3<f64>,
     /// Local separation (δ_n, δ_s, δ_t) [m] (a sliding bond: (g, 0, 0), g the gap).
     pub separation: Vector3<f64>,
-    /// Barycentric coordinates ξ of the main point in the bond's triangle.
+    /// The main triangle the state refers to: the bond's, or the one a smoothly sliding
+    /// bond's walk reached (`super::smooth_slide`).
+    pub triangle: u32,
+    /// Barycentric coordinates ξ of the main point in that triangle.
     pub coordinates: Vector3<f64>,
     /// Trial damage history κ [m] and damage D.
     pub history: f64,
@@ -103,6 +106,7 @@ impl Default for BondState {
             turning_curvature: [[Matrix3::zeros(); 3]; 3],
             traction: Vector3::zeros(),
             separation: Vector3::zeros(),
+            triangle: 0,
             coordinates: Vector3::zeros(),
             history: 0.0,
             damage: 0.0,
@@ -248,6 +252,7 @@ impl Bond {
             turning_curvature,
             traction: -traction,
             separation,
+            triangle: self.triangle,
             coordinates: self.coordinates,
             history: response.history,
             damage: response.damage,

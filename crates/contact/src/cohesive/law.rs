@@ -3,8 +3,9 @@
 //!
 //! - Undamaged: t_n = K_nn δ_n, t_s = K_ss δ_s, t_t = K_tt δ_t (K in N/m³).
 //! - Effective separation λ = √(⟨δ_n⟩² + w (δ_s² + δ_t²)) [m], ⟨x⟩ = max(x, 0), w = 1 in
-//!   [`TangentialMode::Elastic`], w = 0 in [`TangentialMode::FreeSlide`] (only the normal
-//!   opening counts). Compression never damages.
+//!   [`TangentialMode::Elastic`], w = 0 in [`TangentialMode::FreeSlide`] and
+//!   [`TangentialMode::SmoothSlide`] (only the normal opening counts). Compression never
+//!   damages.
 //! - Initiation: the paper's "maximum separation" D_nn = D_ss = D_tt = 30 mm is read as
 //!   λ reaching δ_0. In a pure mode this is Abaqus' maximum-separation criterion
 //!   max(⟨δ_n⟩, |δ_s|, |δ_t|) = δ_0 exactly; in mixed mode the Euclidean norm (the effective
@@ -18,7 +19,7 @@
 //! - Damaged: t_n = (1 − D) K_nn δ_n if δ_n > 0, t_n = K_nn δ_n if δ_n ≤ 0 (compression is
 //!   resisted by the undamaged normal stiffness even after failure: the contact-penalty
 //!   role), t_s = (1 − D) K_ss δ_s, t_t = (1 − D) K_tt δ_t (Elastic), t_s = t_t = 0
-//!   (FreeSlide).
+//!   (FreeSlide, SmoothSlide).
 //! - Consistent tangent C = ∂t/∂δ [N/m³]: on loading (λ ≥ κ_committed, δ_0 < λ < δ_f)
 //!   C_ij = (1 − D) K_i δ_ij − K_i δ_i D'(λ) ∂λ/∂δ_j over the damaged components i, with
 //!   D'(λ) = δ_f δ_0 / (λ² (δ_f − δ_0)) and ∂λ/∂δ_j = w_j ⟨δ_j⟩ / λ; otherwise the secant
@@ -79,18 +80,19 @@ impl CohesiveLaw {
         self.tangential
     }
 
-    /// Whether the tangent is symmetric at every separation: FreeSlide, or all three
-    /// stiffnesses equal.
+    /// Whether the tangent is symmetric at every separation: FreeSlide or SmoothSlide
+    /// (normal traction only), or all three stiffnesses equal.
     pub fn has_symmetric_tangent(&self) -> bool {
-        self.tangential == TangentialMode::FreeSlide
+        self.tangential != TangentialMode::Elastic
             || (self.stiffness.x == self.stiffness.y && self.stiffness.y == self.stiffness.z)
     }
 
-    /// Weight w of the tangential separations in λ (1 Elastic, 0 FreeSlide).
+    /// Weight w of the tangential separations in λ (1 Elastic, 0 FreeSlide and
+    /// SmoothSlide).
     fn shear_weight(&self) -> f64 {
         match self.tangential {
             TangentialMode::Elastic => 1.0,
-            TangentialMode::FreeSlide => 0.0,
+            TangentialMode::FreeSlide | TangentialMode::SmoothSlide => 0.0,
         }
     }
 
@@ -234,15 +236,17 @@ mod tests {
 
     #[test]
     fn free_slide_has_no_shear_and_only_opening_damages() {
-        let l = law(CohesiveSettings {
-            tangential: TangentialMode::FreeSlide,
-            ..CohesiveSettings::default()
-        });
-        let r = l.evaluate(&Vector3::new(0.01, 0.5, -0.3), 0.0);
-        assert_eq!(r.traction, Vector3::new(5e7 * 0.01, 0.0, 0.0));
-        assert_eq!(r.history, 0.01);
-        assert_eq!(r.damage, 0.0);
-        assert!(l.has_symmetric_tangent());
+        for tangential in [TangentialMode::FreeSlide, TangentialMode::SmoothSlide] {
+            let l = law(CohesiveSettings {
+                tangential,
+                ..CohesiveSettings::default()
+            });
+            let r = l.evaluate(&Vector3::new(0.01, 0.5, -0.3), 0.0);
+            assert_eq!(r.traction, Vector3::new(5e7 * 0.01, 0.0, 0.0));
+            assert_eq!(r.history, 0.01);
+            assert_eq!(r.damage, 0.0);
+            assert!(l.has_symmetric_tangent());
+        }
         // Elastic mode with the same separation: shear tractions and damage from λ.
         let e = law(CohesiveSettings::default());
         let r = e.evaluate(&Vector3::new(0.01, 0.02, -0.01), 0.0);
@@ -296,7 +300,11 @@ mod tests {
 
     #[test]
     fn the_tangent_matches_finite_differences_on_every_branch() {
-        for mode in [TangentialMode::Elastic, TangentialMode::FreeSlide] {
+        for mode in [
+            TangentialMode::Elastic,
+            TangentialMode::FreeSlide,
+            TangentialMode::SmoothSlide,
+        ] {
             for l in [law(CohesiveSettings::default()), unequal(mode)] {
                 let l = CohesiveLaw {
                     tangential: mode,

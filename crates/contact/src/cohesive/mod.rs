@@ -1,12 +1,14 @@
 //! Cohesive contact (seed §2.4): a secondary surface bonded to a main surface (deformable,
 //! or a rigid bone) by a linear traction–separation law with damage, which resists
-//! opening under tension and, in [`TangentialMode::FreeSlide`], lets the surfaces slide.
+//! opening under tension and, in [`TangentialMode::FreeSlide`] and
+//! [`TangentialMode::SmoothSlide`], lets the surfaces slide.
 //!
 //! - [`law`]: the traction–separation law t(δ) with damage and its consistent tangent;
 //! - [`settings`]: its parameters ([`CohesiveSettings`], the paper's values by default);
 //! - `interface.rs`: [`CohesiveInterface`], the [`musclefem_core::solver::Interaction`]
 //!   the solvers call; `bonds.rs`: the bonds, their formation and material-point forces;
 //!   `slide.rs` and `slide_tangent.rs`: sliding bonds and their linearization;
+//!   `smooth_slide.rs`: bonds sliding along the smooth normal field of the main surface;
 //!   `main_side.rs`: the main triangles at an instant; `frame.rs`: their local frames.
 //!
 //! Use:
@@ -28,6 +30,7 @@ mod main_side;
 pub mod settings;
 mod slide;
 mod slide_tangent;
+mod smooth_slide;
 
 pub use error::CohesiveError;
 pub use interface::CohesiveInterface;

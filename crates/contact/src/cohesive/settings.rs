@@ -13,8 +13,16 @@ pub enum TangentialMode {
     Elastic,
     /// No shear traction: bonded surfaces slide freely, only the normal cohesion acts and
     /// only the normal opening drives damage (the paper's "restricts separation by
-    /// tension, but permits relative sliding").
+    /// tension, but permits relative sliding"). The gap and the direction of the normal
+    /// traction are those of the closest point of the faceted main surface (`slide.rs`).
     FreeSlide,
+    /// As [`TangentialMode::FreeSlide`], but the gap and the direction of the normal
+    /// traction are measured along the smooth field of averaged vertex normals of the main
+    /// surface (`smooth_slide.rs`), so the force stays a continuous function of the
+    /// positions when a node slides over the edges and vertices of the faceted main
+    /// surface, concave ones included (where the closest point, and FreeSlide's force
+    /// direction, jump).
+    SmoothSlide,
 }
 
 /// Parameters of a [`super::CohesiveInterface`], in SI units.
@@ -38,7 +46,8 @@ pub struct CohesiveSettings {
     pub initiation_separation: f64,
     /// δ_f: effective separation at which the bond has failed (D = 1) [m], > δ_0.
     pub failure_separation: f64,
-    /// Shear response: [`TangentialMode::Elastic`] or [`TangentialMode::FreeSlide`].
+    /// Shear response: [`TangentialMode::Elastic`], [`TangentialMode::FreeSlide`] or
+    /// [`TangentialMode::SmoothSlide`].
     pub tangential: TangentialMode,
     /// A secondary node bonds if it lies within this distance of the main surface in the
     /// reference configuration [m]. The bond forms stress-free: its separation is

@@ -197,6 +197,7 @@ pub fn evaluate_sliding(
         turning_curvature: [[Matrix3::zeros(); 3]; 3],
         traction: -traction * direction,
         separation: Vector3::new(opening, 0.0, 0.0),
+        triangle: bond.triangle,
         coordinates,
         history: response.history,
         damage: response.damage,
