@@ -1,7 +1,7 @@
 //! Cohesive interfaces in the implicit solver against the analytic traction–separation law:
 //! two stacked blocks pulled apart (through initiation, softening and failure), sheared
-//! (Elastic and FreeSlide), a block bonded to a rigid plane that moves away, and the
-//! error when nothing bonds.
+//! (Elastic, FreeSlide and SmoothSlide), a block bonded to a rigid plane that moves away,
+//! and the error when nothing bonds.
 //!
 //! The blocks are loaded so that their state is homogeneous (symmetry planes x = 0 and
 //! y = 0, free lateral faces, each quad face lumping a quarter of its area on each
@@ -245,6 +245,27 @@ fn free_slide_carries_no_shear_while_the_opening_stays_resisted() {
     assert!(shear_reaction > 0.1 * elastic.strength() * AREA);
 }
 
+#[test]
+fn smooth_slide_carries_no_shear_while_the_opening_stays_resisted() {
+    // As FreeSlide above: the main surface is flat, so its vertex normals are its face
+    // normal and the smooth projection is the orthogonal one (extrapolated past the rim
+    // x = 10 mm for the nodes that slide over it).
+    let settings = small(TangentialMode::SmoothSlide);
+    let (shear_reaction, normal_reaction, normal_law, damage) =
+        shear_and_open(&settings, 0.004, 0.002);
+    let scale = settings.strength() * AREA;
+    let shear_error = shear_reaction.abs() / scale;
+    let normal_error = (normal_reaction - normal_law).abs() / scale;
+    eprintln!(
+        "smooth slide: t_s = {shear_error:.2e} of σ_max, t_n error {normal_error:.2e} (of \
+         σ_max)"
+    );
+    assert!(shear_error <= 1e-8 && normal_error <= 1e-8);
+    let mean_opening = normal_law / (settings.normal_stiffness * AREA);
+    assert!(mean_opening > 0.0019 && mean_opening < 0.002);
+    assert_eq!(damage, 0.0);
+}
+
 /// A block on a rigid plane z = 0 that moves to z = −0.1 m, its top held in z (x0 and y0
 /// symmetry); δ_f = 3 δ_0 this time (the failure separation is a parameter). Returns the
 /// largest |t − t_law| / σ_max over the steps.
@@ -335,6 +356,7 @@ fn rigid_plane(tangential: TangentialMode, poisson: f64) -> f64 {
 fn a_block_bonded_to_a_rigid_plane_moving_away_follows_the_law() {
     // Free slide: the block contracts freely (ν = 0.3), only the opening is resisted.
     assert!(rigid_plane(TangentialMode::FreeSlide, 0.3) <= 1e-8);
+    assert!(rigid_plane(TangentialMode::SmoothSlide, 0.3) <= 1e-8);
     // Elastic shear holds the bottom against the Poisson contraction (a shear separation
     // that would count towards damage): with ν = 0 the opening is the only separation,
     // to second order in the 0.6 % strain.

@@ -114,7 +114,11 @@ fn assert_bitwise(one: &Outcome, three: &Outcome) {
 
 #[test]
 fn implicit_runs_are_bitwise_the_same_on_one_and_three_threads() {
-    for mode in [TangentialMode::Elastic, TangentialMode::FreeSlide] {
+    for mode in [
+        TangentialMode::Elastic,
+        TangentialMode::FreeSlide,
+        TangentialMode::SmoothSlide,
+    ] {
         let one = on_threads(1, || implicit(mode));
         let three = on_threads(3, || implicit(mode));
         // Past the peak σ_max A = 5 N: the runs went into the softening branch.
@@ -126,8 +130,10 @@ fn implicit_runs_are_bitwise_the_same_on_one_and_three_threads() {
 
 #[test]
 fn explicit_runs_are_bitwise_the_same_on_one_and_three_threads() {
-    let one = on_threads(1, || explicit(TangentialMode::FreeSlide));
-    let three = on_threads(3, || explicit(TangentialMode::FreeSlide));
-    assert!(one.1.last().unwrap()[0].active_points > 0);
-    assert_bitwise(&one, &three);
+    for mode in [TangentialMode::FreeSlide, TangentialMode::SmoothSlide] {
+        let one = on_threads(1, || explicit(mode));
+        let three = on_threads(3, || explicit(mode));
+        assert!(one.1.last().unwrap()[0].active_points > 0);
+        assert_bitwise(&one, &three);
+    }
 }
