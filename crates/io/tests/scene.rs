@@ -486,3 +486,41 @@ fn solver_auto_picks_by_the_speed_of_the_step() {
         "{message}"
     );
 }
+
+/// `tangential` picks the cohesive interface's shear mode by name; a misspelt one is
+/// named with the closest valid mode.
+#[test]
+fn cohesive_tangential_modes_are_read_by_name() {
+    use musclefem_contact::TangentialMode;
+    use musclefem_io::scene::InteractionModel;
+    let path = example("bonded_blocks_peel.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let anchor = "failure_separation = 0.004";
+    assert!(text.contains(anchor));
+    for (name, mode) in [
+        ("elastic", TangentialMode::Elastic),
+        ("free-slide", TangentialMode::FreeSlide),
+        ("smooth-slide", TangentialMode::SmoothSlide),
+    ] {
+        let edited = text.replace(anchor, &format!("{anchor}\ntangential = \"{name}\""));
+        let (scene, locator) = parse_scene(&edited, &path).unwrap();
+        let model = musclefem_io::scene::build_model(
+            &scene,
+            &locator,
+            &mut MaterialLibrary::with_builtins(),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let InteractionModel::Cohesive(glue) = &model.interactions[0] else {
+            panic!("{name}: not a cohesive interface");
+        };
+        assert_eq!(glue.law().tangential(), mode, "{name}");
+    }
+    let message =
+        error_of(&text.replace(anchor, &format!("{anchor}\ntangential = \"smooth_slide\"")));
+    assert!(
+        message.contains("unknown tangential mode 'smooth_slide'")
+            && message.contains("did you mean `smooth-slide`?")
+            && message.contains("use elastic, free-slide or smooth-slide"),
+        "{message}"
+    );
+}

@@ -265,8 +265,9 @@ pub struct InteractionEntry {
     pub initiation_separation: Option<Spanned<f64>>,
     /// Cohesive: separation at failure [m] (linear damage evolution).
     pub failure_separation: Option<Spanned<f64>>,
-    /// Cohesive: "elastic" (shear resisted by K_ss, the paper) or "free-slide" (normal
-    /// cohesion only); default "elastic".
+    /// Cohesive: "elastic" (shear resisted by K_ss, the paper), "free-slide" (normal
+    /// cohesion only) or "smooth-slide" (normal cohesion only, along the smooth normal
+    /// field of the main surface); default "elastic".
     pub tangential: Option<Spanned<String>>,
     /// Cohesive: bonds form where the surfaces are within this distance at the start [m].
     pub bond_tolerance: Option<Spanned<f64>>,

@@ -335,14 +335,15 @@ fn cohesive_settings(
         settings.tangential = match mode.get_ref().as_str() {
             "elastic" => TangentialMode::Elastic,
             "free-slide" => TangentialMode::FreeSlide,
+            "smooth-slide" => TangentialMode::SmoothSlide,
             other => {
                 return Err(locator.error(
                     mode.span(),
                     format!(
-                        "interaction '{}': unknown tangential mode '{other}'{}; use elastic \
-                         or free-slide",
+                        "interaction '{}': unknown tangential mode '{other}'{}; use elastic, \
+                         free-slide or smooth-slide",
                         entry.name.get_ref(),
-                        suggestion(other, ["elastic", "free-slide"])
+                        suggestion(other, ["elastic", "free-slide", "smooth-slide"])
                     ),
                 ));
             }
