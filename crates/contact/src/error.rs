@@ -35,6 +35,9 @@ pub enum ContactError {
         vertex: u32,
         count: usize,
     },
+    /// Vertex normals given to a surface do not fit it.
+    #[error("surface '{surface}': {reason}")]
+    InvalidNormals { surface: String, reason: String },
     /// A parameter is out of its range.
     #[error("{what}: {value} {reason}")]
     InvalidParameter {

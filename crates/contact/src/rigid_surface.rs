@@ -35,6 +35,11 @@ pub struct RigidSurface {
     pub boundary_edges: Vec<u8>,
     /// The motion of the body frame.
     pub motion: RigidMotion,
+    /// Unit outward normals at the vertices in the body frame, where the surface's own
+    /// shape knows them better than its facets do (an implicit or analytic body): the
+    /// smooth normal field of [`crate::TangentialMode::SmoothSlide`] takes them instead of
+    /// the area-weighted facet normals. `None`: the facets'.
+    pub vertex_normals: Option<Vec<Vector3<f64>>>,
 }
 
 impl RigidSurface {
@@ -77,7 +82,30 @@ impl RigidSurface {
             triangles,
             boundary_edges,
             motion: RigidMotion::fixed(),
+            vertex_normals: None,
         })
+    }
+
+    /// The same surface with these unit outward `normals` at its vertices (body frame; see
+    /// [`RigidSurface::vertex_normals`]). Errors unless there is one finite unit vector per
+    /// vertex.
+    pub fn with_vertex_normals(mut self, normals: Vec<Vector3<f64>>) -> Result<Self, ContactError> {
+        if normals.len() != self.vertices.len()
+            || normals
+                .iter()
+                .any(|n| !n.iter().all(|x| x.is_finite()) || (n.norm() - 1.0).abs() > 1e-6)
+        {
+            return Err(ContactError::InvalidNormals {
+                surface: self.name.clone(),
+                reason: format!(
+                    "{} vertex normals for {} vertices, each a finite unit vector",
+                    normals.len(),
+                    self.vertices.len()
+                ),
+            });
+        }
+        self.vertex_normals = Some(normals);
+        Ok(self)
     }
 
     /// The same surface moving with `motion`.
