@@ -35,10 +35,14 @@
 pub mod broadphase;
 pub mod cohesive;
 pub mod error;
+pub(crate) mod main_side;
+pub(crate) mod normal_field;
 pub mod penalty;
 pub mod projection;
 pub mod rigid_surface;
 pub mod surface;
+#[cfg(test)]
+mod test_surfaces;
 
 pub use broadphase::Broadphase;
 pub use cohesive::{

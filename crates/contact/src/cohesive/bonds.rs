@@ -33,9 +33,9 @@ use rayon::prelude::*;
 
 use super::frame::{frame, turned_vector_curvature, turned_vector_derivatives};
 use super::law::CohesiveLaw;
-use super::main_side::MainSide;
 use super::slide::evaluate_sliding;
 use crate::broadphase::Broadphase;
+use crate::main_side::MainSide;
 use crate::projection::{Projection, project_on_triangle};
 use crate::surface::ContactTarget;
 

@@ -63,10 +63,11 @@ use nalgebra::{Matrix3, Vector3};
 use super::bonds::{Bond, BondState, closest_distance, evaluate_all, form_bonds};
 use super::error::CohesiveError;
 use super::law::CohesiveLaw;
-use super::main_side::MainSide;
 use super::settings::{CohesiveSettings, TangentialMode};
 use super::slide::{Neighbours, slide_all};
-use super::smooth_slide::{NormalField, evaluate_all_smooth, slide_all_smooth};
+use super::smooth_slide::{evaluate_all_smooth, slide_all_smooth};
+use crate::main_side::MainSide;
+use crate::normal_field::NormalField;
 use crate::surface::{ContactTarget, DeformableSurface};
 
 /// A cohesive interface between two surfaces (see the module docs).

@@ -8,8 +8,9 @@
 //! - `interface.rs`: [`CohesiveInterface`], the [`musclefem_core::solver::Interaction`]
 //!   the solvers call; `bonds.rs`: the bonds, their formation and material-point forces;
 //!   `slide.rs` and `slide_tangent.rs`: sliding bonds and their linearization;
-//!   `smooth_slide.rs`: bonds sliding along the smooth normal field of the main surface;
-//!   `main_side.rs`: the main triangles at an instant; `frame.rs`: their local frames.
+//!   `smooth_slide.rs`: bonds sliding along the smooth normal field of the main surface
+//!   (`crate::normal_field`); `frame.rs`: the local frames of the main triangles (their
+//!   corners at an instant: `crate::main_side`).
 //!
 //! Use:
 //!
@@ -26,7 +27,6 @@ mod error;
 mod frame;
 mod interface;
 pub mod law;
-mod main_side;
 pub mod settings;
 mod slide;
 mod slide_tangent;

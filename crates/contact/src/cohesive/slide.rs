@@ -29,8 +29,8 @@ use rayon::prelude::*;
 
 use super::bonds::{Bond, BondState};
 use super::law::CohesiveLaw;
-use super::main_side::MainSide;
 use super::slide_tangent::{Footing, pivot_tangent, sliding_tangent};
+use crate::main_side::MainSide;
 use crate::projection::{Feature, project_on_triangle};
 use crate::surface::ContactTarget;
 

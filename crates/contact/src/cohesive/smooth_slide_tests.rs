@@ -1,127 +1,20 @@
-//! Smoothly sliding bonds: the projection along the normal field, its tangent against
-//! finite differences, the continuity of the force over convex and concave edges and a
-//! concave vertex, a faceted cylinder, and the walk.
+//! Smoothly sliding bonds: the tangent against finite differences, the continuity of the
+//! force over convex and concave edges and a concave vertex, and a faceted cylinder (the
+//! projection and the walk themselves: `normal_field/tests.rs`).
 
-use musclefem_core::mesh::{Mesh, Nodes};
 use musclefem_core::solver::{Interaction, RigidMotion, RigidRotation};
 use musclefem_materials::Amplitude;
 use nalgebra::{DMatrix, Unit};
 
 use super::*;
 use crate::cohesive::{CohesiveInterface, CohesiveSettings, TangentialMode};
-use crate::projection::project_on_triangle;
+use crate::main_side::MainSide;
+use crate::normal_field::project_along_normals;
 use crate::rigid_surface::RigidSurface;
 use crate::surface::DeformableSurface;
-
-/// The test triangle of the frame's derivative checks (size ~1 m, in general position).
-const CORNERS: [Vector3<f64>; 3] = [
-    Vector3::new(0.1, -0.2, 0.3),
-    Vector3::new(1.2, 0.1, 0.2),
-    Vector3::new(0.3, 0.9, 0.7),
-];
-
-fn face_normal(corners: &[Vector3<f64>; 3]) -> Vector3<f64> {
-    (corners[1] - corners[0])
-        .cross(&(corners[2] - corners[0]))
-        .normalize()
-}
-
-/// Vertex normals tilted from the face normal by 0.2–0.35 rad, in different directions.
-fn tilted(corners: &[Vector3<f64>; 3]) -> [Vector3<f64>; 3] {
-    let n = face_normal(corners);
-    let tilts = [
-        Vector3::new(0.3, -0.1, 0.05),
-        Vector3::new(-0.2, 0.25, 0.1),
-        Vector3::new(0.05, 0.2, -0.3),
-    ];
-    tilts.map(|t| (n + t - n * n.dot(&t)).normalize())
-}
-
-/// The point whose foot has barycentric coordinates `phi` and lies `along` × N(φ) below
-/// it.
-fn point_over(
-    corners: &[Vector3<f64>; 3],
-    normals: &[Vector3<f64>; 3],
-    phi: [f64; 3],
-    along: f64,
-) -> Vector3<f64> {
-    (0..3)
-        .map(|k| phi[k] * (corners[k] + along * normals[k]))
-        .sum()
-}
-
-#[test]
-fn on_a_flat_triangle_the_projection_is_the_orthogonal_one() {
-    let n = face_normal(&CORNERS);
-    let [x0, x1, x2] = CORNERS;
-    // Over the face, past an edge and past a corner (extrapolated), above and below.
-    for (xi1, xi2, g) in [
-        (0.3, 0.2, 0.15),
-        (0.6, 0.7, -0.08),
-        (-0.4, 1.6, 0.3),
-        (0.25, 0.25, 0.0),
-    ] {
-        let x = x0 + xi1 * (x1 - x0) + xi2 * (x2 - x0) + g * n;
-        let p = project_along_normals(&x, &CORNERS, &[n; 3]);
-        let expected = Vector3::new(1.0 - xi1 - xi2, xi1, xi2);
-        assert!(
-            (p.barycentric - expected).norm() < 1e-14,
-            "{:?}",
-            p.barycentric
-        );
-        assert!((p.along - g).abs() < 1e-15 && (p.gap() - g).abs() < 1e-15);
-        assert!((p.normal - n).norm() < 1e-15);
-        if xi1 + xi2 <= 1.0 && xi1 >= 0.0 && xi2 >= 0.0 {
-            // The closest point of the narrowphase.
-            let closest = project_on_triangle(&x, &CORNERS);
-            assert!((closest.gap - p.gap()).abs() < 1e-14);
-            let phi: Vector3<f64> = closest.barycentric.into();
-            assert!((phi - p.barycentric).norm() < 1e-14);
-        }
-    }
-}
-
-#[test]
-fn with_tilted_vertex_normals_the_projection_solves_its_equation() {
-    let normals = tilted(&CORNERS);
-    let [x0, x1, x2] = CORNERS;
-    let flat = face_normal(&CORNERS);
-    for (phi, along) in [
-        ([0.3, 0.45, 0.25], 0.2),
-        ([0.5, 0.49, 0.01], -0.1),
-        ([1.3, -0.2, -0.1], 0.35),
-        ([0.1, 0.1, 0.8], 0.0),
-    ] {
-        let x = point_over(&CORNERS, &normals, phi, along);
-        let p = project_along_normals(&x, &CORNERS, &normals);
-        let [_, xi1, xi2] = p.barycentric.into();
-        let normal = (1.0 - xi1 - xi2) * normals[0] + xi1 * normals[1] + xi2 * normals[2];
-        let residual = x0 + xi1 * (x1 - x0) + xi2 * (x2 - x0) + p.along * normal - x;
-        assert!(residual.norm() < 1e-12, "{residual}");
-        assert!((p.normal - normal).norm() < 1e-15);
-        assert!((p.barycentric - Vector3::from(phi)).norm() < 1e-12);
-        assert!((p.along - along).abs() < 1e-12);
-        assert_eq!(p.normals, normals);
-        if along != 0.0 {
-            // Not the orthogonal projection.
-            let orthogonal = project_along_normals(&x, &CORNERS, &[flat; 3]);
-            assert!((orthogonal.barycentric - p.barycentric).norm() > 1e-3);
-        }
-    }
-    // Normals aimed at one point C, equally far from the corners: every foot reaches C
-    // with g = |C − x_k| (J singular there). Projecting C gives the flat projection.
-    let (a, b) = (x1 - x0, x2 - x0);
-    let circumcentre = x0
-        + (a.norm_squared() * b - b.norm_squared() * a).cross(&a.cross(&b))
-            / (2.0 * a.cross(&b).norm_squared());
-    let x = circumcentre + 0.5 * flat;
-    let focus = CORNERS.map(|c| (x - c).normalize());
-    assert!(((x - x0).norm() - (x - x1).norm()).abs() < 1e-14);
-    let p = project_along_normals(&x, &CORNERS, &focus);
-    let orthogonal = project_along_normals(&x, &CORNERS, &[flat; 3]);
-    assert_eq!(p, orthogonal);
-    assert_eq!(p.normals, [flat; 3]);
-}
+use crate::test_surfaces::{
+    CORNERS, below, bowl, bumpy, folded, jumps, line, mesh, point_over, tilted, turns,
+};
 
 /// K_nn = 1e3 N/m³, damage from 0.1 m to 0.3 m, bonds within 1 µm.
 fn settings(tangential: TangentialMode) -> CohesiveSettings {
@@ -237,15 +130,6 @@ fn the_tangent_matches_central_differences_with_the_normals_held() {
     eprintln!("smooth tangent: worst relative error {worst:.1e}");
 }
 
-/// A mesh of `points` without elements.
-fn mesh(points: &[Vector3<f64>]) -> Mesh {
-    let mut nodes = Nodes::new();
-    for p in points {
-        nodes.push(*p);
-    }
-    Mesh::new(nodes, vec![])
-}
-
 /// An interface bonding node 0 of a secondary triangle, at `reference` on the rigid
 /// `main` surface, to it (the triangle's other nodes are 5 m away and do not bond).
 fn bonded_to(
@@ -316,39 +200,6 @@ fn interface_tangent_errors(
     (errors[0] / k.amax(), errors[1] / k.amax())
 }
 
-/// A rigid bumpy patch: a 4 × 4 grid of unit squares on z = 0.15 (x² − 0.6 y²) + 0.05 x y,
-/// every vertex normal different.
-fn bumpy() -> RigidSurface {
-    let mut vertices = Vec::new();
-    for j in 0..5 {
-        for i in 0..5 {
-            let (x, y) = (f64::from(i) - 2.0, f64::from(j) - 2.0);
-            vertices.push(Vector3::new(
-                x,
-                y,
-                0.15 * (x * x - 0.6 * y * y) + 0.05 * x * y,
-            ));
-        }
-    }
-    RigidSurface::new("bumps", vertices, grid_triangles(4, 4)).unwrap()
-}
-
-/// The triangles of an `nx` × `ny` grid of squares (vertices row after row), each split
-/// along its diagonal from the lower-left corner, counter-clockwise seen from +z.
-fn grid_triangles(nx: u32, ny: u32) -> Vec<[u32; 3]> {
-    let id = |i: u32, j: u32| i + (nx + 1) * j;
-    (0..ny)
-        .flat_map(|j| {
-            (0..nx).flat_map(move |i| {
-                [
-                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
-                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
-                ]
-            })
-        })
-        .collect()
-}
-
 #[test]
 fn on_a_moving_rigid_main_the_tangent_is_exact() {
     let ramp = |v| Some(Amplitude::ramp(1.0, v).unwrap());
@@ -409,61 +260,6 @@ fn on_a_moving_rigid_main_the_tangent_is_exact() {
     eprintln!("rigid main: worst relative tangent error {worst:.1e}");
 }
 
-/// A sheet folded along the y axis, z = `slope` |x| over x, y in [−2, 2] (unit squares):
-/// a convex ridge for a negative slope, a concave valley for a positive one.
-fn folded(slope: f64) -> RigidSurface {
-    let mut vertices = Vec::new();
-    for j in 0..5 {
-        for i in 0..5 {
-            let (x, y) = (f64::from(i) - 2.0, f64::from(j) - 2.0);
-            vertices.push(Vector3::new(x, y, slope * x.abs()));
-        }
-    }
-    RigidSurface::new("fold", vertices, grid_triangles(4, 4)).unwrap()
-}
-
-/// An inverted cone around a concave vertex: the apex (0, 0, 0) and two rings of 6
-/// vertices at radius 1 and 2 rising with `slope`, 18 triangles facing up.
-fn bowl(slope: f64) -> RigidSurface {
-    let mut vertices = vec![Vector3::zeros()];
-    for ring in [1.0, 2.0] {
-        for i in 0..6 {
-            let angle = std::f64::consts::PI / 3.0 * f64::from(i) + 0.1;
-            vertices.push(Vector3::new(
-                ring * angle.cos(),
-                ring * angle.sin(),
-                slope * ring,
-            ));
-        }
-    }
-    let mut triangles = Vec::new();
-    for i in 0..6u32 {
-        let (a, b) = (1 + i, 1 + (i + 1) % 6);
-        triangles.push([0, a, b]);
-        triangles.push([a, a + 6, b + 6]);
-        triangles.push([a, b + 6, b]);
-    }
-    RigidSurface::new("bowl", vertices, triangles).unwrap()
-}
-
-/// The point of the rigid `surface` (at rest) straight below (x, y) [m], on the first
-/// triangle whose shadow holds it.
-fn below(surface: &RigidSurface, x: f64, y: f64) -> Vector3<f64> {
-    surface
-        .triangles
-        .iter()
-        .find_map(|t| {
-            let [a, b, c] = t.map(|v| surface.vertices[v as usize]);
-            let (e1, e2) = ((b - a).xy(), (c - a).xy());
-            let d = nalgebra::Vector2::new(x, y) - a.xy();
-            let m = nalgebra::Matrix2::from_columns(&[e1, e2]).try_inverse()?;
-            let xi = m * d;
-            (xi.x >= 0.0 && xi.y >= 0.0 && xi.x + xi.y <= 1.0)
-                .then(|| a + xi.x * (b - a) + xi.y * (c - a))
-        })
-        .unwrap()
-}
-
 /// The forces on a node bonded at `reference` on `main` and then moved along `path`, with
 /// a search before every force evaluation (as the solvers do at every iteration) or
 /// without (the bond's committed triangle stays where it formed).
@@ -483,29 +279,6 @@ fn along_path(
             node_force(&mut interface, 0.0, x)
         })
         .collect()
-}
-
-/// `samples` + 1 points from `from` to `to`.
-fn line(from: Vector3<f64>, to: Vector3<f64>, samples: usize) -> Vec<Vector3<f64>> {
-    (0..=samples)
-        .map(|i| from + (to - from) * (i as f64 / samples as f64))
-        .collect()
-}
-
-/// The largest and the median of `changes`.
-fn largest_and_median(mut changes: Vec<f64>) -> (f64, f64) {
-    changes.sort_by(f64::total_cmp);
-    (changes[changes.len() - 1], changes[changes.len() / 2])
-}
-
-/// The largest and the median change of consecutive forces [N].
-fn jumps(forces: &[Vector3<f64>]) -> (f64, f64) {
-    largest_and_median(forces.windows(2).map(|w| (w[1] - w[0]).norm()).collect())
-}
-
-/// The largest and the median angle between consecutive forces [rad].
-fn turns(forces: &[Vector3<f64>]) -> (f64, f64) {
-    largest_and_median(forces.windows(2).map(|w| w[0].angle(&w[1])).collect())
 }
 
 /// Continuity along a path crossing an edge or a vertex at a fixed height (1 m in 200 and
@@ -592,50 +365,6 @@ fn the_force_is_continuous_around_a_concave_vertex() {
     let jump = turns(&closest).0;
     eprintln!("  free slide: the force turns by {jump:.4} rad between two samples");
     assert!(jump > 0.2, "{jump}");
-}
-
-#[test]
-fn a_walk_crosses_the_surface_and_keeps_the_plane_of_the_rim_past_it() {
-    // A strip of 20 unit squares on z = 0 along x (40 triangles).
-    let vertices = (0..=20)
-        .flat_map(|i| [0.0, 1.0].map(|y| Vector3::new(f64::from(i), y, 0.0)))
-        .collect();
-    let triangles = (0..20u32)
-        .flat_map(|i| {
-            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
-            [[a, b, c], [a, c, d]]
-        })
-        .collect();
-    let main: ContactTarget = RigidSurface::new("strip", vertices, triangles)
-        .unwrap()
-        .into();
-    let field = NormalField::new(&main, &[]);
-    // Triangle 0 = [0, 2, 3]: edge 0 (0–2) on the rim, edge 1 (2–3) shared with triangle
-    // 3 = [2, 5, 3], edge 2 (3–0) with triangle 1 = [0, 3, 1], whose other edges are rim.
-    assert_eq!(field.across[0], [RIM, 3, 1]);
-    assert_eq!(field.across[1], [0, RIM, RIM]);
-    assert_eq!(field.across[3], [2, RIM, 0]);
-    assert!(field.normals.iter().all(|n| *n == Vector3::z()));
-    let at = (&[][..], &Isometry3::identity());
-    let x = Vector3::new(13.7, 0.6, 0.5);
-    let foot = walk(&field, &main, at, 99, 0, &x);
-    assert_eq!(foot.triangle / 2, 13);
-    let [a, b, c] = main.corners(foot.triangle as usize, &[], at.1);
-    let phi = foot.projection.barycentric;
-    let point = phi.x * a + phi.y * b + phi.z * c;
-    assert!((point - Vector3::new(13.7, 0.6, 0.0)).norm() < 1e-14);
-    assert!((foot.projection.gap() - 0.5).abs() < 1e-15);
-    // Past the end of the strip (x = 20) the foot extrapolates the rim triangle's plane.
-    let x = Vector3::new(21.5, 0.3, -0.2);
-    let foot = walk(&field, &main, at, 99, foot.triangle, &x);
-    assert_eq!(foot.triangle / 2, 19);
-    assert!(foot.projection.barycentric.min() < -1.0);
-    assert!((foot.projection.gap() + 0.2).abs() < 1e-14);
-    // Past a side rim (y > 1), beside square 5: walks along the rim to it.
-    let x = Vector3::new(5.5, 1.4, 0.1);
-    let foot = walk(&field, &main, at, 99, 0, &x);
-    assert_eq!(foot.triangle / 2, 5);
-    assert!((foot.projection.gap() - 0.1).abs() < 1e-14);
 }
 
 /// A rigid cylinder of radius R = 1 m (24 facets around, 6 rows along z from −1.5 m to

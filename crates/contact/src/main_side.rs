@@ -1,6 +1,7 @@
-//! The main side of a cohesive interface as its bonds see it: the triangles of a
-//! [`ContactTarget`], whose corners are mesh nodes (a deformable surface) or points of a
-//! rigid body placed by its [`musclefem_core::solver::RigidMotion`] (a bone).
+//! The main side of a cohesive interface or of a contact as the bonds and the smooth
+//! normal field see it: the triangles of a [`ContactTarget`], whose corners are mesh nodes
+//! (a deformable surface) or points of a rigid body placed by its
+//! [`musclefem_core::solver::RigidMotion`] (a bone).
 
 use nalgebra::{Isometry3, Point3, Vector3};
 
