@@ -10,7 +10,9 @@
 //!   (generated planes, spheres, cylinders; STL and OBJ files);
 //! - [`broadphase`]: parry3d BVH of the main side, candidate triangles per node;
 //! - [`projection`]: closest point on a triangle, barycentric coordinates, signed gap;
-//! - [`penalty`]: [`PenaltyContact`], frictionless node-to-surface penalty contact;
+//! - [`penalty`]: [`PenaltyContact`], frictionless node-to-surface penalty contact, at the
+//!   closest point or along the smooth normal field of the main surface
+//!   ([`PenaltyContact::with_smooth_normals`]; the field itself: `normal_field.rs`);
 //! - [`cohesive`]: [`CohesiveInterface`], surfaces bonded by a traction–separation law with
 //!   damage ([`CohesiveSettings`]).
 //!

@@ -1,5 +1,6 @@
-//! The smooth normal field of a main surface and the projection of a point along it, for
-//! the smoothly sliding cohesive bonds ([`crate::TangentialMode::SmoothSlide`]): the gap
+//! The smooth normal field of a main surface and the projection of a point along it,
+//! shared by the smoothly sliding cohesive bonds ([`crate::TangentialMode::SmoothSlide`])
+//! and the smooth penalty contact ([`crate::PenaltyContact::with_smooth_normals`]): the gap
 //! and the force direction are measured along a field of normals interpolated from the
 //! vertices of the faceted main surface (the projection of mortar contact with averaged
 //! nodal normals), so they are continuous functions of the positions when a node slides

@@ -34,6 +34,21 @@
 //! 0.26; nothing for nearly incompressible muscle, E/M ≈ 10⁻⁴), or lower ε. An unstable
 //! step breaks the energy balance, which stops the run.
 //!
+//! Smooth normals ([`PenaltyContact::with_smooth_normals`], `penalty/smooth.rs`): over
+//! the edges and vertices of a faceted main surface the closest point, and with it the
+//! force direction, jumps where a node crosses the bisector of a convex edge (a node
+//! pressed into a ridge) and turns by the fold angle within a band of width
+//! 2 |g| tan(θ/2) across a concave one: a non-smooth residual that stalls Newton's method
+//! when muscles slide over a marching-tetrahedra bone. With smooth normals the gap d and
+//! the direction ν are measured along the field of vertex normals of the main surface
+//! (`normal_field.rs`: area-weighted, or a rigid body's own
+//! [`crate::RigidSurface::with_vertex_normals`], recomputed at every evaluation for a
+//! deformable main), starting from the node's closest triangle, so the force is a
+//! continuous function of the positions over edges and vertices, concave ones included.
+//! The node is in contact when d < 0, with the traction ε ⟨−d⟩ along ν; on a flat surface
+//! this is the closest-point contact. Its stiffness is not symmetric (the solver then
+//! factorizes with LU).
+//!
 //! Forces do not depend on the number of threads: each node's pair is evaluated on its
 //! own (in parallel), then the forces are added to the nodes serially in node order.
 //! Limitations: no friction; a node must not penetrate deeper than the search distance
@@ -41,17 +56,20 @@
 //! stay ≪ h, and an explicit step or a Newton iteration moves a node by much less) nor past
 //! the middle of a thin main body.
 
+mod smooth;
 mod stiffness;
 
-use nalgebra::{Matrix3, Point3, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
 use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
 
 use crate::broadphase::Broadphase;
 use crate::error::ContactError;
+use crate::main_side::MainSide;
 use crate::projection::{Feature, closest_feature, project_on_triangle};
 use crate::surface::{ContactTarget, DeformableSurface};
+use smooth::{SmoothContact, SmoothNormals};
 use stiffness::FeatureGeometry;
 
 /// Secondary nodes per parallel task of the closest-point evaluation.
@@ -125,6 +143,9 @@ pub struct PenaltyContact {
     /// Per main triangle, bit i set when vertex i is on the rim of the main surface.
     rim_vertices: Vec<u8>,
     contacts: Vec<NodeContact>,
+    /// The smooth normal field and the nodes' projections along it, when the contact
+    /// measures gaps along it ([`PenaltyContact::with_smooth_normals`]).
+    smooth: Option<SmoothNormals>,
     report: InteractionReport,
 }
 
@@ -175,6 +196,7 @@ impl PenaltyContact {
             penalty,
             broadphase: Broadphase::new(search_distance),
             rim_vertices,
+            smooth: None,
             report: InteractionReport {
                 name: name.to_string(),
                 ..InteractionReport::default()
@@ -205,6 +227,25 @@ impl PenaltyContact {
         }
         self.broadphase = Broadphase::new(distance);
         Ok(self)
+    }
+
+    /// The same contact measuring the gap and the force direction along the smooth field
+    /// of vertex normals of the main surface instead of at the closest point (see the
+    /// module docs and `penalty/smooth.rs`): the force is a continuous function of the
+    /// positions when a node slides over the edges and vertices of the faceted main
+    /// surface, concave ones included. A rigid main uses its own vertex normals
+    /// ([`crate::RigidSurface::with_vertex_normals`]) if it has them, else the
+    /// area-weighted ones of its facets, in its body frame; a deformable main's are
+    /// recomputed at every force evaluation. The stiffness is not symmetric.
+    pub fn with_smooth_normals(mut self) -> Self {
+        self.smooth = Some(SmoothNormals::new(&self.target, self.secondary.nodes.len()));
+        self
+    }
+
+    /// Whether the contact measures along the smooth normal field
+    /// ([`Self::with_smooth_normals`]).
+    pub fn smooth_normals(&self) -> bool {
+        self.smooth.is_some()
     }
 
     /// The penalty stiffness ε [N/m³].
@@ -292,11 +333,50 @@ impl PenaltyContact {
                     };
                 }
             });
+        if let Some(smooth) = &mut self.smooth {
+            // From each node's closest triangle along the normal field.
+            smooth.field.update(target, positions);
+            let placement = frame.unwrap_or_else(Isometry3::identity);
+            let (field, closest) = (&smooth.field, &self.contacts);
+            smooth
+                .contacts
+                .par_chunks_mut(EVALUATION_CHUNK)
+                .enumerate()
+                .for_each(|(chunk, contacts)| {
+                    for (k, contact) in contacts.iter_mut().enumerate() {
+                        let i = chunk * EVALUATION_CHUNK + k;
+                        let node = nodes[i];
+                        *contact = SmoothContact::new(
+                            field,
+                            target,
+                            (positions, &placement),
+                            node,
+                            closest[i].triangle,
+                            &positions[node as usize],
+                        );
+                    }
+                });
+        }
     }
 
     /// Calls `f(node, force)` with each nonzero nodal force f_c [N], serially in secondary
     /// node order (each node, then its main triangle's vertices).
     fn for_each_force(&self, mut f: impl FnMut(u32, Vector3<f64>)) {
+        if let Some(smooth) = &self.smooth {
+            for (i, c) in smooth.contacts.iter().enumerate() {
+                if !c.active {
+                    continue;
+                }
+                let force = c.force(self.penalty * self.secondary.node_area[i]);
+                f(self.secondary.nodes[i], force);
+                if let Some(corners) = self.target.nodes(c.triangle as usize) {
+                    for (vertex, phi) in corners.iter().zip(&c.projection.barycentric) {
+                        f(*vertex, -force * *phi);
+                    }
+                }
+            }
+            return;
+        }
         for (i, c) in self.contacts.iter().enumerate() {
             if !c.active {
                 continue;
@@ -425,13 +505,23 @@ impl Interaction for PenaltyContact {
         // The resultant on the secondary nodes (the main side takes the opposite).
         let mut resultant = Vector3::zeros();
         let (mut active_points, mut active_area, mut stored_energy) = (0, 0.0, 0.0);
-        for (c, area) in self.contacts.iter().zip(&self.secondary.node_area) {
-            if c.active {
-                resultant -= c.offset * (self.penalty * area);
-                active_points += 1;
-                active_area += area;
-                stored_energy += 0.5 * self.penalty * c.gap * c.gap * area;
-            }
+        for (i, area) in self.secondary.node_area.iter().enumerate() {
+            let k = self.penalty * area;
+            let (gap, force) = match &self.smooth {
+                Some(smooth) if smooth.contacts[i].active => {
+                    let c = &smooth.contacts[i];
+                    (c.gap, c.force(k))
+                }
+                None if self.contacts[i].active => {
+                    let c = &self.contacts[i];
+                    (c.gap, c.offset * k)
+                }
+                _ => continue,
+            };
+            resultant -= force;
+            active_points += 1;
+            active_area += area;
+            stored_energy += 0.5 * k * gap * gap;
         }
         self.report.force = resultant;
         self.report.active_points = active_points;
@@ -441,6 +531,16 @@ impl Interaction for PenaltyContact {
     }
 
     fn stiffness(&self, add: &mut dyn FnMut(u32, u32, &Matrix3<f64>)) {
+        if let Some(smooth) = &self.smooth {
+            for (i, c) in smooth.contacts.iter().enumerate() {
+                if c.active {
+                    let k = self.penalty * self.secondary.node_area[i];
+                    let corners = self.target.nodes(c.triangle as usize);
+                    c.blocks(k, self.secondary.nodes[i], corners, add);
+                }
+            }
+            return;
+        }
         let rigid = matches!(self.target, ContactTarget::Rigid(_));
         for (i, c) in self.contacts.iter().enumerate() {
             if !c.active {
@@ -464,8 +564,10 @@ impl Interaction for PenaltyContact {
         }
     }
 
+    /// Symmetric at the closest point (the forces derive from the energy ½ ε g² A_s); not
+    /// along the smooth normals (ν is not the gradient of d).
     fn symmetric_stiffness(&self) -> bool {
-        true
+        self.smooth.is_none()
     }
 
     /// Frictionless contact keeps no history: nothing to accept.
@@ -475,16 +577,21 @@ impl Interaction for PenaltyContact {
         self.report.clone()
     }
 
-    /// `contact_pressure` t_n [Pa] and `contact_gap` g [m] at the secondary nodes (g = 0
-    /// where a node has no main triangle within the search distance), and `contact_force`,
+    /// `contact_pressure` t_n [Pa] and `contact_gap` g [m] at the secondary nodes (the gap
+    /// d along the normal field with smooth normals; 0 where a node has no main triangle
+    /// within the search distance), and `contact_force`,
     /// the force −f_c [N] the contact puts on every node (secondary and main).
     fn nodal_fields(&self, node_count: usize) -> Vec<NodalField> {
         let mut pressure = vec![0.0; node_count];
         let mut gap = vec![0.0; node_count];
-        for (c, &node) in self.contacts.iter().zip(&self.secondary.nodes) {
-            gap[node as usize] = c.gap;
-            if c.active {
-                pressure[node as usize] = -self.penalty * c.gap;
+        for (i, &node) in self.secondary.nodes.iter().enumerate() {
+            let (g, active) = match &self.smooth {
+                Some(smooth) => (smooth.contacts[i].gap, smooth.contacts[i].active),
+                None => (self.contacts[i].gap, self.contacts[i].active),
+            };
+            gap[node as usize] = g;
+            if active {
+                pressure[node as usize] = -self.penalty * g;
             }
         }
         let mut force = vec![0.0; 3 * node_count];

@@ -37,8 +37,9 @@ pub struct RigidSurface {
     pub motion: RigidMotion,
     /// Unit outward normals at the vertices in the body frame, where the surface's own
     /// shape knows them better than its facets do (an implicit or analytic body): the
-    /// smooth normal field of [`crate::TangentialMode::SmoothSlide`] takes them instead of
-    /// the area-weighted facet normals. `None`: the facets'.
+    /// smooth normal field of [`crate::TangentialMode::SmoothSlide`] and of
+    /// [`crate::PenaltyContact::with_smooth_normals`] takes them instead of the
+    /// area-weighted facet normals. `None`: the facets'.
     pub vertex_normals: Option<Vec<Vector3<f64>>>,
 }
 

@@ -1,0 +1,614 @@
+//! Smooth penalty contact: the closest-point contact on a flat surface (rim included), its
+//! tangent against central differences (one pair with the vertex normals held, a moving
+//! rigid main, a deformable main), and the continuity of the force when a pressed node
+//! slides over a convex fold, a concave fold and a concave cone vertex, where the
+//! closest point's force direction jumps or sweeps through the fold angle.
+
+use std::collections::HashMap;
+
+use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::{
+    Interaction, InteractionReport, NodalField, RigidMotion, RigidRotation,
+};
+use musclefem_materials::Amplitude;
+use nalgebra::{DMatrix, Point3, Unit};
+
+use super::*;
+use crate::normal_field::project_along_normals;
+use crate::penalty::PenaltyContact;
+use crate::rigid_surface::RigidSurface;
+use crate::surface::DeformableSurface;
+use crate::test_surfaces::{
+    CORNERS, below, bowl, bumpy, folded, grid_triangles, jumps, line, mesh, point_over, tilted,
+    turns,
+};
+
+/// Penalty ε [N/m³] of the tests.
+const PENALTY: f64 = 1e3;
+
+/// The forces (f_s, −φ_k f_s) of one active pair at `x` = (x_s, x₀, x₁, x₂) with fixed
+/// vertex `normals` and k = ε A_s = `k`, and the pair.
+fn pair(
+    x: &[Vector3<f64>; 4],
+    normals: &[Vector3<f64>; 3],
+    k: f64,
+) -> (DMatrix<f64>, SmoothContact) {
+    let projection = project_along_normals(&x[0], &[x[1], x[2], x[3]], normals);
+    let contact = SmoothContact {
+        triangle: 0,
+        gap: projection.gap(),
+        active: true,
+        projection,
+    };
+    let force = contact.force(k);
+    let mut f = DMatrix::zeros(12, 1);
+    f.fixed_view_mut::<3, 1>(0, 0).copy_from(&force);
+    for c in 0..3 {
+        let reaction = -projection.barycentric[c] * force;
+        f.fixed_view_mut::<3, 1>(3 + 3 * c, 0).copy_from(&reaction);
+    }
+    (f, contact)
+}
+
+/// Adds `block` at nodes (`a`, `b`) of the dense matrix `k`.
+fn add_block(k: &mut DMatrix<f64>, a: u32, b: u32, block: &Matrix3<f64>) {
+    let mut view = k.fixed_view_mut::<3, 3>(3 * a as usize, 3 * b as usize);
+    view += block;
+}
+
+#[test]
+fn the_pair_tangent_matches_central_differences_with_the_normals_held() {
+    let normals = tilted(&CORNERS);
+    let k = 0.7 * PENALTY;
+    let mut worst = 0.0f64;
+    // Inside the face and near edge 0–1 (φ₂ = 0.01); penetrations up to a quarter of the
+    // triangle's size.
+    for phi in [[0.3, 0.45, 0.25], [0.5, 0.49, 0.01]] {
+        for along in [-0.02, -0.1, -0.25] {
+            let node = point_over(&CORNERS, &normals, phi, along);
+            let x = [node, CORNERS[0], CORNERS[1], CORNERS[2]];
+            let (_, contact) = pair(&x, &normals, k);
+            assert!(contact.gap < 0.0);
+            let mut stiffness = DMatrix::zeros(12, 12);
+            contact.blocks(k, 0, Some([1, 2, 3]), &mut |a, b, block| {
+                add_block(&mut stiffness, a, b, block);
+            });
+            let h = 1e-6;
+            let mut error = 0.0f64;
+            for column in 0..12 {
+                let (mut plus, mut minus) = (x, x);
+                plus[column / 3][column % 3] += h;
+                minus[column / 3][column % 3] -= h;
+                let fd = (pair(&plus, &normals, k).0 - pair(&minus, &normals, k).0) / (2.0 * h);
+                for row in 0..12 {
+                    error = error.max((fd[row] - stiffness[(row, column)]).abs());
+                }
+            }
+            let error = error / stiffness.amax();
+            eprintln!("smooth penalty pair, φ = {phi:?}, g = {along}: relative error {error:.1e}");
+            assert!(error < 1e-6, "{error:e}");
+            assert!(
+                (stiffness.clone() - stiffness.transpose()).amax() > 1e-3 * stiffness.amax(),
+                "tilted normals make it unsymmetric"
+            );
+            worst = worst.max(error);
+        }
+    }
+    eprintln!("smooth penalty pair: worst relative tangent error {worst:.1e}");
+}
+
+/// The nodes of a secondary triangle with node 0 at `node` (the others 5 m above it, out
+/// of reach).
+fn triangle_at(node: Vector3<f64>) -> Vec<Vector3<f64>> {
+    vec![
+        node,
+        node + Vector3::new(0.6, 0.0, 5.0),
+        node + Vector3::new(0.0, 0.6, 5.0),
+    ]
+}
+
+/// Smooth (or closest-point) contact of node 0 of the secondary triangle [0, 1, 2] of
+/// `mesh` on `main`, searched within 0.5 m.
+fn pressed(mesh: &Mesh, main: impl Into<ContactTarget>, smooth: bool) -> PenaltyContact {
+    let skin = DeformableSurface::from_triangles(mesh, "skin", vec![[0, 1, 2]]).unwrap();
+    let contact = PenaltyContact::new("press", skin, main, PENALTY)
+        .unwrap()
+        .with_search_distance(0.5)
+        .unwrap();
+    if smooth {
+        contact.with_smooth_normals()
+    } else {
+        contact
+    }
+}
+
+/// The forces of `contact` at `positions` after a search, stacked (3 per node).
+fn stacked_forces(
+    contact: &mut PenaltyContact,
+    time: f64,
+    positions: &[Vector3<f64>],
+) -> DMatrix<f64> {
+    let mut force = vec![Vector3::zeros(); positions.len()];
+    contact.forces(time, positions, true, &mut force).unwrap();
+    DMatrix::from_iterator(
+        3 * positions.len(),
+        1,
+        force.iter().flat_map(|f| f.iter().copied()),
+    )
+}
+
+/// The assembled stiffness of `contact`.
+fn assembled(contact: &PenaltyContact, nodes: usize) -> DMatrix<f64> {
+    let mut k = DMatrix::zeros(3 * nodes, 3 * nodes);
+    contact.stiffness(&mut |a, b, block| add_block(&mut k, a, b, block));
+    k
+}
+
+/// The assembled stiffness at `positions` (searched there) against central differences
+/// of the forces (step 1e-7 m): the largest error relative to the largest entry, over
+/// the columns of node 0 and over the others.
+fn tangent_errors(
+    contact: &mut PenaltyContact,
+    time: f64,
+    positions: &[Vector3<f64>],
+) -> (f64, f64) {
+    contact.search(time, positions).unwrap();
+    stacked_forces(contact, time, positions);
+    let n = positions.len();
+    let k = assembled(contact, n);
+    let h = 1e-7;
+    let mut errors = [0.0f64; 2];
+    for column in 0..3 * n {
+        let (mut plus, mut minus) = (positions.to_vec(), positions.to_vec());
+        plus[column / 3][column % 3] += h;
+        minus[column / 3][column % 3] -= h;
+        let fd = (stacked_forces(contact, time, &plus) - stacked_forces(contact, time, &minus))
+            / (2.0 * h);
+        let slot = usize::from(column >= 3);
+        for row in 0..3 * n {
+            errors[slot] = errors[slot].max((fd[row] - k[(row, column)]).abs());
+        }
+    }
+    (errors[0] / k.amax(), errors[1] / k.amax())
+}
+
+#[test]
+fn on_a_moving_rigid_main_the_tangent_is_exact() {
+    let ramp = |v| Some(Amplitude::ramp(1.0, v).unwrap());
+    let motion = RigidMotion {
+        translation: [ramp(0.01), None, ramp(-0.02)],
+        rotation: Some(RigidRotation {
+            center: Vector3::new(0.2, 0.1, 0.0),
+            axis: Unit::new_normalize(Vector3::new(1.0, 1.0, 0.3)),
+            angle: Amplitude::ramp(1.0, 0.4).unwrap(),
+        }),
+        follower: None,
+    };
+    let surface = bumpy().with_motion(motion);
+    let main = ContactTarget::Rigid(surface.clone());
+    let field = NormalField::new(&main, &[]);
+    let time = 0.6;
+    let placement = main.placement(time);
+    let mesh = mesh(&triangle_at(Vector3::zeros()));
+    let mut contact = pressed(&mesh, surface, true);
+    assert!(!contact.symmetric_stiffness());
+    let mut worst = 0.0f64;
+    // Inside faces and near edges (φ = 0.005), pressed in by 0.04 m and 0.15 m.
+    for (t, phi) in [
+        (10, [0.2, 0.5, 0.3]),
+        (11, [0.6, 0.1, 0.3]),
+        (10, [0.005, 0.6, 0.395]),
+        (13, [0.4, 0.595, 0.005]),
+    ] {
+        for along in [-0.04, -0.15] {
+            let corners = main.corners(t, &[], &placement);
+            let normals = field.normals(t, &placement.rotation);
+            let positions = triangle_at(point_over(&corners, &normals, phi, along));
+            let (node, others) = tangent_errors(&mut contact, time, &positions);
+            let state = contact.smooth.as_ref().unwrap().contacts[0];
+            assert_eq!(state.triangle, t as u32);
+            assert!(state.active && state.gap < 0.0);
+            assert_eq!(contact.report().active_points, 1);
+            assert_eq!(others, 0.0);
+            eprintln!("rigid main, triangle {t}, φ = {phi:?}, g = {along}: {node:.1e}");
+            assert!(node < 1e-6, "{node:e}");
+            worst = worst.max(node);
+        }
+    }
+    eprintln!("smooth penalty, rigid main: worst relative tangent error {worst:.1e}");
+}
+
+/// On a deformable main the tangent holds the vertex normals fixed: the columns of the
+/// secondary node are exact, those of the main nodes miss the turn of the normals. Forces
+/// and moments balance.
+#[test]
+fn on_a_deformable_main_the_node_columns_are_exact_and_forces_balance() {
+    let bumps = bumpy();
+    // Nodes 0–2: the secondary triangle; 3–27 the bumpy grid.
+    let mut points = triangle_at(below(&bumps, 0.3, -0.4));
+    points.extend(&bumps.vertices);
+    let mesh = mesh(&points);
+    let triangles = bumps.triangles.iter().map(|t| t.map(|v| v + 3)).collect();
+    let main = DeformableSurface::from_triangles(&mesh, "bumps", triangles).unwrap();
+    let mut contact = pressed(&mesh, main, true);
+    assert!(!contact.symmetric_stiffness());
+    let mut x = points.clone();
+    x[0] += Vector3::new(0.05, 0.02, -0.06);
+    x[3 + 12] += Vector3::new(0.02, -0.01, 0.03);
+    let (node, others) = tangent_errors(&mut contact, 0.0, &x);
+    let gap = contact.smooth.as_ref().unwrap().contacts[0].gap;
+    eprintln!(
+        "smooth penalty, deformable main (gap {gap:.3} m, triangles 1 m): relative tangent \
+         error {node:.1e} (secondary node's columns), {others:.1e} (main nodes' columns, \
+         normals held fixed)"
+    );
+    assert!(gap < -0.05);
+    assert!(node < 1e-6, "{node:e}");
+    assert!(others > 1e-4 && others < 0.1, "{others:e}");
+    let mut force = vec![Vector3::zeros(); x.len()];
+    contact.forces(0.0, &x, false, &mut force).unwrap();
+    let total: Vector3<f64> = force.iter().sum();
+    let moment: Vector3<f64> = x.iter().zip(&force).map(|(p, f)| p.cross(f)).sum();
+    assert!(force[0].norm() > 1.0);
+    assert!(
+        total.norm() < 1e-12 * force[0].norm() && moment.norm() < 1e-12 * force[0].norm(),
+        "{total} {moment}"
+    );
+    assert_eq!(contact.report().force, -force[0]);
+}
+
+/// Every force, the report, the nodal fields and the stiffness blocks of `contact` at
+/// `positions` and `time`.
+type Outcome = (
+    Vec<Vector3<f64>>,
+    InteractionReport,
+    Vec<NodalField>,
+    HashMap<(u32, u32), Matrix3<f64>>,
+);
+
+fn outcome(contact: &mut PenaltyContact, time: f64, positions: &[Vector3<f64>]) -> Outcome {
+    contact.search(time, positions).unwrap();
+    let mut force = vec![Vector3::zeros(); positions.len()];
+    contact.forces(time, positions, true, &mut force).unwrap();
+    let mut blocks: HashMap<(u32, u32), Matrix3<f64>> = HashMap::new();
+    contact.stiffness(&mut |a, b, block| *blocks.entry((a, b)).or_default() += block);
+    (
+        force,
+        contact.report(),
+        contact.nodal_fields(positions.len()),
+        blocks,
+    )
+}
+
+/// The closest-point and the smooth outcomes agree to `tolerance` relative to the largest
+/// force and block, the stiffness in the columns of nodes below `columns` (all: a rigid
+/// main); returns the number of active nodes and the largest difference of the other
+/// blocks relative to the largest block.
+fn assert_same(closest: &Outcome, smooth: &Outcome, tolerance: f64, columns: u32) -> (usize, f64) {
+    let scale = closest.0.iter().map(|f| f.amax()).fold(0.0, f64::max);
+    assert!(scale > 0.0);
+    for (a, b) in closest.0.iter().zip(&smooth.0) {
+        assert!((a - b).amax() <= tolerance * scale, "{a} vs {b}");
+    }
+    let (a, b) = (&closest.1, &smooth.1);
+    assert_eq!(a.active_points, b.active_points);
+    assert_eq!(a.active_area, b.active_area);
+    assert!((a.force - b.force).amax() <= tolerance * scale);
+    assert!((a.stored_energy - b.stored_energy).abs() <= tolerance * a.stored_energy);
+    // The gap of a node beside the rim is its distance to the rim at the closest point,
+    // to the plane of the rim triangle along the normals: compared where in contact.
+    let pressure = &closest.2[0].values;
+    for (fa, fb) in closest.2.iter().zip(&smooth.2) {
+        assert_eq!(fa.name, fb.name);
+        let largest = fa.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (n, (va, vb)) in fa.values.iter().zip(&fb.values).enumerate() {
+            if fa.name == "contact_gap" && pressure[n] == 0.0 {
+                continue;
+            }
+            assert!(
+                (va - vb).abs() <= tolerance * largest,
+                "{}: {va} vs {vb}",
+                fa.name
+            );
+        }
+    }
+    let stiff = closest.3.values().map(|k| k.amax()).fold(0.0, f64::max);
+    let keys: std::collections::BTreeSet<_> = closest.3.keys().chain(smooth.3.keys()).collect();
+    let mut others = 0.0f64;
+    for key in keys {
+        let zero = Matrix3::zeros();
+        let (ka, kb) = (
+            closest.3.get(key).unwrap_or(&zero),
+            smooth.3.get(key).unwrap_or(&zero),
+        );
+        let difference = (ka - kb).amax() / stiff;
+        if key.1 < columns {
+            assert!(difference <= tolerance, "{key:?}: {ka} vs {kb}");
+        } else {
+            others = others.max(difference);
+        }
+    }
+    (a.active_points, others)
+}
+
+/// A secondary grid of 6 × 6 squares of 0.3 m over [−0.9, 0.9]² pressed into the plane
+/// z = 0 by 1–3 cm (a different depth and a small shift at every node, none exactly over
+/// an edge of the main surface, where the closest point's stiffness is an edge's), its
+/// right column
+/// moved past the main surface's rim at x = 1 by `past` times each node's depth.
+fn pressed_grid(past: f64) -> Vec<Vector3<f64>> {
+    let mut points = Vec::new();
+    for j in 0..7 {
+        for i in 0..7 {
+            let s = f64::from(7 * j + i);
+            let depth = 0.01 + 0.02 * (0.618 * s).fract();
+            let shift = 0.02
+                * Vector3::new(
+                    (0.31 * s + 0.13).fract() - 0.5,
+                    (0.7123 * s + 0.41).fract() - 0.5,
+                    0.0,
+                );
+            let mut p =
+                Vector3::new(0.3 * f64::from(i) - 0.9, 0.3 * f64::from(j) - 0.9, -depth) + shift;
+            if i == 6 {
+                p.x = 1.0 + past * depth;
+            }
+            points.push(p);
+        }
+    }
+    points
+}
+
+/// The closest-point and the smooth outcomes of the grid pressed with its right column
+/// `past` the rim (see [`pressed_grid`]), on a rigid plane over [−1, 1]² (4 × 4 squares)
+/// turned and moved by its motion, and on a deformable flat grid over [−1, 1]² (5 × 5
+/// squares) in the same mesh as the secondary grid.
+fn flat_outcomes(past: f64) -> [(Outcome, Outcome); 2] {
+    let points = pressed_grid(past);
+    let count = points.len() as u32;
+    let motion = RigidMotion {
+        translation: [Some(Amplitude::ramp(1.0, 0.05).unwrap()), None, None],
+        rotation: Some(RigidRotation {
+            center: Vector3::new(0.1, -0.2, 0.0),
+            axis: Unit::new_normalize(Vector3::new(0.3, 1.0, 0.2)),
+            angle: Amplitude::ramp(1.0, 0.5).unwrap(),
+        }),
+        follower: None,
+    };
+    let plane = RigidSurface::plane("plane", Vector3::zeros(), Vector3::z(), 1.0, 4)
+        .unwrap()
+        .with_motion(motion.clone());
+    let time = 0.7;
+    let iso = motion.isometry_at(time);
+    let placed: Vec<Vector3<f64>> = points
+        .iter()
+        .map(|p| iso.transform_point(&Point3::from(*p)).coords)
+        .collect();
+    let both = |mesh: &Mesh, main: ContactTarget, time: f64, at: &[Vector3<f64>]| {
+        let skin = DeformableSurface::from_triangles(mesh, "skin", grid_triangles(6, 6)).unwrap();
+        let closest = PenaltyContact::new("flat", skin, main, PENALTY).unwrap();
+        let smooth = closest.clone().with_smooth_normals();
+        assert!(closest.symmetric_stiffness() && !smooth.symmetric_stiffness());
+        assert!(!closest.smooth_normals() && smooth.smooth_normals());
+        (
+            outcome(&mut closest.clone(), time, at),
+            outcome(&mut smooth.clone(), time, at),
+        )
+    };
+    let rigid = both(&mesh(&placed), plane.into(), time, &placed);
+    let mut all = points.clone();
+    for j in 0..6 {
+        for i in 0..6 {
+            all.push(Vector3::new(
+                0.4 * f64::from(i) - 1.0,
+                0.4 * f64::from(j) - 1.0,
+                0.0,
+            ));
+        }
+    }
+    let mesh = mesh(&all);
+    let triangles = grid_triangles(5, 5)
+        .iter()
+        .map(|t| t.map(|v| v + count))
+        .collect();
+    let main = DeformableSurface::from_triangles(&mesh, "grid", triangles).unwrap();
+    let deformable = both(&mesh, main.into(), 0.0, &all);
+    [rigid, deformable]
+}
+
+/// On a flat surface the normal field is the face normal and the projection along it is
+/// the orthogonal one: the smooth contact is the closest-point contact (forces, report,
+/// fields to 1e-12) on a rigid plane turned and moved by its motion and on a deformable
+/// flat grid. So is the stiffness on the rigid plane, and in the secondary nodes' columns
+/// on the grid; in the grid nodes' columns the smooth tangent, holding the vertex normals
+/// fixed, leaves out the turn of the faces that the closest point's includes (a term of
+/// the order of the penetration over the element size). Past the rim both contacts take a
+/// node that leans out of the normal's line by 3 % of its depth as beside the surface,
+/// and one that leans by 0.5 % as over it; that one the closest-point contact pushes from
+/// the rim's edge, the smooth one along the normal, a force differing by its lean.
+#[test]
+fn on_a_flat_surface_the_smooth_contact_is_the_closest_point_contact() {
+    let [rigid, deformable] = flat_outcomes(0.03);
+    let (active, _) = assert_same(&rigid.0, &rigid.1, 1e-12, u32::MAX);
+    eprintln!("flat rigid main: {active} of 49 nodes active, the same in both modes");
+    assert_eq!(active, 42, "the right column beside the rim");
+    let (active, others) = assert_same(&deformable.0, &deformable.1, 1e-12, 49);
+    eprintln!(
+        "flat deformable main: {active} of 49 nodes active, the same in both modes; the \
+         main nodes' columns of the stiffness differ by {others:.1e} of its largest entry \
+         (penetrations 1–3 cm, 2.5–7.5 % of the 0.4 m triangles)"
+    );
+    assert_eq!(active, 42, "the right column beside the rim");
+    assert!(others > 1e-4 && others < 0.1, "{others:e}");
+    for (closest, smooth) in &flat_outcomes(0.005) {
+        assert_eq!(closest.1.active_points, 49);
+        assert_eq!(smooth.1.active_points, 49);
+        let mut worst = 0.0f64;
+        for (a, b) in closest.0.iter().zip(&smooth.0).take(49) {
+            worst = worst.max((a - b).norm() / a.norm());
+        }
+        eprintln!("over the rim by 0.5 % of the depth: forces differ by up to {worst:.2e}");
+        assert!(worst < 0.006, "{worst}");
+    }
+}
+
+/// The force on node 0 of the secondary triangle moved along `path` over the rigid
+/// `main` (a search before every evaluation, as the solvers do), with smooth normals or
+/// at the closest point.
+fn along_path(main: &RigidSurface, smooth: bool, path: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
+    let mesh = mesh(&triangle_at(path[0]));
+    let mut contact = pressed(&mesh, main.clone(), smooth);
+    path.iter()
+        .map(|&x| {
+            let positions = triangle_at(x);
+            contact.search(0.0, &positions).unwrap();
+            let mut force = vec![Vector3::zeros(); 3];
+            contact.forces(0.0, &positions, false, &mut force).unwrap();
+            force[0]
+        })
+        .collect()
+}
+
+/// `samples` + 1 points from x = −0.4983 m to 0.5017 m at `y` (samples 5 mm or 2.5 mm
+/// apart miss x = 0 by 1.7 mm or 0.8 mm), `depth` [m] below the rigid `main` surface at
+/// rest: straight below each point (a path with kinks under the edges), or, `straight`,
+/// on the line `depth` below the surface's point at x = 0.
+fn pressed_path(
+    main: &RigidSurface,
+    (y, depth, straight): (f64, f64, bool),
+    samples: usize,
+) -> Vec<Vector3<f64>> {
+    let ends = [Vector3::new(-0.4983, y, 0.0), Vector3::new(0.5017, y, 0.0)];
+    let middle = below(main, 0.0, y).z - depth;
+    line(ends[0], ends[1], samples)
+        .iter()
+        .map(|p| match straight {
+            true => Vector3::new(p.x, p.y, middle),
+            false => below(main, p.x, p.y) - depth * Vector3::z(),
+        })
+        .collect()
+}
+
+/// Between consecutive samples along a pressed path ([`pressed_path`]) 5 mm and 2.5 mm
+/// apart, the largest change of the force [N], the largest turn of its direction [rad]
+/// and the largest change of the force over ε A_s times the distance moved (a Lipschitz
+/// quotient [1]): `[[change, turn, quotient] at 5 mm, [change, turn, quotient] at
+/// 2.5 mm]`, with smooth normals or at the closest point. With smooth normals the node is
+/// in contact everywhere and the force is continuous: change and turn within 10 times
+/// their medians and shrinking with the step, the quotient below 1.5.
+fn largest_changes(
+    what: &str,
+    main: &RigidSurface,
+    path: (f64, f64, bool),
+    smooth: bool,
+) -> [[f64; 3]; 2] {
+    let mut largest = [[0.0; 3]; 2];
+    let mode = if smooth { "smooth" } else { "closest point" };
+    let area = DeformableSurface::from_triangles(
+        &mesh(&triangle_at(Vector3::zeros())),
+        "skin",
+        vec![[0, 1, 2]],
+    )
+    .unwrap()
+    .node_area[0];
+    for (s, samples) in [200, 400].into_iter().enumerate() {
+        let points = pressed_path(main, path, samples);
+        let forces = along_path(main, smooth, &points);
+        if smooth {
+            assert!(forces.iter().all(|f| f.norm() > 0.0));
+        }
+        let quotient = forces
+            .windows(2)
+            .zip(points.windows(2))
+            .map(|(f, x)| (f[1] - f[0]).norm() / (PENALTY * area * (x[1] - x[0]).norm()))
+            .fold(0.0, f64::max);
+        let (change, change_median) = jumps(&forces);
+        let (turn, turn_median) = turns(&forces);
+        eprintln!(
+            "{what}, pressed {} m, {mode}, step {} mm: largest force change {change:.3e} N \
+             (median {change_median:.3e}), turn {turn:.3e} rad (median {turn_median:.3e}), \
+             |Δf|/(ε A |Δx|) {quotient:.3}",
+            path.1,
+            1000.0 / samples as f64,
+        );
+        if smooth {
+            assert!(
+                change < 10.0 * change_median,
+                "{change:e} vs {change_median:e}"
+            );
+            assert!(turn < 10.0 * turn_median, "{turn:e} vs {turn_median:e}");
+            assert!(quotient < 1.5, "{quotient}");
+        }
+        largest[s] = [change, turn, quotient];
+    }
+    if smooth {
+        for q in 0..2 {
+            assert!(largest[1][q] < 0.6 * largest[0][q], "{largest:?}");
+        }
+    }
+    largest
+}
+
+/// A node pressed 2 cm into a convex ridge (a 30° fold) and slid across it: the closest
+/// point jumps from one face to the other at the crest, and its force turns by the fold
+/// angle between two samples however small the step (its Lipschitz quotient doubles as
+/// the step halves); the smooth force turns by less than 0.01 rad per step, less with a
+/// smaller step.
+#[test]
+fn the_force_is_continuous_over_a_convex_fold() {
+    let fold = 30f64.to_radians();
+    let ridge = folded(-(0.5 * fold).tan());
+    let what = "convex fold (30°)";
+    let path = (0.3, 0.02, false);
+    let smooth = largest_changes(what, &ridge, path, true);
+    assert!(smooth[1][1] < 0.01, "{}", smooth[1][1]);
+    let closest = largest_changes(what, &ridge, path, false);
+    for [_, turn, _] in closest {
+        assert!((turn - fold).abs() < 1e-3, "{turn}");
+    }
+    assert!(closest[1][2] > 1.9 * closest[0][2], "{closest:?}");
+}
+
+/// Pressed into a concave fold or vertex on `main` along paths at `y` (`straight` or
+/// following the surface, [`pressed_path`]): the smooth force is continuous. The closest
+/// point under a concave edge or vertex stays on it while the node is within about
+/// |g| tan(θ/2) of it (θ the fold) and its force sweeps through the fold angle over that
+/// band: pressed 2 cm, over about 1 cm, in several steps of 5 mm or 2.5 mm but at least
+/// 50 times faster than the smooth force turns (over the 1 m triangles around the edge);
+/// pressed 0.5 mm, by more than `sweep` [rad] within one step.
+fn concave(what: &str, main: &RigidSurface, (y, straight): (f64, bool), sweep: f64) {
+    let smooth = largest_changes(what, main, (y, 0.02, straight), true);
+    assert!(smooth[1][1] < 0.01, "{}", smooth[1][1]);
+    let deep = largest_changes(what, main, (y, 0.02, straight), false);
+    for (closest, smooth) in deep.iter().zip(&smooth) {
+        assert!(closest[1] > 50.0 * smooth[1], "{closest:?} vs {smooth:?}");
+    }
+    for [_, turn, _] in largest_changes(what, main, (y, 0.0005, straight), false) {
+        assert!(turn > sweep, "{turn}");
+    }
+}
+
+/// A node pressed into a concave valley (a 30° fold) and slid across it, following the
+/// surface.
+#[test]
+fn the_force_is_continuous_over_a_concave_fold() {
+    let fold = 30f64.to_radians();
+    concave(
+        "concave fold (30°)",
+        &folded((0.5 * fold).tan()),
+        (0.3, false),
+        0.9 * fold,
+    );
+}
+
+/// A node pressed into an inverted cone (its faces rising 15°) and slid on a straight line
+/// 5 cm beside the apex, over four of its six faces (deeper away from the apex). Following
+/// the faceted surface instead, the path's kink under a radial edge and the foot's
+/// crossing of it are a fraction of a millimetre apart (the vertex normals are not
+/// symmetric about the edge) and the force changes by 0.1 % over that distance, which
+/// steps of millimetres do not resolve.
+#[test]
+fn the_force_is_continuous_around_a_concave_cone_vertex() {
+    let cone = bowl(15f64.to_radians().tan());
+    concave("concave cone vertex (15°)", &cone, (0.05, true), 0.2);
+}
