@@ -524,3 +524,54 @@ fn cohesive_tangential_modes_are_read_by_name() {
         "{message}"
     );
 }
+
+/// `smooth_normals = true` makes a contact measure along the smooth normal field of the
+/// main surface; the default is the closest point. A cohesive interface refuses the key,
+/// and a misspelt one is named with the closest valid key.
+#[test]
+fn contact_smooth_normals_are_read_and_misspellings_suggested() {
+    use musclefem_io::scene::InteractionModel;
+    let path = example("block_on_rigid_sphere.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let anchor = "main = \"ball\"";
+    assert!(text.contains(anchor));
+    for (edit, smooth) in [
+        (String::new(), false),
+        ("\nsmooth_normals = false".to_string(), false),
+        ("\nsmooth_normals = true".to_string(), true),
+    ] {
+        let edited = text.replace(anchor, &format!("{anchor}{edit}"));
+        let (scene, locator) = parse_scene(&edited, &path).unwrap();
+        let model = musclefem_io::scene::build_model(
+            &scene,
+            &locator,
+            &mut MaterialLibrary::with_builtins(),
+        )
+        .unwrap_or_else(|e| panic!("{edit}: {e}"));
+        let InteractionModel::Contact(contact) = &model.interactions[0] else {
+            panic!("{edit}: not a contact");
+        };
+        assert_eq!(contact.smooth_normals(), smooth, "{edit}");
+        assert_eq!(
+            model.interactions[0]
+                .describe()
+                .contains("along smooth normals"),
+            smooth
+        );
+    }
+    let message = error_of(&text.replace(anchor, &format!("{anchor}\nsmooth_normal = true")));
+    assert!(
+        message.contains("smooth_normal") && message.contains("did you mean `smooth_normals`?"),
+        "{message}"
+    );
+    let message = error_of(&text.replace(anchor, &format!("{anchor}\nsmooth_normals = 1")));
+    assert!(message.contains("invalid type"), "{message}");
+    let peel = std::fs::read_to_string(example("bonded_blocks_peel.toml")).unwrap();
+    let cohesive = "failure_separation = 0.004";
+    assert!(peel.contains(cohesive));
+    let message = error_of(&peel.replace(cohesive, &format!("{cohesive}\nsmooth_normals = true")));
+    assert!(
+        message.contains("`smooth_normals` does not apply to kind = \"cohesive\""),
+        "{message}"
+    );
+}

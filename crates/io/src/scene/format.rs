@@ -257,6 +257,9 @@ pub struct InteractionEntry {
     pub penalty_stiffness: Option<Spanned<f64>>,
     /// Contact: Coulomb friction coefficient [1]; default 0 (frictionless).
     pub friction: Option<Spanned<f64>>,
+    /// Contact: measure the gap and the force direction along the smooth field of vertex
+    /// normals of the main surface instead of at the closest point; default false.
+    pub smooth_normals: Option<Spanned<bool>>,
     /// Cohesive: K_nn [N/m³]; default 5e7 (0.05 N/mm³, the paper).
     pub normal_stiffness: Option<Spanned<f64>>,
     /// Cohesive: K_ss = K_tt [N/m³]; default 5e7.

@@ -43,12 +43,17 @@ impl InteractionModel {
     pub fn describe(&self) -> String {
         match self {
             InteractionModel::Contact(c) => format!(
-                "'{}': penalty contact of '{}' ({} nodes) on '{}', ε = {:.3e} N/m³",
+                "'{}': penalty contact of '{}' ({} nodes) on '{}', ε = {:.3e} N/m³{}",
                 c.name(),
                 c.secondary().name,
                 c.secondary().nodes.len(),
                 c.target().name(),
-                c.penalty()
+                c.penalty(),
+                if c.smooth_normals() {
+                    ", along smooth normals"
+                } else {
+                    ""
+                }
             ),
             InteractionModel::Cohesive(c) => {
                 let (secondary, main) = c.surfaces();
@@ -226,7 +231,9 @@ pub(super) fn build_interactions(
                         "friction is not built yet: contact is frictionless".to_string(),
                     ));
                 }
+                let smooth = entry.smooth_normals.as_ref().is_some_and(|s| *s.get_ref());
                 PenaltyContact::new(name, secondary, main, penalty)
+                    .map(|c| if smooth { c.with_smooth_normals() } else { c })
                     .map(|c| InteractionModel::Contact(Box::new(c)))
                     .map_err(|e| at(entry.kind.span(), e.to_string()))?
             }
@@ -253,7 +260,7 @@ pub(super) fn build_interactions(
 }
 
 /// Keys that only a contact takes.
-const CONTACT_KEYS: [&str; 2] = ["penalty_stiffness", "friction"];
+const CONTACT_KEYS: [&str; 3] = ["penalty_stiffness", "friction", "smooth_normals"];
 /// Keys that only a cohesive interface takes.
 const COHESIVE_KEYS: [&str; 6] = [
     "normal_stiffness",
@@ -271,12 +278,16 @@ fn refuse(
     kind: &str,
     locator: &Locator,
 ) -> Result<(), SceneError> {
-    let given: [(&str, Option<std::ops::Range<usize>>); 8] = [
+    let given: [(&str, Option<std::ops::Range<usize>>); 9] = [
         (
             "penalty_stiffness",
             entry.penalty_stiffness.as_ref().map(Spanned::span),
         ),
         ("friction", entry.friction.as_ref().map(Spanned::span)),
+        (
+            "smooth_normals",
+            entry.smooth_normals.as_ref().map(Spanned::span),
+        ),
         (
             "normal_stiffness",
             entry.normal_stiffness.as_ref().map(Spanned::span),
