@@ -22,7 +22,9 @@
 //! - Tangent: [`smooth_tangent`] with t = ε d, t' = ε (the vertex normals held fixed):
 //!   exact on a rigid main; on a deformable main the turn of the vertex normals with the
 //!   nodes around the triangle is left out (a relative error of the order of the
-//!   penetration over the element size, small for penalty contact). Not symmetric.
+//!   penetration over the element size, small for penalty contact: in the tests 1.4e-2
+//!   and 6e-2 of the largest entry in the main nodes' columns at penetrations of up to
+//!   8 % of the triangles' size). Not symmetric.
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
