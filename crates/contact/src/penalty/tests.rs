@@ -108,3 +108,50 @@ fn reused_candidates_give_the_brute_force_closest_point_on_a_moving_sphere() {
     }
     assert!(compared > 50, "the test must compare nodes: {compared}");
 }
+
+/// Per-node penalties: a node pressed into a plane carries ε_i A_i g, its own ε, in both
+/// the closest-point and the smooth contact; a wrong count or value is refused.
+#[test]
+fn each_node_carries_its_own_penalty() {
+    let mesh = box_of_hexes([1.0, 1.0, 1.0], [2, 2, 2]).unwrap();
+    let secondary = DeformableSurface::from_mesh_surface(&mesh, "z0").unwrap();
+    let plane =
+        RigidSurface::plane("floor", Vector3::new(0.5, 0.5, 0.0), Vector3::z(), 2.0, 4).unwrap();
+    let count = secondary.nodes.len();
+    let penalties: Vec<f64> = (0..count).map(|i| 1e6 * (1.0 + i as f64)).collect();
+    // Every node of the bottom face 1 mm into the floor.
+    let positions: Vec<Vector3<f64>> = (0..mesh.node_count())
+        .map(|n| mesh.nodes.position(n) - Vector3::new(0.0, 0.0, 1e-3))
+        .collect();
+    for smooth in [false, true] {
+        let mut contact = PenaltyContact::new("test", secondary.clone(), plane.clone(), 1e6)
+            .unwrap()
+            .with_node_penalties(penalties.clone())
+            .unwrap();
+        if smooth {
+            contact = contact.with_smooth_normals();
+        }
+        let mut force = vec![Vector3::zeros(); mesh.node_count()];
+        contact.search(0.0, &positions).unwrap();
+        contact.forces(0.0, &positions, true, &mut force).unwrap();
+        for (i, &node) in secondary.nodes.iter().enumerate() {
+            // f_c = ε A g ν (it enters like an internal force): g = −1 mm along +z.
+            let expected = -penalties[i] * secondary.node_area[i] * 1e-3;
+            let f = force[node as usize];
+            assert!(
+                (f.z - expected).abs() < 1e-9 * expected.abs() && f.xy().norm() < 1e-12,
+                "smooth {smooth}, node {node}: {f:?} against {expected}"
+            );
+        }
+    }
+    let contact = PenaltyContact::new("test", secondary.clone(), plane, 1e6).unwrap();
+    assert!(
+        contact
+            .clone()
+            .with_node_penalties(vec![1e6; count - 1])
+            .is_err()
+    );
+    let mut bad = vec![1e6; count];
+    bad[0] = f64::NAN;
+    assert!(contact.with_node_penalties(bad).is_err());
+}

@@ -170,27 +170,38 @@ impl Mesh {
     /// does not depend on the number of threads.
     pub fn total_volume(&self) -> Result<f64, MeshError> {
         self.check_connectivity_range()?;
-        let mut total = 0.0;
-        for block in &self.blocks {
-            let shape = block.shape;
-            let n = shape.nodes_per_element();
-            let partial: Vec<f64> = block
-                .connectivity
-                .par_chunks(CHUNK * n)
-                .map(|chunk| {
-                    let mut coords = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
-                    chunk
-                        .chunks_exact(n)
-                        .map(|ids| {
-                            self.nodes.gather(ids, &mut coords);
-                            shape.volume(&coords[..n])
-                        })
-                        .sum::<f64>()
-                })
-                .collect();
-            total += partial.iter().sum::<f64>();
-        }
-        Ok(total)
+        Ok((0..self.blocks.len())
+            .map(|b| self.volume_of_block(b))
+            .sum())
+    }
+
+    /// Sum of the element volumes of block `block` [m³], checked as
+    /// [`Mesh::total_volume`].
+    pub fn block_volume(&self, block: usize) -> Result<f64, MeshError> {
+        self.check_connectivity_range()?;
+        self.block(block as u32)?;
+        Ok(self.volume_of_block(block))
+    }
+
+    fn volume_of_block(&self, block: usize) -> f64 {
+        let block = &self.blocks[block];
+        let shape = block.shape;
+        let n = shape.nodes_per_element();
+        let partial: Vec<f64> = block
+            .connectivity
+            .par_chunks(CHUNK * n)
+            .map(|chunk| {
+                let mut coords = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+                chunk
+                    .chunks_exact(n)
+                    .map(|ids| {
+                        self.nodes.gather(ids, &mut coords);
+                        shape.volume(&coords[..n])
+                    })
+                    .sum::<f64>()
+            })
+            .collect();
+        partial.iter().sum::<f64>()
     }
 
     /// Positions of the nodes `ids` (at most [`MAX_NODES_PER_ELEMENT`]), checked.

@@ -359,6 +359,12 @@ fn newton_step(
 ) -> Result<StepReport, StepFailure> {
     let end = time + step;
     let node_count = displacement.len();
+    if let Some(frame) = &settings.predictor_frame {
+        let carry = frame.isometry_at(end) * frame.isometry_at(time).inverse();
+        for (u, x) in displacement.iter_mut().zip(reference) {
+            *u = (carry * nalgebra::Point3::from(x + *u)).coords - x;
+        }
+    }
     // Prescribed increments Δū (the last condition on a component wins).
     let mut target = vec![f64::NAN; 3 * node_count];
     loads.prescribed_displacements(end, reference, &mut target);

@@ -88,6 +88,15 @@ pub struct ImplicitSettings {
     /// Keep the nodal displacements of every converged step in
     /// [`ImplicitResult::displacement_history`] (default false).
     pub record_displacements: bool,
+    /// A rigid motion that carries the whole model at the start of each increment, before
+    /// the predictor (default `None`): every node moves from x to Q(t + Δt) Q(t)⁻¹ x, the
+    /// frame's own motion over the increment. For a model that rides on a moving body (the
+    /// knee's muscles on the femur, which moves in the closed-chain squat) this is a far
+    /// better first guess than the positions at t: sliding contact on the moving body
+    /// otherwise sees the body jump by the increment's motion, and the predictor answers
+    /// through the soft tangential directions with large, distorting moves. Only Newton's
+    /// starting point changes; the converged states are the same.
+    pub predictor_frame: Option<super::RigidMotion>,
 }
 
 impl ImplicitSettings {
@@ -109,6 +118,7 @@ impl ImplicitSettings {
             mixed_pressure_tangent: true,
             mass_shift_for_indefinite_tangents: true,
             record_displacements: false,
+            predictor_frame: None,
         }
     }
 

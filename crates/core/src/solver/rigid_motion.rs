@@ -11,7 +11,7 @@ use musclefem_materials::Amplitude;
 
 /// Rotation by `angle(t)` [rad] about the axis through `center` [m] along `axis`
 /// (right-hand rule).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RigidRotation {
     pub center: Vector3<f64>,
     pub axis: Unit<Vector3<f64>>,
@@ -41,6 +41,20 @@ pub struct RigidMotion {
     pub rotation: Option<RigidRotation>,
     /// The pose set while the run goes, in place of the translation and rotation.
     pub follower: Option<Arc<dyn PoseFollower>>,
+}
+
+/// Two motions are equal when their translations and rotations are, and they follow the
+/// same follower (the same object, not an equal one).
+impl PartialEq for RigidMotion {
+    fn eq(&self, other: &Self) -> bool {
+        self.translation == other.translation
+            && self.rotation == other.rotation
+            && match (&self.follower, &other.follower) {
+                (None, None) => true,
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                _ => false,
+            }
+    }
 }
 
 impl RigidMotion {
