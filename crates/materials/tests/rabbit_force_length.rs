@@ -69,7 +69,7 @@ fn passive_parallel_element_matches_the_rabbit_data_in_size() {
     assert_eq!(points.len(), 111);
     let error = rms(points.iter().map(|&(strain_percent, force_percent)| {
         let stretch = p.optimal_stretch * (1.0 + strain_percent / 100.0);
-        let (stress, _) = parallel_element(1.0, p.parallel_factor, stretch);
+        let (stress, _) = parallel_element(1.0, p.parallel_factor, p.parallel_slack, stretch);
         stress - force_percent / 100.0
     }));
     println!(

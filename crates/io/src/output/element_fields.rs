@@ -2,7 +2,7 @@
 //! value per element over all blocks, in block order (the VTU cell order).
 //!
 //! Arrays written: `cauchy_stress` (and from it `von_mises`), `fiber_direction_current`,
-//! `activation` when any part's material has one (0 in passive parts), and one
+//! `fiber_stretch` (|F a₀|), `activation` when any part's material has one (0 in passive parts), and one
 //! `state_NAME` array per material state variable (characters other than letters, digits,
 //! `_`, `-` and `.` replaced by `_`; NaN in parts whose material does not
 //! carry it, so ParaView shows them as "no value").
@@ -20,6 +20,8 @@ use super::frame::Frame;
 pub struct ElementFieldArrays {
     pub cauchy_stress: Vec<VoigtStress>,
     pub fiber_direction: Vec<Vector3<f64>>,
+    /// Fiber stretch |F a₀| of each element [1] (1 in blocks without fields).
+    pub fiber_stretch: Vec<f64>,
     /// Activation of each element's material [1], if any material has one.
     pub activation: Option<Vec<f64>>,
     /// (`state_NAME`, value per element) for every state variable name of any material.
@@ -43,6 +45,7 @@ impl ElementFieldArrays {
         let mut arrays = ElementFieldArrays {
             cauchy_stress: vec![VoigtStress::zeros(); elements],
             fiber_direction: vec![Vector3::zeros(); elements],
+            fiber_stretch: vec![1.0; elements],
             activation: parts
                 .iter()
                 .any(|p| p.activation.is_some())
@@ -56,6 +59,7 @@ impl ElementFieldArrays {
             let range = first..first + part.cauchy_stress.len();
             arrays.cauchy_stress[range.clone()].copy_from_slice(&part.cauchy_stress);
             arrays.fiber_direction[range.clone()].copy_from_slice(&part.fiber_direction);
+            arrays.fiber_stretch[range.clone()].copy_from_slice(&part.fiber_stretch);
             if let (Some(values), Some(level)) = (&mut arrays.activation, part.activation) {
                 values[range.clone()].fill(level);
             }
@@ -85,7 +89,8 @@ impl ElementFieldArrays {
     pub fn attach<'a>(&'a self, frame: Frame<'a>) -> Frame<'a> {
         let mut frame = frame
             .with_cauchy_stress(&self.cauchy_stress)
-            .with_current_fiber_direction(&self.fiber_direction);
+            .with_current_fiber_direction(&self.fiber_direction)
+            .with_cell_scalar("fiber_stretch", &self.fiber_stretch);
         if let Some(activation) = &self.activation {
             frame = frame.with_cell_scalar("activation", activation);
         }

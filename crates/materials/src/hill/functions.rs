@@ -158,12 +158,13 @@ impl Activation {
     }
 }
 
-/// Parallel element stress σ_PE = σ₀ A (λ̄_f − 1)² for λ̄_f > 1, else 0 (seed Eqs. 5–6),
-/// and its derivative dσ_PE/dλ̄_f [Pa].
+/// Parallel element stress σ_PE = σ₀ A (λ̄_f − λ_PE)² for λ̄_f > λ_PE, else 0 (seed
+/// Eqs. 5–6 with the slack stretch λ_PE = `slack`, 1 in the paper), and its derivative
+/// dσ_PE/dλ̄_f [Pa].
 #[inline]
-pub fn parallel_element(sigma0: f64, a: f64, fiber_stretch: f64) -> (f64, f64) {
-    if fiber_stretch > 1.0 {
-        let e = fiber_stretch - 1.0;
+pub fn parallel_element(sigma0: f64, a: f64, slack: f64, fiber_stretch: f64) -> (f64, f64) {
+    if fiber_stretch > slack {
+        let e = fiber_stretch - slack;
         (sigma0 * a * e * e, 2.0 * sigma0 * a * e)
     } else {
         (0.0, 0.0)
@@ -287,9 +288,16 @@ mod tests {
 
     #[test]
     fn element_stresses_vanish_at_rest() {
-        assert_eq!(parallel_element(7e5, 4.0, 1.0), (0.0, 0.0));
-        assert_eq!(parallel_element(7e5, 4.0, 0.9), (0.0, 0.0));
-        let (s, ds) = parallel_element(7e5, 4.0, 1.1);
+        assert_eq!(parallel_element(7e5, 4.0, 1.0, 1.0), (0.0, 0.0));
+        assert_eq!(parallel_element(7e5, 4.0, 1.0, 0.9), (0.0, 0.0));
+        // A slack element starts later: at λ_PE = 1.1 the stress at 1.2 is the paper's
+        // at 1.1.
+        assert_eq!(parallel_element(7e5, 4.0, 1.1, 1.05), (0.0, 0.0));
+        let shifted = parallel_element(7e5, 4.0, 1.1, 1.2);
+        let paper = parallel_element(7e5, 4.0, 1.0, 1.1);
+        assert!((shifted.0 - paper.0).abs() < 1e-12 * paper.0);
+        assert!((shifted.1 - paper.1).abs() < 1e-12 * paper.1);
+        let (s, ds) = parallel_element(7e5, 4.0, 1.0, 1.1);
         assert!((s - 7e5 * 4.0 * 0.01).abs() < 1e-6 && (ds - 7e5 * 8.0 * 0.1).abs() < 1e-6);
         assert_eq!(series_elastic(10.0, 1e3, 1.0), 0.0);
     }

@@ -13,7 +13,8 @@
 //! direction, p = 2 (J − 1)/D.
 //!
 //! Fiber elements:
-//! - PE (Eqs. 5–6): σ_PE = σ₀ A (λ̄_f − 1)² for λ̄_f > 1, at the end of the step;
+//! - PE (Eqs. 5–6): σ_PE = σ₀ A (λ̄_f − 1)² for λ̄_f > 1, at the end of the step (a
+//!   parameter λ_PE, 1 by default, moves the slack stretch: σ₀ A (λ̄_f − λ_PE)² beyond it);
 //! - SEE in series with the CE: σ_SEE = β [exp(α (λ_s − 1)) − 1] (Eq. 8);
 //! - CE (Eq. 9): σ_CE = σ₀ f_λ(λ̄_f(t)/λ_opt) f_v(λ̇_m) f_t(t + Δt), f_λ at the start of the
 //!   step, f_t at the end, f_v of the CE stretch rate;
@@ -146,8 +147,12 @@ impl HillMuscle {
         };
         let local = local_equation.solve();
 
-        let (pe_stress, d_pe_stress) =
-            parallel_element(p.max_isometric_stress, p.parallel_factor, fiber_stretch);
+        let (pe_stress, d_pe_stress) = parallel_element(
+            p.max_isometric_stress,
+            p.parallel_factor,
+            p.parallel_slack,
+            fiber_stretch,
+        );
         PointSolution {
             split,
             reference_fiber: a0,

@@ -8,7 +8,7 @@ use crate::parameters::{Bound, ParameterSet, ParameterSpec};
 use Bound::{Exclusive, Inclusive, Unbounded};
 
 /// Declared parameters, defaults from Table 1 (activation: passive unless n2 > 0).
-pub const HILL_PARAMETERS: [ParameterSpec; 18] = [
+pub const HILL_PARAMETERS: [ParameterSpec; 19] = [
     ParameterSpec::new(
         "D",
         "1/Pa",
@@ -40,6 +40,14 @@ pub const HILL_PARAMETERS: [ParameterSpec; 18] = [
         Inclusive(0.0),
         Unbounded,
         "parallel element: sigma_PE = sigma0 A (lambda_f - 1)^2",
+    ),
+    ParameterSpec::new(
+        "lambda_pe",
+        "1",
+        1.0,
+        Exclusive(0.0),
+        Unbounded,
+        "parallel element slack stretch: sigma_PE = sigma0 A (lambda_f - lambda_pe)^2 beyond it (1 in the paper)",
     ),
     ParameterSpec::new(
         "sigma0",
@@ -160,6 +168,9 @@ pub struct HillParameters {
     pub matrix_stress: f64,
     /// Parallel element factor A [1].
     pub parallel_factor: f64,
+    /// Parallel element slack stretch λ_PE [1] (1 in the paper): the fiber stretch from
+    /// which the PE carries stress.
+    pub parallel_slack: f64,
     /// Maximum isometric stress σ₀ [Pa].
     pub max_isometric_stress: f64,
     /// SEE exponent α [1].
@@ -200,6 +211,7 @@ impl HillParameters {
             matrix_exponent: p.get("b")?,
             matrix_stress: p.get("c")?,
             parallel_factor: p.get("A")?,
+            parallel_slack: p.get("lambda_pe")?,
             max_isometric_stress: p.get("sigma0")?,
             see_exponent: p.get("alpha")?,
             see_stress: p.get("beta")?,

@@ -64,8 +64,9 @@ fn passive_energy(p: &HillParameters, f: &Matrix3<f64>, a0: &Vector3<f64>) -> f6
     let c = f.transpose() * f;
     let i1_bar = c.trace() * j.powf(-2.0 / 3.0);
     let fiber_stretch = (a0.dot(&(c * a0)) * j.powf(-2.0 / 3.0)).sqrt();
-    let pe = if fiber_stretch > 1.0 {
-        p.max_isometric_stress * p.parallel_factor * (fiber_stretch - 1.0).powi(3) / 3.0
+    let pe = if fiber_stretch > p.parallel_slack {
+        p.max_isometric_stress * p.parallel_factor * (fiber_stretch - p.parallel_slack).powi(3)
+            / 3.0
     } else {
         0.0
     };
@@ -97,10 +98,18 @@ fn reference_state_is_stress_free() {
 /// P = ∂W/∂F, by central differences of W (independent of the stress formulas).
 #[test]
 fn zero_activation_gives_the_hyperelastic_passive_response() {
-    let params = [("D", 1e-6)];
+    // The paper's parallel element, and one slack up to λ_PE = 1.08.
+    for slack in [1.0, 1.08] {
+        passive_response_is_the_energy_gradient(slack);
+    }
+}
+
+fn passive_response_is_the_energy_gradient(slack: f64) {
+    let params = [("D", 1e-6), ("lambda_pe", slack)];
     let m = hill(&params);
     let p = HillParameters {
         compressibility: 1e-6,
+        parallel_slack: slack,
         ..HillParameters::default()
     };
     let a0 = fiber();
