@@ -253,6 +253,8 @@ impl Muscle {
             per_side,
             radial,
             axial,
+            junctions: Vec::new(),
+            segment_layers: None,
         })
         .with_context(|| format!("meshing the {}", muscle.name()))?;
         Ok(Self {
