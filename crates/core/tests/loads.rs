@@ -221,7 +221,7 @@ fn implicit_a_predictor_frame_carries_the_body_and_changes_only_the_start() {
     };
     let plain = ImplicitSettings::new(1.0, 6);
     let mut carried = plain.clone();
-    carried.predictor_frame = Some(frame.clone());
+    carried.predictor_frame = Some(Box::new(frame.clone()));
     let without = run_quasi_static(&mesh, &parts(), &loads, &plain).expect("converges");
     let with = run_quasi_static(&mesh, &parts(), &loads, &carried).expect("converges");
     for (n, ((a, b), x)) in without

@@ -95,8 +95,9 @@ pub struct ImplicitSettings {
     /// better first guess than the positions at t: sliding contact on the moving body
     /// otherwise sees the body jump by the increment's motion, and the predictor answers
     /// through the soft tangential directions with large, distorting moves. Only Newton's
-    /// starting point changes; the converged states are the same.
-    pub predictor_frame: Option<super::RigidMotion>,
+    /// starting point changes; the converged states are the same. (Boxed: a rigid motion
+    /// is large, and the settings travel inside enums.)
+    pub predictor_frame: Option<Box<super::RigidMotion>>,
 }
 
 impl ImplicitSettings {
