@@ -12,7 +12,7 @@
 //!   fusiform muscle (see the library's `elongation` module).
 
 // Every crate that registers materials with `inventory` must be named here, or the
-// linker may drop its registrations (see DESIGN.md, "Two traps").
+// linker may drop its registrations (see docs/design.md, "Two traps").
 use musclefem_contact as _;
 use musclefem_core as _;
 use musclefem_io as _;

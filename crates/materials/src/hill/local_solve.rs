@@ -6,7 +6,7 @@
 //! Let Δλ_s = λ_s(t+Δt) − λ_s(t), σ_s = σ_SEE(t), and T = Δt λ̇_m^min (< 0).
 //!
 //! - SEE (Eq. 7): σ_SEE(t+Δt) = (σ_s + β) e^{αΔλ_s} − β.
-//! - Length relation (Eq. 19 read as in DESIGN.md): (1 + k) λ̄_f = λ_m + k λ_s at t and
+//! - Length relation (Eq. 19 read as in docs/design.md): (1 + k) λ̄_f = λ_m + k λ_s at t and
 //!   t+Δt, so Δλ_m = w₁ − k Δλ_s with w₁ = (1 + k) λ̄_f(t+Δt) − λ_m(t) − k λ_s(t), and the
 //!   CE rate (backward Euler) is λ̇_m = (w₁ − k Δλ_s)/Δt, i.e. r = λ̇_m/λ̇_m^min =
 //!   (w₁ − k Δλ_s)/T.

@@ -1,6 +1,6 @@
 //! Hill-type hyperelastic active muscle (seed §2.1, Eqs. 1–23, Table 1).
 //!
-//! Strain energy W = W_I + W_f + W_V (Eq. 1), with the readings fixed by DESIGN.md:
+//! Strain energy W = W_I + W_f + W_V (Eq. 1), with the readings fixed in docs/design.md:
 //!
 //! - matrix: W_I = c [exp(b (Ī₁ − 3)) − 1] (the printed bracket of Eq. 2 is a slip);
 //! - fiber: W_f = ∫₁^λ̄_f (σ_PE + σ_SEE) dλ (Eq. 3), so σ_PE + σ_SEE = ∂W_f/∂λ̄_f is a
@@ -23,7 +23,7 @@
 //!
 //! State per point: λ_m, λ_s, σ_SEE (in that order), initially 1, 1, 0.
 //!
-//! Interpretations beyond DESIGN.md, made here:
+//! Interpretations beyond docs/design.md, made here:
 //! - the reference fiber direction is normalised before use;
 //! - the state written at the end of the step satisfies the length relation exactly:
 //!   λ_m(t+Δt) = (1 + k) λ̄_f(t+Δt) − k λ_s(t+Δt);

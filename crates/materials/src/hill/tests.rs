@@ -137,7 +137,7 @@ fn passive_response_is_the_energy_gradient(slack: f64) {
     }
 }
 
-/// Isometric hold at λ = 1 with full activation (DESIGN.md): the SEE stretches until
+/// Isometric hold at λ = 1 with full activation (docs/design.md): the SEE stretches until
 /// σ_SEE = σ₀ f_λ(1/λ_opt), i.e. λ_s = 1 + ln(1 + σ₀ f_λ/β)/α ≈ 1.654, λ_m ≈ 0.804.
 #[test]
 fn isometric_hold_reaches_the_see_ce_equilibrium() {
