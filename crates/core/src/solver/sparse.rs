@@ -77,6 +77,9 @@ pub(crate) struct SparseSystem {
     /// good preconditioner (the last conjugate-gradient solve with it took at most
     /// [`FactorReuse::refactor_above`] iterations).
     cholesky_is_fresh: bool,
+    /// For every stored entry (r, c), where (c, r) is stored (`None` until an unsymmetric
+    /// K is first shifted; `Some(empty)` when the pattern is not symmetric).
+    transpose: Option<Vec<usize>>,
     statistics: LinearSolveStatistics,
 }
 
@@ -205,6 +208,7 @@ impl SparseSystem {
             llt: None,
             lu: None,
             cholesky_is_fresh: false,
+            transpose: None,
             statistics: LinearSolveStatistics::default(),
         }
     }
@@ -269,6 +273,8 @@ impl SparseSystem {
     /// term m c [N/m]), an indefinite K is first retried as K + (s − 1) M c for s = 4, 16
     /// and 64, the tangents of increments 2, 4 and 8 times shorter, with the first that
     /// Cholesky accepts (see [`MASS_SHIFTS`]); LBLᵀ follows on K itself when none does.
+    /// An unsymmetric K is shifted when its symmetric part is indefinite
+    /// ([`Self::factorize_lu_mass_shifted`]).
     pub fn solve(
         &mut self,
         rhs: &mut [f64],
@@ -309,6 +315,9 @@ impl SparseSystem {
                 Err(e) => symmetric_errors = Some((cholesky_error, e)),
             }
         }
+        if let (false, Some((positions, masses))) = (symmetric, mass_shift) {
+            return self.factorize_lu_mass_shifted(rhs, positions, masses);
+        }
         self.factorize_lu(rhs)
             .map_err(|e| match &symmetric_errors {
                 Some((c, b)) => {
@@ -346,6 +355,100 @@ impl SparseSystem {
             values[position] -= added * mass;
         }
         false
+    }
+
+    /// LU of an unsymmetric K, shifted by the mass where K is indefinite along its own
+    /// correction x = K⁻¹ b (xᵀ b = xᵀ K x ≤ 0). Then, as a symmetric K is shifted when
+    /// Cholesky finds it indefinite, K + (s − 1) M c is factorized by LU with the first of
+    /// the [`MASS_SHIFTS`] s
+    /// whose symmetric part Cholesky accepts (the matrix left shifted, as in
+    /// [`Self::factorize_mass_shifted`]), K itself when none does. Without this an
+    /// unsymmetric tangent (sliding interfaces and contact along smooth normals) lost the
+    /// protection the mass shift gives the symmetric one: on the active knee squat,
+    /// single corrections that raised the residual to 1e200. (Testing the symmetric part
+    /// at every solve instead shifted the passive squat's tangents from the start, and
+    /// its increments fell from 20 ms to 1 ms.)
+    fn factorize_lu_mass_shifted(
+        &mut self,
+        rhs: &mut [f64],
+        positions: &[usize],
+        masses: &[f64],
+    ) -> Result<Factorization, String> {
+        let b = rhs.to_vec();
+        self.factorize_lu(rhs)
+            .map_err(|e| format!("LU failed ({e})"))?;
+        // Positive curvature along K's own correction (xᵀ K x = xᵀ b > 0): take it.
+        if rhs.iter().zip(&b).map(|(x, b)| x * b).sum::<f64>() > 0.0 {
+            return Ok(Factorization::Lu);
+        }
+        rhs.copy_from_slice(&b);
+        let mut shift_used = 0.0;
+        for shift in [1.0].into_iter().chain(MASS_SHIFTS) {
+            match self.symmetric_part_is_definite(positions, masses, shift - 1.0) {
+                Some(true) => {
+                    shift_used = shift - 1.0;
+                    break;
+                }
+                Some(false) => continue,
+                // A pattern that is not symmetric: no test, K itself.
+                None => break,
+            }
+        }
+        if shift_used > 0.0 {
+            let values = self.matrix.val_mut();
+            for (&position, &mass) in positions.iter().zip(masses) {
+                values[position] += shift_used * mass;
+            }
+            self.statistics.mass_shifted_factorizations += 1;
+        }
+        self.factorize_lu(rhs)
+            .map_err(|e| format!("LU failed ({e})"))?;
+        Ok(Factorization::Lu)
+    }
+
+    /// Whether Cholesky accepts ½(K + Kᵀ) + `added` M c (`None` when the pattern is not
+    /// symmetric); K is left as it was.
+    fn symmetric_part_is_definite(
+        &mut self,
+        positions: &[usize],
+        masses: &[f64],
+        added: f64,
+    ) -> Option<bool> {
+        if self.transpose.is_none() {
+            let symbolic = self.matrix.symbolic();
+            let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+            let mut transpose = Vec::with_capacity(row_idx.len());
+            for column in 0..self.size() {
+                for &row in &row_idx[col_ptr[column]..col_ptr[column + 1]] {
+                    match self.find(column, row) {
+                        Some(p) => transpose.push(p),
+                        None => {
+                            transpose.clear();
+                            break;
+                        }
+                    }
+                }
+            }
+            self.transpose = Some(transpose);
+        }
+        let transpose = self.transpose.take().expect("just built");
+        if transpose.is_empty() {
+            self.transpose = Some(transpose);
+            return None;
+        }
+        let original = self.matrix.val().to_vec();
+        let values = self.matrix.val_mut();
+        for (p, &t) in transpose.iter().enumerate() {
+            values[p] = 0.5 * (original[p] + original[t]);
+        }
+        for (&position, &mass) in positions.iter().zip(masses) {
+            values[position] += added * mass;
+        }
+        let mut scratch = vec![0.0; self.size()];
+        let definite = self.factorize_cholesky(&mut scratch).is_ok();
+        self.matrix.val_mut().copy_from_slice(&original);
+        self.transpose = Some(transpose);
+        Some(definite)
     }
 
     /// Statistics of the solves so far.

@@ -289,3 +289,46 @@ fn a_tangent_no_mass_shift_makes_definite_is_solved_as_it_is() {
     let error = x.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
     assert!(error < 1e-12, "{error}");
 }
+
+/// An unsymmetric K with one diagonal entry −1 and a mass term of 1 per equation, and
+/// b = e₅: K's own correction has negative curvature (x₅ < 0), its symmetric part is
+/// indefinite and that of K + 3 M c is not, so the correction is taken from K + 3 M c by
+/// LU; a definite one is solved as it is.
+#[test]
+fn an_unsymmetric_tangent_with_an_indefinite_symmetric_part_is_shifted_by_the_mass() {
+    let entry = |r: usize, c: usize| match (r == c, r) {
+        (true, 5) => -1.0,
+        (true, _) => 4.0,
+        _ => coupling(r, c) * if r < c { 2.0 } else { 0.5 },
+    };
+    let mut system = one_hex_system();
+    fill(&mut system, entry);
+    let positions: Vec<usize> = (0..24).map(|e| system.position(e, e)).collect();
+    let masses = vec![1.0; 24];
+    let b: Vec<f64> = (0..24).map(|r| if r == 5 { 1.0 } else { 0.0 }).collect();
+    let mut x = b.clone();
+    let used = system
+        .solve(&mut x, false, None, Some((&positions, &masses)))
+        .unwrap();
+    assert_eq!(used, Factorization::Lu);
+    assert_eq!(system.statistics().mass_shifted_factorizations, 1);
+    assert!(x[5] > 0.0, "{x:?}");
+    for (row, &b) in b.iter().enumerate() {
+        let shifted: f64 = (0..24)
+            .map(|c| (entry(row, c) + if row == c { 3.0 } else { 0.0 }) * x[c])
+            .sum();
+        assert!(
+            (shifted - b).abs() < 1e-12,
+            "row {row}: {shifted} against {b}"
+        );
+    }
+    // A definite unsymmetric K (diagonal 4): LU of K itself, the exact solution of K x = K 1.
+    let definite = |r: usize, c: usize| if r == c { 4.0 } else { entry(r, c) };
+    let mut system = one_hex_system();
+    let mut x = fill(&mut system, definite);
+    system
+        .solve(&mut x, false, None, Some((&positions, &masses)))
+        .unwrap();
+    assert_eq!(system.statistics().mass_shifted_factorizations, 0);
+    assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-12), "{x:?}");
+}
