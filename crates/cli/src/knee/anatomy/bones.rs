@@ -41,7 +41,8 @@ use super::dimensions::{
     PATELLA_SEMI_AXES, TUBEROSITY,
 };
 use super::implicit::{
-    Grid, capsule, ellipse, marching_tetrahedra, rounded_disc, smooth_min, smooth_subtract, sphere,
+    Grid, capsule, ellipse, marching_tetrahedra, relax_on_surface, rounded_disc, smooth_max,
+    smooth_min, smooth_subtract, sphere,
 };
 use super::surface::TriangleSurface;
 
@@ -81,6 +82,9 @@ impl Bones {
                 SHAFT_COARSENING,
             ),
         )?;
+        let (mut femur, mut tibia) = (femur, tibia);
+        relax_on_surface(&mut femur, femur_distance, RELAXATION_ROUNDS);
+        relax_on_surface(&mut tibia, tibia_distance, RELAXATION_ROUNDS);
         let around = (2.0 * std::f64::consts::PI * PATELLA_SEMI_AXES[0] / spacing).ceil() as usize;
         Ok(Self {
             femur,
@@ -89,6 +93,10 @@ impl Bones {
         })
     }
 }
+
+/// Rounds of [`relax_on_surface`] on the femur and tibia: the muscles slide on the femur
+/// along its vertex normals, which slivers would scatter.
+const RELAXATION_ROUNDS: usize = 6;
 
 /// How much coarser the bones' grids are along the shafts than at the knee.
 const SHAFT_COARSENING: f64 = 3.0;
@@ -118,22 +126,19 @@ fn shaft_centre(y: f64) -> (f64, f64) {
 pub fn femur_distance(p: &Vector3<f64>) -> f64 {
     let q = p / MM;
     let (x, y, z) = (q.x, q.y, q.z);
-    // Shaft, y ∈ [90, 410] (below, the metaphysis carries the same section).
+    // Shaft and metaphysis, one elliptic section swept along y ∈ [5, 410]: the round
+    // shaft above y = 95 mm; below, the metaphysis flaring (smoothly: the smoothstep's
+    // slope vanishes at 95 mm) to AP semi-axis 22 mm and ML 38 mm at y = 5 mm, its
+    // anterior kept on the anterior line, its centre sliding from the shaft's to z = 0.
+    // (Two solids joined by a smooth minimum there left a 1.5 mm ring where the vasti
+    // slide.)
     let (cx, cz) = shaft_centre(y);
-    let mut d = ellipse(x - cx, z - cz, 14.0, 14.0)
-        .max(90.0 - y)
-        .max(y - 410.0);
-    // Metaphysis, y ∈ [5, 95]: AP semi-axis 14 → 22 mm, ML 14 → 38 mm, anterior kept on
-    // the anterior line, centre sliding from the shaft's to z = 0.
     let t = ((95.0 - y) / 85.0).clamp(0.0, 1.0);
     let s = t * t * (3.0 - 2.0 * t);
     let (ap, ml) = (14.0 + 8.0 * s, 14.0 + 24.0 * s);
-    let centre_x = shaft_centre(y).0 + 14.0 - ap;
-    let centre_z = shaft_centre(y).1 * (1.0 - s);
-    let metaphysis = ellipse(x - centre_x, z - centre_z, ap, ml)
+    let mut d = ellipse(x - (cx + 14.0 - ap), z - cz * (1.0 - s), ap, ml)
         .max(5.0 - y)
-        .max(y - 95.0);
-    d = smooth_min(d, metaphysis, 6.0);
+        .max(y - 410.0);
     // Condyles: discs of the condyle radius about the flexion axis.
     let r = CONDYLE_RADIUS / MM;
     let condyles = rounded_disc(&q, [0.0, 0.0], r, [10.0, 40.0], 5.0).min(rounded_disc(
@@ -149,8 +154,10 @@ pub fn femur_distance(p: &Vector3<f64>) -> f64 {
     let (gx, gy) = (GROOVE_CENTRE[0] / MM, GROOVE_CENTRE[1] / MM);
     let trochlea = ((x - gx).hypot(y - gy) - (GROOVE_RADIUS / MM + facet_rise(z)))
         .max(2.0 - x)
-        .max(-19.0 - y)
-        .max((z - 2.0).abs() - 38.0);
+        .max(-19.0 - y);
+    // Its lateral and medial ends rounded (radius ~4 mm): the vasti's tendons slide over
+    // them in deep flexion.
+    let trochlea = smooth_max(trochlea, (z - 2.0).abs() - 38.0, 4.0);
     d = smooth_min(d, trochlea, 1.0);
     // Epicondyles, on the flexion axis: 90 mm from tip to tip.
     let epicondyles = sphere(&q, &Vector3::new(0.0, 0.0, 37.0), 8.0).min(sphere(
@@ -160,7 +167,7 @@ pub fn femur_distance(p: &Vector3<f64>) -> f64 {
     ));
     d = smooth_min(d, epicondyles, 4.0);
     // Intercondylar notch.
-    let notch = (z.abs() - 10.0).max(x - 5.0).max(y + 2.0);
+    let notch = smooth_max(smooth_max(z.abs() - 10.0, x - 5.0, 2.0), y + 2.0, 2.0);
     d = smooth_subtract(d, notch, 3.0);
     // Neck, head and trochanters.
     let head = HIP_CENTRE / MM;
@@ -319,4 +326,27 @@ mod tests {
     fn mm(x: f64, y: f64, z: f64) -> Vector3<f64> {
         super::super::dimensions::mm(x, y, z)
     }
+}
+
+/// The unit outward normals ∇f/|∇f| of the implicit solid `f` at the vertices of its
+/// `surface` (central differences of 1 µm): the shape's own normals, smoother than its
+/// facets' (see `musclefem_contact::RigidSurface::with_vertex_normals`).
+pub fn implicit_normals(
+    surface: &TriangleSurface,
+    f: impl Fn(&Vector3<f64>) -> f64,
+) -> Vec<Vector3<f64>> {
+    let h = 1e-6;
+    surface
+        .vertices
+        .iter()
+        .map(|x| {
+            Vector3::from_fn(|k, _| {
+                let mut e = Vector3::zeros();
+                e[k] = h;
+                (f(&(x + e)) - f(&(x - e))) / (2.0 * h)
+            })
+            .try_normalize(0.0)
+            .unwrap_or_else(Vector3::y)
+        })
+        .collect()
 }

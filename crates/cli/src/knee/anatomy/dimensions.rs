@@ -93,3 +93,9 @@ pub const TENDON_WRAP_OFFSET: f64 = 2.5 * MM;
 /// (Trotter & Gleser 1952, Am J Phys Anthropol 10:463: stature = 2.38 × femur length
 /// + 61.4 cm gives 498 mm for the 1.80 m Visible Human Male).
 pub const HIP_CENTRE: Vector3<f64> = mm(10.0, 445.0, -5.0);
+
+/// The pin of the closed-chain squat at the tibia's distal end [m], in the tibia's frame
+/// (the global frame at 0°): the centre of the tibia's distal articular surface, 398 mm
+/// below the flexion axis (the tibia of [`super::bones`] ends there; adult male tibiae
+/// are 370–420 mm long).
+pub const ANKLE: Vector3<f64> = mm(1.0, -398.0, 0.0);

@@ -32,7 +32,7 @@ use super::{Anatomy, TriangleSurface};
 pub fn write_anatomy(anatomy: &Anatomy, directory: &Path, angles_degrees: &[f64]) -> Result<()> {
     std::fs::create_dir_all(directory)
         .with_context(|| format!("creating {}", directory.display()))?;
-    let mesh = anatomy.muscle_mesh();
+    let (mesh, _) = anatomy.muscle_mesh();
     let displacement = vec![Vector3::zeros(); mesh.node_count()];
     write_vtu(
         &directory.join("muscles.vtu"),

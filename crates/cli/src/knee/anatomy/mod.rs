@@ -13,6 +13,8 @@
 //! - [`muscles`]: VI, VL, VM and RF as swept solids and meshes, volume-matched to the
 //!   Visible Human;
 //! - [`moment_arms`]: musculotendon lengths and moment arms r = dL/dθ;
+//! - [`closed_chain`]: the paper's closed-chain squat: ankle pinned, pelvis moved
+//!   vertically, hip flexing with the knee;
 //! - [`squat`]: θ(t) for 0° → 90° → 0° and the bones' [`RigidMotion`]s;
 //! - [`tendon`]: the patellar tendon's toe-then-linear spring and its stiffness source;
 //! - [`export`]: the anatomy at a flexion angle as STL and VTU files.
@@ -24,6 +26,7 @@
 //! [`RigidMotion`]: musclefem_core::solver::RigidMotion
 
 pub mod bones;
+pub mod closed_chain;
 pub mod dimensions;
 pub mod export;
 pub mod implicit;
@@ -41,8 +44,9 @@ use nalgebra::Vector3;
 use musclefem_core::mesh::Mesh;
 
 pub use bones::Bones;
+pub use closed_chain::{ClosedChain, LegPose};
 pub use kinematics::{KneeKinematics, PatellaPose};
-pub use muscles::{Muscle, Quadriceps};
+pub use muscles::{BlockRole, Muscle, Quadriceps, Tissue};
 pub use squat::{BoneMotions, Squat};
 pub use surface::TriangleSurface;
 pub use tendon::TendonSpring;
@@ -53,13 +57,15 @@ use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Resolution {
     /// 4 × 4 O-grid cells inside 1 ring (32 per section), 12 layers: 384 hex8 per
-    /// muscle, 1536 in all; bones on a 3 mm grid at the knee (9 mm along the shafts).
+    /// muscle belly, 1536 in all, and 832 in the tendons; bones on a 3 mm grid at the knee
+    /// (9 mm along the shafts).
     Coarse,
-    /// 6 × 6 inside 2 rings (84 per section), 28 layers: 2352 per muscle, 9408 in all;
-    /// bones on a 2 mm grid at the knee (6 mm along the shafts).
+    /// 6 × 6 inside 2 rings (84 per section), 28 layers: 2352 per muscle belly, 9408 in
+    /// all, plus the tendons; bones on a 2 mm grid at the knee (6 mm along the shafts).
     Medium,
-    /// 8 × 8 inside 3 rings (160 per section), 56 layers: 8960 per muscle, 35 840 in
-    /// all; bones on a 1.5 mm grid at the knee (4.5 mm along the shafts).
+    /// 8 × 8 inside 3 rings (160 per section), 56 layers: 8960 per muscle belly, 35 840
+    /// in all, plus the tendons; bones on a 1.5 mm grid at the knee (4.5 mm along the
+    /// shafts).
     Fine,
 }
 
@@ -73,14 +79,14 @@ impl Resolution {
         }
     }
 
-    /// Muscle elements per muscle: (n² + 4 n r) per section × layers, for n × n O-grid
-    /// cells inside r rings.
+    /// Elements per muscle belly: (n² + 4 n r) per section × layers, for n × n O-grid
+    /// cells inside r rings (the tendons are meshed at the same density beyond).
     pub fn elements_per_muscle(self) -> usize {
         let (cells, rings, layers) = self.muscle_divisions();
         (cells * cells + 4 * cells * rings) * layers
     }
 
-    /// Mean muscle element size [m]: (V / N)^(1/3) for the four muscles' Visible Human
+    /// Mean muscle element size [m]: (V / N)^(1/3) for the four bellies' Visible Human
     /// volume V and their N elements (coarse 12.8 mm, medium 7.0 mm, fine 4.5 mm).
     pub fn mean_element_size(self) -> f64 {
         let volume: f64 = Quadriceps::ALL
@@ -174,9 +180,9 @@ impl Anatomy {
             .expect("the default knee has all four quadriceps")
     }
 
-    /// The four muscles' meshes as one mesh with four blocks (see
-    /// [`muscles::combined_mesh`]).
-    pub fn muscle_mesh(&self) -> Mesh {
+    /// The four muscles' meshes as one mesh, the bellies first, and every block's role
+    /// (see [`muscles::combined_mesh`]).
+    pub fn muscle_mesh(&self) -> (Mesh, Vec<BlockRole>) {
         muscles::combined_mesh(&self.muscles)
     }
 }

@@ -19,8 +19,8 @@
 
 use anyhow::Result;
 
-use super::dimensions::PATELLAR_TENDON_LENGTH;
-use super::kinematics::{KneeKinematics, PatellaPose};
+use super::dimensions::{HIP_CENTRE, PATELLAR_TENDON_LENGTH};
+use super::kinematics::{KneeKinematics, PatellaPose, flexion_rotation};
 use super::muscles::Muscle;
 use super::path::free_path;
 
@@ -83,5 +83,43 @@ pub fn moment_arms_at(
         .iter()
         .zip(&behind)
         .map(|(a, b)| (a.total - b.total) / (2.0 * DIFFERENCE_STEP))
+        .collect())
+}
+
+/// How much hip flexion `hip` [rad] changes the musculotendon length of `muscle` [m]
+/// (negative: shortens), for a muscle whose origin is on the pelvis (the rectus femoris):
+/// the pelvis turns by R(hip) about the hip centre relative to the femur (forward and
+/// down, see [`super::closed_chain`]), which moves the origin,
+/// and the path from it to the first femur-fixed station (a straight line) changes by
+/// |H + R(hip)(O − H) − S₁| − |O − S₁|, R the flexion rotation. Zero for a muscle whose
+/// origin is on the femur.
+pub fn hip_length_change(muscle: &Muscle, hip: f64) -> f64 {
+    if muscle.muscle != super::Quadriceps::RectusFemoris {
+        return 0.0;
+    }
+    let origin = muscle.stations[0].centre;
+    let first = muscle.stations[1].centre;
+    let moved = HIP_CENTRE + flexion_rotation(hip) * (origin - HIP_CENTRE);
+    (moved - first).norm() - (origin - first).norm()
+}
+
+/// The mean fiber stretch of each muscle's belly when the squat reaches knee flexion
+/// `angle` [rad] (the hip flexing with it, as in [`super::closed_chain`]):
+/// λ = 1 + ΔL / L_belly, ΔL the musculotendon length change from 0° (the tendons taken
+/// as inextensible) and L_belly the belly's centreline length.
+pub fn belly_stretch_in_squat(
+    kinematics: &KneeKinematics,
+    muscles: &[Muscle],
+    angle: f64,
+) -> Result<Vec<f64>> {
+    let extended = lengths_at(kinematics, muscles, 0.0)?;
+    let flexed = lengths_at(kinematics, muscles, angle)?;
+    Ok(muscles
+        .iter()
+        .zip(extended.iter().zip(&flexed))
+        .map(|(m, (a, b))| {
+            let change = b.total - a.total + hip_length_change(m, angle);
+            1.0 + change / (m.belly.1 - m.belly.0)
+        })
         .collect())
 }

@@ -30,6 +30,16 @@
 //! on the patella at 0° of flexion (1 mm proximal to the insertion point on the base)
 //! and every muscle's semi-axes are rescaled at construction so the volume matches
 //! exactly. Fibers run along the centreline.
+//!
+//! **Tendons** ([`Quadriceps::tendon_layout`]). Below its muscle–tendon junction each
+//! muscle goes on as tendinous tissue to the patella: its lamina of the quadriceps tendon
+//! with the distal aponeurosis that gathers the fibers (the vasti's segmentations end
+//! 0–40 mm above the patella, the rectus femoris's about 80 mm above it: the Visible Human
+//! Female data's README, `../shared/data/visible_human_female_right/`). The rectus starts
+//! with its direct tendon from the anterior inferior iliac spine. The solid stays one
+//! swept solid with a layer of nodes at each junction; the mesh has a block per segment:
+//! `<muscle>` (the belly, muscle material) and `<muscle>_tendon` (and
+//! `<muscle>_origin_tendon`), the belly alone volume-matched to the Visible Human.
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
@@ -37,7 +47,7 @@ use nalgebra::Vector3;
 use musclefem_core::mesh::generate::{
     SweptMuscleSpec, SweptSolid, SweptStation, swept_muscle_mesh,
 };
-use musclefem_core::mesh::{ElementRef, Face, Mesh};
+use musclefem_core::mesh::{ElementBlock, ElementRef, Face, Mesh};
 
 use super::Resolution;
 use super::dimensions::{MM, PATELLA_SEMI_AXES, mm};
@@ -138,6 +148,45 @@ impl Quadriceps {
     }
 }
 
+/// Where a muscle's tendinous parts are, as heights y in the femur's frame [m] (the
+/// stations run down y from the origin to the insertion).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TendonLayout {
+    /// The origin's tendon reaches down to this height, where the belly begins (`None`: a
+    /// fleshy origin, the belly starts at the origin).
+    pub origin_tendon_end: Option<f64>,
+    /// The muscle–tendon junction: the belly ends here, the tendon runs on to the patella.
+    pub junction: f64,
+}
+
+/// What a block of a muscle's mesh is made of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Tissue {
+    /// The belly: the Hill muscle.
+    Muscle,
+    /// Tendon or aponeurosis.
+    Tendon,
+}
+
+impl Quadriceps {
+    /// The muscle's tendons (see the module documentation): the vasti's junctions 40 mm
+    /// (VI, VL) and 20 mm (VM, whose oblique fibres reach lowest) above the patella's
+    /// base (y ≈ 49 mm at 0°), the rectus femoris's 80 mm above it, and its direct tendon
+    /// from the spine the first 42 mm below the origin (y = 482 → 440 mm).
+    pub fn tendon_layout(self) -> TendonLayout {
+        let (origin_tendon_end, junction) = match self {
+            Quadriceps::VastusIntermedius => (None, 89.0),
+            Quadriceps::VastusLateralis => (None, 89.0),
+            Quadriceps::VastusMedialis => (None, 69.0),
+            Quadriceps::RectusFemoris => (Some(440.0), 129.0),
+        };
+        TendonLayout {
+            origin_tendon_end: origin_tendon_end.map(|y| y * MM),
+            junction: junction * MM,
+        }
+    }
+}
+
 /// A table row: centre [mm], width direction, half-width, half-thickness [mm].
 type Station = ([f64; 3], [f64; 3], f64, f64);
 
@@ -175,13 +224,16 @@ const VASTUS_MEDIALIS: &[Station] = &[
     ([42.0, 58.0, -29.0], [0.8, 0.0, -0.6], 14.0, 9.0),
 ];
 
+/// The rectus's belly stations sit 1 mm further forward than the 2.5 mm rule placed them:
+/// with its belly alone volume-matched (the tendons left out) its sections grew by 4 %.
+/// The release station (y = 105 mm), which sets its moment arm, stays.
 const RECTUS_FEMORIS: &[Station] = &[
     ([40.0, 482.0, 20.0], [0.0, 0.0, 1.0], 7.0, 5.0),
-    ([63.5, 390.0, 36.9], [0.0, 0.0, 1.0], 23.3, 12.8),
-    ([85.8, 330.0, 32.5], [0.0, 0.0, 1.0], 30.2, 16.3),
-    ([100.7, 270.0, 26.1], [0.0, 0.0, 1.0], 30.2, 17.4),
-    ([101.9, 210.0, 17.7], [0.0, 0.0, 1.0], 25.6, 15.1),
-    ([92.9, 150.0, 9.3], [0.0, 0.0, 1.0], 18.6, 10.5),
+    ([64.5, 390.0, 36.9], [0.0, 0.0, 1.0], 23.3, 12.8),
+    ([86.8, 330.0, 32.5], [0.0, 0.0, 1.0], 30.2, 16.3),
+    ([101.7, 270.0, 26.1], [0.0, 0.0, 1.0], 30.2, 17.4),
+    ([102.9, 210.0, 17.7], [0.0, 0.0, 1.0], 25.6, 15.1),
+    ([93.9, 150.0, 9.3], [0.0, 0.0, 1.0], 18.6, 10.5),
     ([74.9, 105.0, 4.5], [0.0, 0.0, 1.0], 12.8, 7.0),
     ([65.4, 75.0, 1.6], [0.0, 0.0, 1.0], 9.3, 5.2),
 ];
@@ -203,9 +255,16 @@ pub struct Muscle {
     pub release: usize,
     /// Centreline length from the origin to the release station [m].
     pub fixed_length: f64,
-    /// The hex8 mesh: block [`Quadriceps::name`], sets `origin`, `insertion`, `lateral`,
-    /// `outer`, `all` (see `swept_muscle_mesh`).
+    /// Arclengths [m] of the belly's start (0 for a fleshy origin) and end (the
+    /// muscle–tendon junction).
+    pub belly: (f64, f64),
+    /// The hex8 mesh, a block per segment from the origin: [`Quadriceps::name`] for the
+    /// belly, `<name>_tendon` below it, `<name>_origin_tendon` above it; sets `origin`,
+    /// `insertion`, `lateral`, `outer`, `all` (see `swept_muscle_mesh`) and the node sets
+    /// `belly_start` and `belly_end` (the belly's end sections).
     pub mesh: Mesh,
+    /// The tissue of each block of `mesh`.
+    pub tissues: Vec<Tissue>,
 }
 
 impl Muscle {
@@ -229,11 +288,19 @@ impl Muscle {
             half_width: half_width * MM,
             half_thickness: half_thickness * MM,
         });
-        // Scale the belly's semi-axes (not the end sections) until ∫πab ds is the VHM's.
+        let layout = muscle.tendon_layout();
+        let centreline = SweptSolid::new(&stations)?;
+        let at_height = |y: f64| arclength_at_height(&centreline, y);
+        let belly = (
+            layout.origin_tendon_end.map_or(0.0, at_height),
+            at_height(layout.junction),
+        );
+        // Scale the semi-axes (not the end sections) until the belly's ∫πab ds is the
+        // VHM's (the centreline, and with it the junctions' arclengths, stays).
         let last = stations.len() - 1;
         let target = muscle.visible_human_volume();
         for _ in 0..8 {
-            let volume = SweptSolid::new(&stations)?.volume();
+            let volume = SweptSolid::new(&stations)?.volume_between(belly.0, belly.1);
             let scale = (target / volume).sqrt();
             for s in &mut stations[1..last] {
                 s.half_width *= scale;
@@ -246,25 +313,55 @@ impl Muscle {
             .position(|s| (s.0[1] * MM - RELEASE_HEIGHT).abs() < 1e-9)
             .context("no station at the release height")?;
         let fixed_length = solid.station_arclengths()[release];
-        let (per_side, radial, axial) = resolution.muscle_divisions();
-        let mesh = swept_muscle_mesh(&SweptMuscleSpec {
+        let (per_side, radial, belly_layers) = resolution.muscle_divisions();
+        // The belly keeps the resolution's layers; the tendons get as many layers per
+        // section size they span (the measure the layers are graded by) as the belly. With
+        // half as many (coarse: 2 layers of 20–25 mm from the vasti's junctions to the
+        // patella) the tendons' nodes, the only points of their contact with the femur,
+        // popped in and out of the trochlea as the tendons wrapped it, and Newton's method
+        // stalled in deep flexion.
+        let density = belly_layers as f64 / solid.section_sizes_between(belly.0, belly.1);
+        let tendon_layers = |from: f64, to: f64| {
+            ((density * solid.section_sizes_between(from, to)).ceil() as usize).max(1)
+        };
+        let mut junctions = Vec::new();
+        let mut segment_layers = Vec::new();
+        if belly.0 > 0.0 {
+            junctions.push(belly.0);
+            segment_layers.push(tendon_layers(0.0, belly.0));
+        }
+        junctions.push(belly.1);
+        segment_layers.push(belly_layers);
+        segment_layers.push(tendon_layers(belly.1, solid.length()));
+        let swept = swept_muscle_mesh(&SweptMuscleSpec {
             name: muscle.name().to_string(),
             stations: stations.clone(),
             per_side,
             radial,
-            axial,
-            junctions: Vec::new(),
-            segment_layers: None,
+            axial: belly_layers,
+            junctions,
+            segment_layers: Some(segment_layers),
         })
         .with_context(|| format!("meshing the {}", muscle.name()))?;
+        let (mesh, tissues) = split_into_segments(swept, muscle, belly.0 > 0.0)?;
         Ok(Self {
             muscle,
             stations,
             solid,
             release,
             fixed_length,
+            belly,
             mesh,
+            tissues,
         })
+    }
+
+    /// The index of the belly's block in [`Muscle::mesh`].
+    pub fn belly_block(&self) -> usize {
+        self.tissues
+            .iter()
+            .position(|&t| t == Tissue::Muscle)
+            .expect("every muscle has a belly")
     }
 
     /// The pull of this muscle on the patella (see [`Quadriceps::pull`]).
@@ -273,31 +370,151 @@ impl Muscle {
     }
 }
 
-/// The muscles' meshes as one mesh with a block per muscle (in the order given). Every
-/// set and surface of muscle `m` is renamed `<m>_<name>` (`vastus_lateralis_origin`,
-/// ...), and the element set `<m>` holds its elements.
-pub fn combined_mesh(muscles: &[Muscle]) -> Mesh {
-    let mut combined = Mesh::default();
-    for (b, muscle) in muscles.iter().enumerate() {
-        let offset = combined.nodes.len() as u32;
-        let mesh = &muscle.mesh;
-        for i in 0..mesh.nodes.len() {
-            combined.nodes.push(mesh.nodes.position(i));
+/// The arclength [m] at which the centreline of `solid` passes the height `y` [m] (its
+/// centre's y falls monotonically from the origin to the insertion), by bisection.
+fn arclength_at_height(solid: &SweptSolid, y: f64) -> f64 {
+    let (mut low, mut high) = (0.0, solid.length());
+    for _ in 0..60 {
+        let middle = 0.5 * (low + high);
+        if solid.section(middle).centre.y > y {
+            low = middle;
+        } else {
+            high = middle;
         }
-        let mut block = mesh.blocks[0].clone();
-        block.connectivity.iter_mut().for_each(|id| *id += offset);
-        let name = block.name.clone();
-        let moved = |e: &ElementRef| ElementRef::new(b as u32, e.element);
-        combined.element_sets.insert(
+    }
+    0.5 * (low + high)
+}
+
+/// The swept mesh of `muscle` (one block, with element sets `segment_i`) split into a
+/// block per segment: the origin's tendon first if `origin_tendon`, then the belly, then
+/// the tendon; with the node sets `belly_start` and `belly_end`.
+fn split_into_segments(
+    swept: Mesh,
+    muscle: Quadriceps,
+    origin_tendon: bool,
+) -> Result<(Mesh, Vec<Tissue>)> {
+    let mut parts = Vec::new();
+    if origin_tendon {
+        parts.push((format!("{}_origin_tendon", muscle.name()), Tissue::Tendon));
+    }
+    parts.push((muscle.name().to_string(), Tissue::Muscle));
+    parts.push((format!("{}_tendon", muscle.name()), Tissue::Tendon));
+    let source = &swept.blocks[0];
+    let per_element = source.shape.nodes_per_element();
+    let mut blocks = Vec::new();
+    // Where each element of the swept block went: (block, element).
+    let mut moved = vec![ElementRef::new(0, 0); source.len()];
+    for (b, (name, _)) in parts.iter().enumerate() {
+        let segment = swept
+            .element_set(&format!("segment_{b}"))
+            .with_context(|| format!("the {}'s segment {b}", muscle.name()))?;
+        let first = segment.first().map_or(0, |e| e.element as usize);
+        let count = segment.len();
+        let range = first..first + count;
+        let mut block = ElementBlock::new(
             name.clone(),
-            (0..block.len() as u32)
-                .map(|e| ElementRef::new(b as u32, e))
+            source.shape,
+            source.connectivity[range.start * per_element..range.end * per_element].to_vec(),
+        )?;
+        block.fiber_direction = source.fiber_direction[range.clone()].to_vec();
+        for (k, e) in range.enumerate() {
+            moved[e] = ElementRef::new(b as u32, k as u32);
+        }
+        blocks.push(block);
+    }
+    let mut mesh = Mesh::new(swept.nodes.clone(), blocks);
+    mesh.node_sets = swept.node_sets.clone();
+    let junction = |i: usize| {
+        swept
+            .node_set(&format!("junction_{i}"))
+            .map(<[u32]>::to_vec)
+            .with_context(|| format!("the {}'s junction {i}", muscle.name()))
+    };
+    let belly_start = if origin_tendon {
+        junction(0)?
+    } else {
+        mesh.node_set("origin")?.to_vec()
+    };
+    let belly_end = junction(usize::from(origin_tendon))?;
+    mesh.node_sets
+        .insert("belly_start".to_string(), belly_start);
+    mesh.node_sets.insert("belly_end".to_string(), belly_end);
+    let remap = |e: &ElementRef| moved[e.element as usize];
+    for (name, set) in &swept.element_sets {
+        if !name.starts_with("segment_") {
+            mesh.element_sets
+                .insert(name.clone(), set.iter().map(remap).collect());
+        }
+    }
+    for (name, faces) in &swept.surfaces {
+        mesh.surfaces.insert(
+            name.clone(),
+            faces
+                .iter()
+                .map(|f| Face::new(remap(&f.element), f.face))
                 .collect(),
         );
+    }
+    Ok((mesh, parts.into_iter().map(|(_, t)| t).collect()))
+}
+
+/// One block of the combined mesh: its muscle and tissue.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockRole {
+    pub muscle: Quadriceps,
+    pub tissue: Tissue,
+}
+
+/// The muscles' meshes as one mesh: the bellies first, one block per muscle in the order
+/// given (block `b` is `muscles[b]`'s belly), then every tendon block. Every node set and
+/// surface of muscle `m` is renamed `<m>_<name>` (`vastus_lateralis_origin`, ...), its
+/// element sets likewise, and the element set `<m>` holds all its elements; returns the
+/// role of every block.
+pub fn combined_mesh(muscles: &[Muscle]) -> (Mesh, Vec<BlockRole>) {
+    let mut combined = Mesh::default();
+    let mut roles = Vec::new();
+    let mut offsets = Vec::new();
+    for muscle in muscles {
+        offsets.push(combined.nodes.len() as u32);
+        for i in 0..muscle.mesh.nodes.len() {
+            combined.nodes.push(muscle.mesh.nodes.position(i));
+        }
+    }
+    // Where each muscle's blocks go: bellies first, then the tendons.
+    let mut placed: Vec<Vec<u32>> = muscles.iter().map(|m| vec![0; m.tissues.len()]).collect();
+    for pass in [Tissue::Muscle, Tissue::Tendon] {
+        for (m, muscle) in muscles.iter().enumerate() {
+            for (b, &tissue) in muscle.tissues.iter().enumerate() {
+                if tissue != pass {
+                    continue;
+                }
+                placed[m][b] = combined.blocks.len() as u32;
+                let mut block = muscle.mesh.blocks[b].clone();
+                block
+                    .connectivity
+                    .iter_mut()
+                    .for_each(|id| *id += offsets[m]);
+                combined.blocks.push(block);
+                roles.push(BlockRole {
+                    muscle: muscle.muscle,
+                    tissue,
+                });
+            }
+        }
+    }
+    for (m, muscle) in muscles.iter().enumerate() {
+        let mesh = &muscle.mesh;
+        let name = muscle.muscle.name();
+        let moved = |e: &ElementRef| ElementRef::new(placed[m][e.block as usize], e.element);
+        let mut all = Vec::new();
+        for (b, block) in mesh.blocks.iter().enumerate() {
+            all.extend((0..block.len() as u32).map(|e| ElementRef::new(placed[m][b], e)));
+        }
+        combined.element_sets.insert(name.to_string(), all);
         for (set, ids) in &mesh.node_sets {
             combined.node_sets.insert(
                 format!("{name}_{set}"),
-                ids.iter().map(|id| id + offset).collect(),
+                ids.iter().map(|id| id + offsets[m]).collect(),
             );
         }
         for (set, elements) in &mesh.element_sets {
@@ -315,9 +532,8 @@ pub fn combined_mesh(muscles: &[Muscle]) -> Mesh {
                     .collect(),
             );
         }
-        combined.blocks.push(block);
     }
-    combined
+    (combined, roles)
 }
 
 #[cfg(test)]
@@ -349,14 +565,21 @@ mod tests {
             .iter()
             .map(|&m| Muscle::new(m, &pose, Resolution::Coarse).unwrap())
             .collect();
-        let mesh = combined_mesh(&muscles);
+        let (mesh, roles) = combined_mesh(&muscles);
         mesh.validate().unwrap();
-        assert_eq!(mesh.blocks.len(), 4);
+        // The four bellies first, then every tendon block.
+        let blocks: usize = muscles.iter().map(|m| m.tissues.len()).sum();
+        assert_eq!(mesh.blocks.len(), blocks);
+        assert_eq!(roles.len(), blocks);
+        assert!(roles[..4].iter().all(|r| r.tissue == Tissue::Muscle));
+        assert!(roles[4..].iter().all(|r| r.tissue == Tissue::Tendon));
         let total: f64 = muscles.iter().map(|m| m.mesh.total_volume().unwrap()).sum();
         assert!((mesh.total_volume().unwrap() - total).abs() < 1e-12 * total);
         for (b, muscle) in muscles.iter().enumerate() {
             let name = muscle.muscle.name();
             assert_eq!(mesh.blocks[b].name, name);
+            assert_eq!(roles[b].muscle, muscle.muscle);
+            // The muscle's element set holds all its segments.
             assert_eq!(
                 mesh.element_set(name).unwrap().len(),
                 muscle.mesh.element_count()
@@ -372,9 +595,14 @@ mod tests {
                     mesh.nodes.position(j as usize)
                 );
             }
+            // Its surfaces lie on its own blocks.
             for surface in ["origin", "insertion", "outer"] {
                 let faces = mesh.surface(&format!("{name}_{surface}")).unwrap();
-                assert!(faces.iter().all(|f| f.element.block == b as u32));
+                assert!(
+                    faces
+                        .iter()
+                        .all(|f| roles[f.element.block as usize].muscle == muscle.muscle)
+                );
             }
         }
     }

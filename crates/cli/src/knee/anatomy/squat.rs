@@ -1,63 +1,107 @@
-//! The squat: knee flexion 0° → peak → 0°, and the rigid motions of the three bones
-//! that drive it in a finite-element run.
+//! The squat: knee flexion 0° → peak → 0°, and the rigid motions of the bones that drive
+//! it in a finite-element run.
 //!
-//! **How it is driven.** The paper (seed §2.4) pins the distal tibia (free to rotate in
-//! the sagittal plane) and prescribes a vertical motion of the pelvis. What loads the
-//! quadriceps is the relative motion of the bones they join (origins on the femur and
-//! pelvis, insertions on the patella), so we prescribe the same relative motion in the
-//! femur's frame: the femur (and the pelvis with it, the hip held at 0°) stays fixed,
-//! the tibia rotates by θ(t) about the flexion axis, and the patella follows its
-//! equilibrium pose ([`super::kinematics`]). This is an observer change: a quasi-static
-//! run without gravity gives the same muscle deformation in either frame; the inertial
-//! forces the two frames would weigh differently are ~ρ a L ≈ 1060 kg/m³ · 2 m/s² ·
-//! 0.3 m ≈ 0.6 kPa for a 2 s squat, well below the muscles' tens of kPa to MPa. In a real
-//! squat the hip flexes too (which keeps the rectus femoris nearly isometric, see
-//! `rajagopal_lai_uhlrich2023_recfem_hip_knee.csv`); holding it at 0° stretches the
-//! rectus like the other three.
+//! **How it is driven.** As the paper does (seed §2.4): the distal tibia is pinned and
+//! free to rotate in the sagittal plane, and the pelvis moves vertically, so the femur
+//! and the pelvis move in space and the hip flexes with the knee ([`super::closed_chain`]
+//! gives every bone's pose from the knee angle). The femur carries the vasti's origins,
+//! the surfaces the muscles slide on and the patella's groove; the pelvis carries the
+//! rectus femoris's origin. The patella's pose in the femur's frame comes from the run
+//! (the patellar tendon against the measured pull, `knee::simulation::patella`).
 //!
 //! **Profile.** θ(t) = θ_peak (1 − cos(2π t / T)) / 2 for t ∈ [0, T]: smooth, at rest at
-//! both ends and at the peak (t = T/2). The rigid motions are piecewise linear between
-//! `knots` samples (their [`Amplitude`]s), which follows the profile to
-//! θ_peak π² / (4 (knots − 1)²) (0.002° for 361 knots and 90°).
+//! both ends and at the peak (t = T/2). The bones follow it exactly: each motion asks the
+//! chain for its pose at θ(t) ([`LegBone`]).
 
-use anyhow::{Context, Result, bail};
-use nalgebra::{Unit, Vector3};
+use std::sync::Arc;
 
-use musclefem_core::solver::{RigidMotion, RigidRotation};
-use musclefem_materials::Amplitude;
+use anyhow::{Result, bail};
+use nalgebra::{Isometry3, Vector3};
 
-use super::kinematics::{KneeKinematics, PatellaPose};
+use musclefem_core::solver::{PoseFollower, RigidMotion};
 
-/// A squat: duration, peak flexion and sampling of the drive.
+use super::closed_chain::{ClosedChain, LegPose};
+
+/// A squat: duration and peak flexion.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Squat {
     /// Duration T of the whole 0 → peak → 0 cycle [s].
     pub duration: f64,
     /// Peak knee flexion θ_peak [rad].
     pub peak_flexion: f64,
-    /// Samples of the piecewise-linear drive over [0, T] (≥ 3).
-    pub knots: usize,
 }
 
-/// The prescribed motions of the three bones (the reference poses are those at 0°).
+/// The bones the chain places.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Bone {
+    Femur,
+    Tibia,
+    Pelvis,
+    /// A point of the pelvis [m, reference position] and what is pinned to it: carried
+    /// with the pelvis without turning (a tendon attached at a small bony area, free to
+    /// swing about it).
+    PelvisPin(Vector3<f64>),
+}
+
+/// One bone of the leg following the squat: its pose at time t is the chain's at θ(t).
+#[derive(Clone, Debug)]
+pub struct LegBone {
+    pub bone: Bone,
+    pub chain: ClosedChain,
+    pub squat: Squat,
+}
+
+impl LegBone {
+    /// The leg's pose at `time` [s].
+    pub fn leg_at(&self, time: f64) -> LegPose {
+        self.chain.pose(self.squat.flexion_at(time))
+    }
+}
+
+impl PoseFollower for LegBone {
+    fn isometry_at(&self, time: f64) -> Isometry3<f64> {
+        let pose = self.leg_at(time);
+        match self.bone {
+            Bone::Femur => pose.femur,
+            Bone::Tibia => pose.tibia,
+            Bone::Pelvis => pose.pelvis,
+            Bone::PelvisPin(point) => {
+                let moved = pose.pelvis * nalgebra::Point3::from(point);
+                Isometry3::from_parts((moved.coords - point).into(), Default::default())
+            }
+        }
+    }
+
+    /// The knee axis point for the femur, the pin for the tibia, the hip centre for the
+    /// pelvis.
+    fn reference_point(&self) -> Vector3<f64> {
+        match self.bone {
+            Bone::Femur => Vector3::zeros(),
+            Bone::Tibia => self.chain.ankle,
+            Bone::Pelvis => self.chain.hip,
+            Bone::PelvisPin(point) => point,
+        }
+    }
+}
+
+/// The prescribed motions of the femur, tibia and pelvis (the reference poses are those
+/// at 0°).
 #[derive(Clone, Debug)]
 pub struct BoneMotions {
-    /// The femur (and pelvis): fixed.
     pub femur: RigidMotion,
-    /// The tibia: rotation by θ(t) about the flexion axis.
     pub tibia: RigidMotion,
-    /// The patella: rotation by φ(θ(t)) − φ(0) about −z through its 0° centroid, and
-    /// the translation of that centroid.
-    pub patella: RigidMotion,
+    pub pelvis: RigidMotion,
+    /// The chain and the squat they follow.
+    pub chain: ClosedChain,
+    pub squat: Squat,
 }
 
 impl Squat {
-    /// The default knee's squat: 0° → 90° → 0° in `duration` [s], 361 knots.
+    /// The default knee's squat: 0° → 90° → 0° in `duration` [s].
     pub fn to_ninety_degrees(duration: f64) -> Self {
         Self {
             duration,
             peak_flexion: std::f64::consts::FRAC_PI_2,
-            knots: 361,
         }
     }
 
@@ -67,74 +111,78 @@ impl Squat {
         0.5 * self.peak_flexion * (1.0 - (2.0 * std::f64::consts::PI * phase).cos())
     }
 
-    /// The bones' motions, the patella's from `kinematics` relative to its pose
-    /// `reference` at 0°. Errors if the squat is not usable (non-positive duration, fewer
-    /// than three knots) or the patella has no equilibrium at some angle.
-    pub fn motions(
-        &self,
-        kinematics: &KneeKinematics,
-        reference: &PatellaPose,
-    ) -> Result<BoneMotions> {
-        if !(self.duration.is_finite() && self.duration > 0.0) || self.knots < 3 {
+    /// The bones' motions along `chain`. Errors if the squat is not usable (non-positive
+    /// duration or peak flexion outside (0°, 150°]).
+    pub fn motions(&self, chain: &ClosedChain) -> Result<BoneMotions> {
+        if !(self.duration.is_finite() && self.duration > 0.0)
+            || !(self.peak_flexion > 0.0 && self.peak_flexion <= 150f64.to_radians())
+        {
             bail!(
-                "a squat needs a positive duration and at least three knots: {} s, {}",
+                "a squat needs a positive duration and a peak flexion in (0°, 150°]: {} s, {}°",
                 self.duration,
-                self.knots
+                self.peak_flexion.to_degrees()
             );
         }
-        let times: Vec<f64> = (0..self.knots)
-            .map(|k| self.duration * k as f64 / (self.knots - 1) as f64)
-            .collect();
-        let mut flexion = Vec::with_capacity(self.knots);
-        let mut patella_angle = Vec::with_capacity(self.knots);
-        let mut shift = [
-            Vec::with_capacity(self.knots),
-            Vec::with_capacity(self.knots),
-        ];
-        for &t in &times {
-            let angle = self.flexion_at(t);
-            let pose = kinematics
-                .patella_pose(angle)
-                .with_context(|| format!("the patella at t = {t} s"))?;
-            flexion.push((t, angle));
-            patella_angle.push((t, pose.flexion - reference.flexion));
-            shift[0].push((t, pose.centre.x - reference.centre.x));
-            shift[1].push((t, pose.centre.y - reference.centre.y));
-        }
-        let amplitude = |knots| Amplitude::new(knots).context("building the squat's amplitudes");
-        let flexion_axis = Unit::new_normalize(-Vector3::z());
+        let follow = |bone| {
+            RigidMotion::followed(Arc::new(LegBone {
+                bone,
+                chain: *chain,
+                squat: *self,
+            }))
+        };
         Ok(BoneMotions {
-            femur: RigidMotion::fixed(),
-            tibia: RigidMotion {
-                translation: [None, None, None],
-                rotation: Some(RigidRotation {
-                    center: Vector3::zeros(),
-                    axis: flexion_axis,
-                    angle: amplitude(flexion)?,
-                }),
-                follower: None,
-            },
-            patella: RigidMotion {
-                translation: [
-                    Some(amplitude(shift[0].clone())?),
-                    Some(amplitude(shift[1].clone())?),
-                    None,
-                ],
-                rotation: Some(RigidRotation {
-                    center: reference.centre,
-                    axis: flexion_axis,
-                    angle: amplitude(patella_angle)?,
-                }),
-                follower: None,
-            },
+            femur: follow(Bone::Femur),
+            tibia: follow(Bone::Tibia),
+            pelvis: follow(Bone::Pelvis),
+            chain: *chain,
+            squat: *self,
         })
+    }
+}
+
+/// Header of `kinematics.csv`.
+pub const KINEMATICS_CSV_HEADER: &str =
+    "time_s,hip_flexion_deg,knee_flexion_deg,tibia_angle_deg,pelvis_height_m";
+
+impl BoneMotions {
+    /// The motion of `point` of the pelvis (its position at 0° [m]), carried with the
+    /// pelvis without turning ([`Bone::PelvisPin`]).
+    pub fn pinned_to_pelvis(&self, point: Vector3<f64>) -> RigidMotion {
+        RigidMotion::followed(Arc::new(LegBone {
+            bone: Bone::PelvisPin(point),
+            chain: self.chain,
+            squat: self.squat,
+        }))
+    }
+
+    /// The leg's pose at `time` [s].
+    pub fn leg_at(&self, time: f64) -> LegPose {
+        self.chain.pose(self.squat.flexion_at(time))
+    }
+
+    /// `kinematics.csv`: at `intervals + 1` instants over the squat, the hip and knee
+    /// flexion, the tibia's forward tilt from the vertical (the ankle's dorsiflexion) and
+    /// the hip centre's height above the ankle pin.
+    pub fn kinematics_csv(&self, intervals: usize) -> String {
+        let intervals = intervals.max(1);
+        let rows = (0..=intervals).map(|k| {
+            let time = self.squat.duration * k as f64 / intervals as f64;
+            let pose = self.leg_at(time);
+            vec![
+                time,
+                pose.hip_flexion.to_degrees(),
+                pose.knee_flexion.to_degrees(),
+                pose.tibia_tilt.to_degrees(),
+                pose.hip_centre.y - self.chain.ankle.y,
+            ]
+        });
+        musclefem_io::csv::format_table(KINEMATICS_CSV_HEADER, rows)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::knee::anatomy::Quadriceps;
 
     #[test]
     fn the_profile_rests_at_both_ends_and_peaks_halfway() {
@@ -152,29 +200,26 @@ mod tests {
     }
 
     #[test]
-    fn the_drive_samples_the_kinematics() {
-        let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
-        let reference = kinematics.patella_pose(0.0).unwrap();
-        let squat = Squat {
-            duration: 1.0,
-            peak_flexion: std::f64::consts::FRAC_PI_2,
-            knots: 11,
-        };
-        let motions = squat.motions(&kinematics, &reference).unwrap();
-        // At a knot the drive is exact: the tibia is turned by θ, the patella is at its pose.
-        let t = 0.3;
-        let angle = squat.flexion_at(t);
-        let tibia = motions.tibia.isometry_at(t);
-        assert!((tibia.rotation.angle() - angle).abs() < 1e-12);
-        let pose = kinematics.patella_pose(angle).unwrap();
-        let apex = motions.patella.position_at(&reference.to_world(&APEX), t);
-        assert!((apex - pose.to_world(&APEX)).norm() < 1e-12);
+    fn the_motions_place_the_bones_where_the_chain_says() {
+        let chain = ClosedChain::default_knee();
+        let squat = Squat::to_ninety_degrees(2.0);
+        let motions = squat.motions(&chain).unwrap();
+        for t in [0.0, 0.3, 1.0, 1.7] {
+            let pose = chain.pose(squat.flexion_at(t));
+            let point = Vector3::new(0.03, 0.2, -0.01);
+            assert!((motions.femur.position_at(&point, t) - pose.on_femur(&point)).norm() < 1e-15);
+            let hip = motions.pelvis.position_at(&chain.hip, t);
+            assert!((hip - pose.hip_centre).norm() < 1e-14);
+            let ankle = motions.tibia.position_at(&chain.ankle, t);
+            assert!((ankle - chain.ankle).norm() < 1e-14);
+        }
         assert!(
-            Squat { knots: 2, ..squat }
-                .motions(&kinematics, &reference)
-                .is_err()
+            Squat {
+                duration: 0.0,
+                ..squat
+            }
+            .motions(&chain)
+            .is_err()
         );
     }
-
-    use super::super::dimensions::APEX;
 }
