@@ -10,8 +10,12 @@
 //!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
 //!   instant), `newton.csv` (implicit: every increment's Newton residuals), `cuts.csv`
 //!   (implicit: every failed attempt that was cut, and why), `tendon.csv` (the
-//!   quadriceps' pull, the patellar tendon's force and strain, the patella's pose)
-//!   and `run.log`;
+//!   quadriceps' pull, the patellar tendon's force and strain, the patella's pose),
+//!   `plausibility.csv` (at 30°, 45°, 60°, 90° in both phases: each muscle's pull, the
+//!   patellar tendon's force, the knee extensor moment, the fiber stretch, the forces on
+//!   the femur, the tendons' peak stress) and `run.log`;
+//! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
+//!   pelvis height over the squat;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
 
 use std::io::IsTerminal;
@@ -26,8 +30,10 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use musclefem::elongation::{ElementChoice, Solver};
 use musclefem::knee::anatomy::export::write_anatomy;
+use musclefem::knee::simulation::interactions::InterfaceLaw;
 use musclefem::knee::simulation::patella::write_tendon_csv;
 use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
+use musclefem::knee::simulation::plausibility::write_plausibility_csv;
 use musclefem::knee::simulation::resolution::resolution_rationale;
 use musclefem::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
@@ -88,6 +94,11 @@ pub struct KneeArgs {
     /// default knee.
     #[arg(long, value_name = "DIR")]
     pub anatomy: Option<PathBuf>,
+    /// How the bonded muscle–muscle and muscle–femur interfaces resist a slide: sliding
+    /// (the default: they resist opening and interpenetration, not a slide) or
+    /// elastic-shear (the paper's K_ss = 0.05 N/mm³; the README compares the two).
+    #[arg(long, value_enum, default_value = "sliding")]
+    pub interfaces: InterfaceLaw,
     /// Duration of the squat 0° → 90° → 0° [s].
     #[arg(long, value_name = "SECONDS", default_value_t = musclefem::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
     pub duration: f64,
@@ -127,6 +138,7 @@ impl KneeArgs {
             }
         };
         settings.squat.duration = self.duration;
+        settings.interfaces = self.interfaces;
         Ok((settings, resolution))
     }
 
@@ -186,10 +198,21 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         write_anatomy(&anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
             .context("writing the anatomy")?;
     }
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    musclefem_io::atomic::write_atomically(
+        &args.out.join("kinematics.csv"),
+        geometry.motions.kinematics_csv(200).as_bytes(),
+    )
+    .context("writing kinematics.csv")?;
     let fibers = geometry.fibers()?;
+    let muscle_elements: usize = (0..geometry.muscles.len())
+        .map(|b| geometry.mesh.blocks[b].len())
+        .sum();
     println!(
-        "knee squat 0° → 90° → 0° in {} s, {}, {} solver{}, {} muscle elements of {} \
-         ({}), fibers in {:.2?}",
+        "knee squat 0° → 90° → 0° in {} s (closed chain: tibia pinned at the ankle, pelvis \
+         lowered), {}, {} solver{}, {} muscle and {} tendon elements of {} ({}), {} \
+         interfaces, fibers in {:.2?}",
         settings.squat.duration,
         match activations.as_slice() {
             [one] => one.name().to_string(),
@@ -201,12 +224,14 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
             Solver::Implicit => " (quasi-static)",
             Solver::Explicit => " with mass scaling",
         },
-        geometry.mesh.element_count(),
+        muscle_elements,
+        geometry.mesh.element_count() - muscle_elements,
         args.element.name(),
         match &args.anatomy {
             Some(d) => format!("from {}", d.display()),
             None => format!("default anatomy, {resolution:?} resolution").to_lowercase(),
         },
+        settings.interfaces.name(),
         fibers.solve_time + fibers.setup_time,
     );
     println!(
@@ -352,8 +377,15 @@ fn run_one(
         write_cut_attempts(&directory.join("cuts.csv"), &run.cut_attempts)?;
     }
     write_tendon_csv(&directory.join("tendon.csv"), &run.tendon)?;
-    output.write_run_log(&run_log(&run, settings).timing("solve", run.solve_time))?;
-    let summary = run_summary(&run);
+    write_plausibility_csv(
+        &directory.join("plausibility.csv"),
+        &run.plausibility_rows,
+        &geometry.muscles,
+    )?;
+    output.write_run_log(
+        &run_log(&run, settings, &geometry.muscles).timing("solve", run.solve_time),
+    )?;
+    let summary = run_summary(&run, &geometry.muscles);
     bar.suspend(|| print!("{summary}"));
     Ok(run)
 }

@@ -7,6 +7,7 @@ use anyhow::Result;
 
 use musclefem::knee::Quadriceps;
 use musclefem::knee::simulation::patella::tendon_summary;
+use musclefem::knee::simulation::plausibility::plausibility_report;
 use musclefem::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
 use musclefem_core::solver::implicit::{CutAttempt, Factorization, StepReport};
 use musclefem_io::output::RunLog;
@@ -81,7 +82,7 @@ pub(super) fn write_cut_attempts(path: &Path, attempts: &[CutAttempt]) -> Result
     Ok(())
 }
 
-pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
+pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings, muscles: &[Quadriceps]) -> RunLog {
     let mut text = format!(
         "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
         run.activation.name(),
@@ -132,6 +133,7 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
             1e3 * approach.distance
         ));
     }
+    text.push_str(&plausibility_report(&run.plausibility_rows, muscles));
     for s in &run.interactions {
         text.push_str(&format!(
             "interaction {} = {}, {} nodes, {:.2} cm²\n",
@@ -145,7 +147,7 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings) -> RunLog {
 }
 
 /// The summary of one run, as one block of text (the runs finish on their own threads).
-pub(super) fn run_summary(run: &SquatRun) -> String {
+pub(super) fn run_summary(run: &SquatRun, muscles: &[Quadriceps]) -> String {
     let solver = match (run.newton_iterations, run.cuts) {
         (Some(iterations), Some(cuts)) => {
             format!(
@@ -199,6 +201,7 @@ pub(super) fn run_summary(run: &SquatRun) -> String {
             solves.substitution_seconds,
         ));
     }
+    text.push_str(&plausibility_report(&run.plausibility_rows, muscles));
     for row in run
         .rows
         .iter()

@@ -14,7 +14,7 @@ use support::{musclefem, test_dir, text};
 
 use musclefem::elongation::Solver;
 use musclefem::knee::anatomy::TendonSpring;
-use musclefem::knee::simulation::interactions::knee_interactions;
+use musclefem::knee::simulation::interactions::{InterfaceLaw, knee_interactions};
 use musclefem::knee::simulation::patella::TENDON_CSV_HEADER;
 use musclefem::knee::simulation::{Activation, KneeGeometry, KneeModel, SquatSettings};
 use musclefem::knee::{Anatomy, Resolution};
@@ -195,6 +195,78 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
             }
         }
     }
+    // The plausibility criteria (#29), on the coarse mesh.
+    for muscle in ["VI", "VL", "VM", "RF"] {
+        let passive = at(muscle, "90", "passive");
+        let active = at(muscle, "90", "active");
+        // Passive muscle at 90°: well below the 0.3–0.7 MPa it carries at most actively.
+        assert!(
+            passive <= 0.25e6,
+            "{muscle} passive vm95 at 90°: {passive} Pa"
+        );
+        // Half-activated: the order of half the maximum isometric stress.
+        assert!(
+            (0.2e6..=1.0e6).contains(&active),
+            "{muscle} active vm95 at 90°: {active} Pa"
+        );
+        for angle in ["45", "60", "90"] {
+            let key = |activation: &str| {
+                vm95[&(
+                    muscle.to_string(),
+                    angle.to_string(),
+                    "extension".to_string(),
+                    activation.to_string(),
+                )]
+            };
+            assert!(
+                key("active") > key("passive"),
+                "{muscle} at {angle}° in extension: active {} <= passive {}",
+                key("active"),
+                key("passive")
+            );
+        }
+    }
+    let plausibility = |activation: &str| {
+        let (header, rows) = read_csv(&out.join(activation).join("plausibility.csv"));
+        let row = rows
+            .iter()
+            .find(|r| r[0] == "90" && r[1] == "flexion")
+            .unwrap_or_else(|| panic!("{activation}: no row at 90° in {rows:?}"))
+            .clone();
+        move |name: &str| -> f64 {
+            let i = header.iter().position(|h| h == name).unwrap();
+            row[i].parse().unwrap()
+        }
+    };
+    let passive = plausibility("passive");
+    // An unloaded passive squat: a few hundred newtons, not a loaded squat's kilonewtons.
+    assert!(
+        passive("total_pull_n") <= 600.0,
+        "{}",
+        passive("total_pull_n")
+    );
+    assert!(passive("fiber_stretch_p95") <= 1.30);
+    for muscle in ["VI", "VL", "VM"] {
+        // The femur lets the vasti slide: its interface carries a small share of the pull.
+        let share =
+            passive(&format!("{muscle}_femur_interface_n")) / passive(&format!("{muscle}_pull_n"));
+        assert!(
+            share <= 0.2,
+            "{muscle}: femur interface {share} of the pull"
+        );
+    }
+    let active = plausibility("active");
+    assert!(
+        active("total_pull_n") <= 4400.0,
+        "{}",
+        active("total_pull_n")
+    );
+    assert!(
+        active("patellar_tendon_force_n") <= 3000.0,
+        "{}",
+        active("patellar_tendon_force_n")
+    );
+
     let png = std::fs::read(out.join("peak_stress.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
     // Where the peaks are is reported per muscle at 90°, for both runs.
@@ -222,7 +294,13 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
         settings.element,
     )
     .unwrap();
-    let mut built = knee_interactions(&geometry, &model.mesh, model.material.as_ref()).unwrap();
+    let mut built = knee_interactions(
+        &geometry,
+        &model.mesh,
+        model.material.as_ref(),
+        InterfaceLaw::Sliding,
+    )
+    .unwrap();
     let names: Vec<&str> = built.summaries.iter().map(|s| s.name.as_str()).collect();
     for expected in [
         "VL-VI", "VM-VI", "RF-VI", "VI-femur", "VL-femur", "VM-femur",

@@ -5,7 +5,9 @@
 //! per muscle, named `VI`, `VL`, `VM`, `RF` or `vastus_intermedius`, `vastus_lateralis`,
 //! `vastus_medialis`, `rectus_femoris` (any letter case), and for each block the node sets
 //! `<block>_origin` (tied to the femur or pelvis) and `<block>_insertion` (tied to the
-//! patella). `DIR/femur.stl`, if present, replaces the default femur (the surface the
+//! patella). Tendon blocks `<block>_tendon` (tendon material, no fibers from the flow)
+//! may follow the muscles' blocks; a muscle with one names where its belly ends in the
+//! node set `<block>_belly_end` (the flow's outlet; its insertion otherwise). `DIR/femur.stl`, if present, replaces the default femur (the surface the
 //! muscles bond to and may not enter). Coordinates are in metres, in the default knee's
 //! frame: x anterior, y proximal, z lateral, the flexion axis through the origin along z.
 
@@ -16,7 +18,7 @@ use anyhow::{Context, Result, bail};
 use musclefem_contact::RigidSurface;
 use musclefem_io::mesh_import::read_mesh;
 
-use super::super::anatomy::{Anatomy, Quadriceps, Squat, TriangleSurface};
+use super::super::anatomy::{Anatomy, BlockRole, Quadriceps, Squat, Tissue, TriangleSurface};
 use super::model::KneeGeometry;
 
 /// The muscle a block name stands for.
@@ -42,27 +44,54 @@ pub fn geometry_from_directory(
     };
     let imported = read_mesh(path).with_context(|| format!("reading {}", path.display()))?;
     let mut muscles = Vec::new();
+    let mut roles = Vec::new();
     for block in &imported.mesh.blocks {
-        let Some(muscle) = muscle_of_block(&block.name) else {
+        let (name, tissue) = match block.name.to_ascii_lowercase().strip_suffix("_tendon") {
+            Some(muscle) => (muscle.to_string(), Tissue::Tendon),
+            None => (block.name.clone(), Tissue::Muscle),
+        };
+        let Some(muscle) = muscle_of_block(&name) else {
             bail!(
                 "{}: block '{}' is not one of the quadriceps (VI, VL, VM, RF or their full \
-                 names)",
+                 names) or a tendon of one (<muscle>_tendon)",
                 path.display(),
                 block.name
             );
         };
-        if muscles.contains(&muscle) {
-            bail!("{}: two blocks are the {}", path.display(), muscle.name());
+        match tissue {
+            Tissue::Muscle => {
+                if muscles.contains(&muscle) {
+                    bail!("{}: two blocks are the {}", path.display(), muscle.name());
+                }
+                if roles.iter().any(|r: &BlockRole| r.tissue == Tissue::Tendon) {
+                    bail!(
+                        "{}: block '{}' comes after a tendon block: list the muscles' blocks \
+                         first, then their tendons",
+                        path.display(),
+                        block.name
+                    );
+                }
+                muscles.push(muscle);
+            }
+            Tissue::Tendon if !muscles.contains(&muscle) => bail!(
+                "{}: tendon block '{}' has no muscle block '{}' before it",
+                path.display(),
+                block.name,
+                name
+            ),
+            Tissue::Tendon => {}
         }
-        muscles.push(muscle);
+        roles.push(BlockRole { muscle, tissue });
     }
     if muscles.is_empty() {
         bail!("{}: no element block", path.display());
     }
     let mut geometry = KneeGeometry::default_knee(anatomy, squat)?;
     geometry.mesh = imported.mesh;
+    geometry.passive_slack = vec![1.0; muscles.len()];
     geometry.muscles = muscles;
-    for b in 0..geometry.mesh.blocks.len() {
+    geometry.roles = roles;
+    for b in 0..geometry.muscles.len() {
         for end in ["origin", "insertion"] {
             geometry
                 .end_nodes(b, end)
@@ -77,6 +106,7 @@ pub fn geometry_from_directory(
             vertices: surface.vertices,
             triangles: surface.triangles,
         };
+        geometry.femur_normals = None;
     }
     Ok(geometry)
 }

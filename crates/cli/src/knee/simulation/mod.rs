@@ -1,17 +1,41 @@
-//! The finite-element squat (seed §2.4): the four quadriceps, tied at their origins to the
-//! femur and pelvis and at their insertions to the patella, bonded to each other and to
-//! the femur, stretched by the knee's flexion 0° → 90° → 0°, passive or activated to
-//! 50 % from 35° of flexion on.
+//! The finite-element squat (seed §2.4): the four quadriceps with their tendons, tied at
+//! their origins to the femur and pelvis and at their insertions to the patella, sliding
+//! on each other and on the femur, stretched by the closed-chain squat 0° → 90° → 0°,
+//! passive or activated to 50 % from 35° of flexion on.
 //!
 //! - [`model`]: the geometry (default anatomy or user meshes), the fibers, the Hill
-//!   muscle parts and the bone ties;
+//!   muscle parts, the tendon parts and the bone ties;
 //! - [`files`]: the muscles from a mesh file (`--anatomy DIR`);
-//! - [`interactions`]: cohesive bonds and penalty contact;
+//! - [`interactions`]: cohesive interfaces (sliding by default) and penalty contact;
 //! - [`patella`]: the patella held by the patellar tendon (a nonlinear spring) against
 //!   the pull the run measures;
 //! - [`run`]: one squat with either solver, the muscles' vm95 at every recorded instant;
 //! - [`peak_stress`]: vm95, where the peaks lie, and `peak_stress.csv`;
+//! - [`plausibility`]: pull, tendon force, extensor moment, fiber stretch, interface
+//!   shares, `plausibility.csv`;
 //! - [`resolution`]: the measured cost and error of each resolution, `--tolerance`.
+//!
+//! **The closed chain** ([`super::anatomy::ClosedChain`]). As in the paper, the distal
+//! tibia is pinned (free to turn in the sagittal plane) and the pelvis is lowered: the
+//! hip stays above the ankle, so the tibia tilts forward (β = 22.9° at 45° of knee
+//! flexion, 48.3° at 90°) and the hip flexes as much as the knee (the pelvis turns with
+//! the thigh). The femur moves, and with it the vasti's origins; the rectus's origin
+//! rides on the pelvis. `kinematics.csv` records the motion.
+//!
+//! **Tendons.** Each muscle ends in its lamina of the quadriceps tendon and distal
+//! aponeurosis (block `<muscle>_tendon`; the rectus also starts with its direct tendon),
+//! of the `tendon` material (fiber-reinforced, E ≈ 1 GPa along the fibers with a 2 %
+//! toe region). The fibers of the flow solver run through the bellies only, from the
+//! origin to the muscle–tendon junction; vm95 is over belly elements, and each tendon's
+//! peak stress is reported apart.
+//!
+//! **Passive slack.** The paper's parallel element is stress-free at the reference
+//! (0° of flexion); the relaxed quadriceps are slack in extension and their fibers
+//! reach their optimal length at 60–70° (where the knee-extension torque peaks). Each
+//! muscle's parallel element therefore starts at λ_PE, the mean belly stretch it
+//! reaches at 60° of flexion in the squat ([`model::PASSIVE_SLACK_FLEXION`]). Without
+//! it the passive squat's insertions pulled ~800 N at 90° (coarse, 2026-11-25), beyond
+//! the passive extensor moments measured in vivo. User anatomies keep λ_PE = 1.
 //!
 //! **Activation during extension.** The paper activates the quadriceps at about 35° and
 //! holds the level "until maximum flexion was achieved"; it does not say what follows.
@@ -30,6 +54,7 @@ pub mod model;
 pub mod patella;
 pub mod patella_clearance;
 pub mod peak_stress;
+pub mod plausibility;
 pub mod resolution;
 pub mod run;
 

@@ -1,6 +1,7 @@
 //! The finite-element model of the squat: the quadriceps' mesh with fibers from the flow
-//! solver, one Hill muscle part per muscle, the origins and insertions tied to the bones'
-//! motions, and the interactions ([`super::interactions`]).
+//! solver, one Hill muscle part per belly and a tendon part per tendon block, the origins
+//! tied to the femur (vasti) and the pelvis (rectus femoris), the insertions to the
+//! patella, and the interactions ([`super::interactions`]).
 
 use std::sync::Arc;
 
@@ -13,16 +14,26 @@ use musclefem_materials::{Material, MaterialLibrary};
 
 use crate::elongation::ElementChoice;
 
+use super::super::anatomy::bones::{femur_distance, implicit_normals};
+use super::super::anatomy::moment_arms::belly_stretch_in_squat;
 use super::super::anatomy::{
-    Anatomy, BoneMotions, Quadriceps, Squat, TendonSpring, TriangleSurface,
+    Anatomy, BlockRole, BoneMotions, ClosedChain, Quadriceps, Squat, TendonSpring, Tissue,
+    TriangleSurface,
 };
 use super::patella::{PatellaTable, TendonPatella};
 
 /// Density of muscle [kg/m³].
 pub const MUSCLE_DENSITY: f64 = 1060.0;
 
+/// Density of tendon [kg/m³] (Ker 1981, J Exp Biol 93:283: 1120 kg/m³ for sheep tendon).
+pub const TENDON_DENSITY: f64 = 1120.0;
+
 /// Activation level of the active squat (seed §2.4: 50 % of maximum).
 pub const ACTIVE_LEVEL: f64 = 0.5;
+
+/// Knee flexion at which the quadriceps' passive fibers become taut [rad]: 60°. See the
+/// module documentation of [`super`] ("Passive slack").
+pub const PASSIVE_SLACK_FLEXION: f64 = 60.0 * std::f64::consts::PI / 180.0;
 
 /// Knee flexion at which the active squat switches the quadriceps on [rad] (seed §2.4:
 /// "at approximately 35° of knee flexion").
@@ -51,21 +62,32 @@ impl Activation {
 /// from the default anatomy ([`KneeGeometry::default_knee`]) or read from files.
 #[derive(Clone, Debug)]
 pub struct KneeGeometry {
-    /// One block per muscle, named as [`Quadriceps::name`], each with node sets
-    /// `<block>_origin` and `<block>_insertion`.
+    /// The bellies first, one block per muscle in the order of `muscles` (block `b` is
+    /// `muscles[b]`'s belly), then any tendon blocks; node sets `<belly>_origin` and
+    /// `<belly>_insertion` for every muscle (its ends, on its belly or its tendons), and
+    /// `<belly>_belly_start` and `<belly>_belly_end` where it has tendons.
     pub mesh: Mesh,
-    /// The muscle of each block.
+    /// The muscle of each belly block.
     pub muscles: Vec<Quadriceps>,
-    /// The femur (with the pelvis) at 0° of flexion: the muscles bond to it and may not
-    /// enter it.
+    /// The muscle and tissue of every block.
+    pub roles: Vec<BlockRole>,
+    /// The femur at 0° of flexion: the muscles slide on it and may not enter it.
     pub femur: TriangleSurface,
+    /// The femur's outward normals at its vertices where its shape gives them (the
+    /// default anatomy's implicit femur), else `None` (the facets' are averaged).
+    pub femur_normals: Option<Vec<nalgebra::Vector3<f64>>>,
     /// The tibia and patella at 0° (for the frames of the bones).
     pub tibia: TriangleSurface,
     pub patella: TriangleSurface,
-    /// The squat's bone motions with an inextensible tendon (the femur's and tibia's are
-    /// the run's; the patella's is the run's at zero tension).
+    /// The squat's bone motions (the closed chain).
     pub motions: BoneMotions,
-    /// The patella's poses with the patellar tendon as a spring (the run's patella).
+    /// The parallel element's slack stretch λ_PE of each muscle (in `muscles` order): the
+    /// mean fiber stretch its belly reaches at [`PASSIVE_SLACK_FLEXION`] of knee flexion in
+    /// the squat (1, the paper's stress-free reference, for user anatomies). See the
+    /// module documentation of [`super`].
+    pub passive_slack: Vec<f64>,
+    /// The patella's poses in the femur's frame with the patellar tendon as a spring
+    /// (the run's patella).
     pub patella_table: Arc<PatellaTable>,
 }
 
@@ -73,7 +95,7 @@ impl KneeGeometry {
     /// The default knee at the anatomy's resolution, squatting `squat`.
     pub fn default_knee(anatomy: &Anatomy, squat: &Squat) -> Result<Self> {
         let motions = squat
-            .motions(&anatomy.kinematics, &anatomy.patella_reference)
+            .motions(&ClosedChain::default_knee())
             .context("the squat's bone motions")?;
         let patella_table = PatellaTable::new(
             &anatomy.kinematics,
@@ -81,13 +103,23 @@ impl KneeGeometry {
             squat.peak_flexion,
         )
         .context("the patella's poses with the tendon stretched")?;
+        let (mesh, roles) = anatomy.muscle_mesh();
+        let passive_slack =
+            belly_stretch_in_squat(&anatomy.kinematics, &anatomy.muscles, PASSIVE_SLACK_FLEXION)
+                .context("the muscles' fiber stretch in the squat")?
+                .into_iter()
+                .map(|s| s.max(1.0))
+                .collect();
         Ok(KneeGeometry {
-            mesh: anatomy.muscle_mesh(),
+            mesh,
             muscles: anatomy.muscles.iter().map(|m| m.muscle).collect(),
+            roles,
             femur: anatomy.bones.femur.clone(),
+            femur_normals: Some(implicit_normals(&anatomy.bones.femur, femur_distance)),
             tibia: anatomy.bones.tibia.clone(),
             patella: anatomy.bones.patella.clone(),
             motions,
+            passive_slack,
             patella_table: Arc::new(patella_table),
         })
     }
@@ -97,7 +129,7 @@ impl KneeGeometry {
         &self.mesh.blocks[b].name
     }
 
-    /// The node set `<block>_<end>` of block `b` (`end` = origin or insertion).
+    /// The node set `<block>_<end>` of muscle block `b` (`end` = origin or insertion).
     pub fn end_nodes(&self, b: usize, end: &str) -> Result<Vec<u32>> {
         let name = format!("{}_{end}", self.block_name(b));
         let nodes = self
@@ -110,20 +142,78 @@ impl KneeGeometry {
         Ok(nodes.to_vec())
     }
 
-    /// The fiber directions of every muscle from a potential flow, origin = inlet,
-    /// insertion = outlet (one solve: the muscles are disconnected parts of one mesh).
-    pub fn fibers(&self) -> Result<FiberField> {
-        let names = |end: &str| -> Vec<String> {
-            self.mesh
-                .blocks
-                .iter()
-                .map(|b| format!("{}_{end}", b.name))
-                .collect()
+    /// The tendon blocks, with the index of their muscle in `muscles`.
+    pub fn tendon_blocks(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.roles
+            .iter()
+            .enumerate()
+            .filter(|(_, role)| role.tissue == Tissue::Tendon)
+            .filter_map(|(b, role)| {
+                self.muscles
+                    .iter()
+                    .position(|&m| m == role.muscle)
+                    .map(|m| (b, m))
+            })
+    }
+
+    /// How muscle block `b`'s origin moves: with the femur for the vasti; for the rectus
+    /// femoris, pinned at the anterior inferior iliac spine (the centre of its origin's
+    /// nodes), carried by the pelvis without turning with it, as its direct tendon swings
+    /// about the spine when the hip flexes.
+    pub fn origin_motion(&self, b: usize) -> Result<RigidMotion> {
+        Ok(match self.muscles[b] {
+            Quadriceps::RectusFemoris => {
+                let nodes = self.end_nodes(b, "origin")?;
+                let centre = nodes
+                    .iter()
+                    .map(|&n| self.mesh.nodes.position(n as usize))
+                    .sum::<nalgebra::Vector3<f64>>()
+                    / nodes.len() as f64;
+                self.motions.pinned_to_pelvis(centre)
+            }
+            _ => self.motions.femur.clone(),
+        })
+    }
+
+    /// The name of the node set through which the flow enters (`start`) or leaves muscle
+    /// block `b`'s belly: `<block>_belly_start`/`_belly_end` where the mesh has them,
+    /// else the origin and insertion.
+    fn belly_end(&self, b: usize, start: bool) -> String {
+        let name = self.block_name(b);
+        let (belly, end) = if start {
+            ("belly_start", "origin")
+        } else {
+            ("belly_end", "insertion")
         };
-        let boundary = FlowBoundary::from_names(&self.mesh, &names("origin"), &names("insertion"))
-            .context("the muscles' origins and insertions as the flow's inlets and outlets")?;
-        compute_fibers(&self.mesh, &boundary, &FlowSettings::default())
-            .context("the quadriceps' fibers")
+        let belly = format!("{name}_{belly}");
+        if self.mesh.node_sets.contains_key(&belly) {
+            belly
+        } else {
+            format!("{name}_{end}")
+        }
+    }
+
+    /// The fiber directions of every muscle's belly from a potential flow, its start
+    /// (origin) the inlet, its end (the muscle–tendon junction) the outlet: one solve on
+    /// the bellies alone (the muscles are disconnected parts of one mesh). The field's
+    /// blocks are the belly blocks `0..muscles.len()`.
+    pub fn fibers(&self) -> Result<FiberField> {
+        let bellies = self.muscles.len();
+        let mut mesh = Mesh::new(
+            self.mesh.nodes.clone(),
+            self.mesh.blocks[..bellies].to_vec(),
+        );
+        let ends = |start: bool| -> Vec<String> {
+            (0..bellies).map(|b| self.belly_end(b, start)).collect()
+        };
+        let (inlets, outlets) = (ends(true), ends(false));
+        for name in inlets.iter().chain(&outlets) {
+            let nodes = self.mesh.node_set(name)?.to_vec();
+            mesh.node_sets.insert(name.clone(), nodes);
+        }
+        let boundary = FlowBoundary::from_names(&mesh, &inlets, &outlets)
+            .context("the muscles' origins and junctions as the flow's inlets and outlets")?;
+        compute_fibers(&mesh, &boundary, &FlowSettings::default()).context("the quadriceps' fibers")
     }
 }
 
@@ -134,8 +224,14 @@ pub fn flexion_time(squat: &Squat, flexion: f64) -> f64 {
 }
 
 /// The Hill muscle of `activation`: Table 1's parameters, `n2` = 0.5 from the time the
-/// squat passes 35° (activation rate S = 50/s), never switched off (t1 = ∞).
-pub fn muscle_material(activation: Activation, squat: &Squat) -> Result<Arc<dyn Material>> {
+/// squat passes 35° (activation rate S = 50/s), never switched off (t1 = ∞), the parallel
+/// element slack up to the fiber stretch `slack` (λ_PE; 1 is the paper's, see
+/// [`KneeGeometry::passive_slack`]).
+pub fn muscle_material(
+    activation: Activation,
+    squat: &Squat,
+    slack: f64,
+) -> Result<Arc<dyn Material>> {
     let level = match activation {
         Activation::Passive => 0.0,
         Activation::Active => ACTIVE_LEVEL,
@@ -143,6 +239,7 @@ pub fn muscle_material(activation: Activation, squat: &Squat) -> Result<Arc<dyn 
     let parameters = [
         ("n2".to_string(), level),
         ("t0".to_string(), flexion_time(squat, ACTIVATION_FLEXION)),
+        ("lambda_pe".to_string(), slack),
     ]
     .into_iter()
     .collect();
@@ -151,12 +248,22 @@ pub fn muscle_material(activation: Activation, squat: &Squat) -> Result<Arc<dyn 
         .context("the quadriceps' Hill muscle")
 }
 
+/// The tendon material: [`musclefem_materials::tendon`] with its defaults (fibers of
+/// 1 GPa in a 1 MPa matrix).
+pub fn tendon_material() -> Result<Arc<dyn Material>> {
+    MaterialLibrary::with_builtins()
+        .create("tendon", &Default::default())
+        .context("the quadriceps' tendon material")
+}
+
 /// The mesh (with fibers), parts and loads of one squat.
 pub struct KneeModel {
     pub mesh: Mesh,
     pub parts: Vec<Part>,
-    /// Every origin tied to the femur, every insertion to the patella.
+    /// Every origin tied to the femur or pelvis, every insertion to the patella.
     pub loads: Loads,
+    /// The muscles' material with the paper's parallel element (each muscle's part has
+    /// its own slack, [`KneeGeometry::passive_slack`]; the tendons' is [`tendon_material`]).
     pub material: Arc<dyn Material>,
     /// The patella, held by the tendon against the pull the run reports.
     pub patella: Arc<TendonPatella>,
@@ -182,27 +289,60 @@ impl KneeModel {
             );
         }
         let mut mesh = geometry.mesh.clone();
-        fibers
-            .assign_to(&mut mesh)
-            .context("assigning the fibers to the muscles")?;
-        let material = muscle_material(activation, squat)?;
-        let technology = element.technology(material.as_ref())?;
-        let parts = (0..mesh.blocks.len())
-            .map(|block| Part {
-                block,
-                technology,
-                material: material.clone(),
-                density: MUSCLE_DENSITY,
+        for (b, block) in mesh
+            .blocks
+            .iter_mut()
+            .enumerate()
+            .take(geometry.muscles.len())
+        {
+            let directions = fibers.block_directions(b);
+            if directions.len() != block.len() {
+                bail!(
+                    "the fibers of block '{}' do not match its {} elements",
+                    block.name,
+                    block.len()
+                );
+            }
+            block.fiber_direction = directions.to_vec();
+        }
+        let materials = geometry
+            .passive_slack
+            .iter()
+            .map(|&slack| muscle_material(activation, squat, slack))
+            .collect::<Result<Vec<_>>>()?;
+        let material = muscle_material(activation, squat, 1.0)?;
+        let tendon = tendon_material()?;
+        let parts = geometry
+            .roles
+            .iter()
+            .enumerate()
+            .map(|(block, role)| {
+                let muscle = geometry.muscles.iter().position(|&m| m == role.muscle);
+                let (material, density) = match (role.tissue, muscle) {
+                    (Tissue::Muscle, Some(m)) => (materials[m].clone(), MUSCLE_DENSITY),
+                    (Tissue::Muscle, None) => (material.clone(), MUSCLE_DENSITY),
+                    (Tissue::Tendon, _) => (tendon.clone(), TENDON_DENSITY),
+                };
+                Ok(Part {
+                    block,
+                    technology: element.technology(material.as_ref())?,
+                    material,
+                    density,
+                })
             })
-            .collect();
-        let patella = Arc::new(TendonPatella::new(geometry.patella_table.clone(), *squat));
+            .collect::<Result<Vec<_>>>()?;
+        let patella = Arc::new(TendonPatella::new(
+            geometry.patella_table.clone(),
+            *squat,
+            geometry.motions.chain,
+        ));
         let mut rigid_ties = Vec::new();
         let mut insertion_ties = Vec::new();
         for (b, muscle) in geometry.muscles.iter().enumerate() {
             rigid_ties.push(RigidTie {
                 name: format!("{}_origin", muscle.abbreviation()),
                 nodes: geometry.end_nodes(b, "origin")?,
-                motion: geometry.motions.femur.clone(),
+                motion: geometry.origin_motion(b)?,
             });
             insertion_ties.push(rigid_ties.len());
             rigid_ties.push(RigidTie {

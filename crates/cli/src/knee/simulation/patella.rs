@@ -37,7 +37,7 @@ use rayon::prelude::*;
 
 use musclefem_core::solver::PoseFollower;
 
-use crate::knee::anatomy::{KneeKinematics, PatellaPose, Squat, TendonSpring};
+use crate::knee::anatomy::{ClosedChain, KneeKinematics, PatellaPose, Squat, TendonSpring};
 
 /// Largest tendon strain the table covers; a pull that would stretch the tendon further
 /// stops the run.
@@ -273,11 +273,13 @@ impl PatellaTable {
     }
 }
 
-/// The patella of one run: the table, the squat's θ(t) and the pull reported so far.
+/// The patella of one run: the table, the squat's θ(t), the leg's closed chain (which
+/// places the femur, and with it the groove) and the pull reported so far.
 #[derive(Debug)]
 pub struct TendonPatella {
     table: Arc<PatellaTable>,
     squat: Squat,
+    chain: ClosedChain,
     reports: Mutex<Reports>,
 }
 
@@ -341,11 +343,13 @@ impl Reports {
 pub const PULL_RELAXATION_TIME: f64 = 0.03;
 
 impl TendonPatella {
-    /// A patella on `table`, the knee flexing as `squat` says, no pull reported yet.
-    pub fn new(table: Arc<PatellaTable>, squat: Squat) -> Self {
+    /// A patella on `table`, the knee flexing as `squat` says with the femur placed by
+    /// `chain`, no pull reported yet.
+    pub fn new(table: Arc<PatellaTable>, squat: Squat, chain: ClosedChain) -> Self {
         Self {
             table,
             squat,
+            chain,
             reports: Mutex::new(Reports::default()),
         }
     }
@@ -395,11 +399,12 @@ impl PoseFollower for TendonPatella {
             return iso;
         }
         let tension = reports.applied_tension(time);
-        let pose = self
-            .table
-            .equilibrium(self.squat.flexion_at(time), tension)
-            .pose;
-        let iso = pose.isometry() * self.table.reference.isometry().inverse();
+        let flexion = self.squat.flexion_at(time);
+        let pose = self.table.equilibrium(flexion, tension).pose;
+        // The pose in the femur's frame, placed with the femur.
+        let iso = self.chain.pose(flexion).femur
+            * pose.isometry()
+            * self.table.reference.isometry().inverse();
         reports.cached = Some((time, iso));
         iso
     }
@@ -506,7 +511,11 @@ mod tests {
 
     #[test]
     fn without_a_pull_the_patella_stays_where_the_muscles_were_meshed() {
-        let patella = TendonPatella::new(table().clone(), Squat::to_ninety_degrees(2.0));
+        let patella = TendonPatella::new(
+            table().clone(),
+            Squat::to_ninety_degrees(2.0),
+            ClosedChain::default_knee(),
+        );
         let iso = patella.isometry_at(0.0);
         assert!(iso.translation.vector.norm() < 1e-15);
         assert!(iso.rotation.angle() < 1e-15);
@@ -522,7 +531,11 @@ mod tests {
 
     #[test]
     fn the_applied_pull_follows_the_measured_one_through_two_stages_without_jumps() {
-        let patella = TendonPatella::new(table().clone(), Squat::to_ninety_degrees(2.0));
+        let patella = TendonPatella::new(
+            table().clone(),
+            Squat::to_ninety_degrees(2.0),
+            ClosedChain::default_knee(),
+        );
         assert_eq!(patella.tension_at(0.3), 0.0);
         let tau = PULL_RELAXATION_TIME;
         patella.report(0.1, 1000.0);

@@ -50,9 +50,13 @@ impl PatellaClearance {
                 .into_iter()
                 .map(|n| n as usize)
                 .collect();
-            let mut block_nodes: Vec<usize> = geometry.mesh.blocks[b]
-                .elements()
-                .flatten()
+            // The muscle's belly and tendons.
+            let mut block_nodes: Vec<usize> = geometry
+                .roles
+                .iter()
+                .enumerate()
+                .filter(|(_, role)| role.muscle == muscle)
+                .flat_map(|(block, _)| geometry.mesh.blocks[block].elements().flatten())
                 .map(|&n| n as usize)
                 .collect();
             block_nodes.sort_unstable();

@@ -12,7 +12,6 @@ use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::PoseFollower;
-use musclefem_core::solver::RigidReaction;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
 use musclefem_core::solver::implicit::{
@@ -20,15 +19,19 @@ use musclefem_core::solver::implicit::{
     Newmark, StepReport, run_implicit_with,
 };
 use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::{InteractionReport, RigidReaction};
 use musclefem_fibers::FiberField;
 
 use super::super::anatomy::Squat;
-use super::interactions::{InteractionSummary, knee_interactions};
+use super::interactions::{InteractionSummary, InterfaceLaw, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::{LARGEST_TENDON_STRAIN, TendonPatella, TendonRow};
 use super::patella_clearance::{PatellaApproach, PatellaClearance};
 use super::peak_stress::{
     ElementRegions, PeakStressRow, StressSample, peak_stress_rows, percentile,
+};
+use super::plausibility::{
+    PlausibilityRow, PlausibilitySample, extensor_moment, plausibility_rows,
 };
 use crate::elongation::{ElementChoice, Solver};
 
@@ -52,6 +55,8 @@ pub struct SquatSettings {
     /// Implicit: Newton's relative residual and correction tolerances.
     pub residual_tolerance: f64,
     pub correction_tolerance: f64,
+    /// How the bonded interfaces resist a slide.
+    pub interfaces: InterfaceLaw,
 }
 
 /// Default squat duration [s]: 1 s down to 90°, 1 s back up.
@@ -84,6 +89,22 @@ pub const DEFAULT_IMPLICIT_INCREMENT: f64 = 0.02;
 /// 168, 906, 18 on coarse (3: 240, 1241, 38) but 200, 1046, 28 on medium (3: 184, 951,
 /// 26), and 8 stalled at 43° in extension on coarse: 3 stays.
 pub const KNEE_LINE_SEARCH_CUTS: usize = 3;
+
+/// Newton's relative residual tolerance on the knee (the solver's default is 1e-10). The
+/// sliding interfaces and the contacts between muscles take their normals from the
+/// deformed neighbour, and their tangents leave out how those normals turn with the
+/// neighbour's nodes (a relative error of the order of the gap over the element size,
+/// 0.1–0.3 for the 1–4 mm gaps of the coarse mesh): Newton's method converges linearly
+/// there, and at 1e-10 the coarse passive squat took 7–8 iterations an increment and
+/// increments of 2.6 ms (2026-11-25). 1e-6 of the force scale (about 1 mN at the passive
+/// squat's 90°) is still far below what the stresses can show (Abaqus's default is
+/// 5e-3).
+pub const KNEE_RESIDUAL_TOLERANCE: f64 = 1e-6;
+
+/// Newton's relative correction tolerance on the knee (the solver's default is 1e-6):
+/// max |δu| ≤ 1e-5 max |u|, where max |u| is the thigh's motion in the closed chain
+/// (about 0.25 m at 90°).
+pub const KNEE_CORRECTION_TOLERANCE: f64 = 1e-5;
 
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
@@ -120,8 +141,9 @@ impl SquatSettings {
             },
             record_interval: DEFAULT_IMPLICIT_INCREMENT,
             inertia: true,
-            residual_tolerance: 1e-10,
-            correction_tolerance: 1e-6,
+            residual_tolerance: KNEE_RESIDUAL_TOLERANCE,
+            correction_tolerance: KNEE_CORRECTION_TOLERANCE,
+            interfaces: InterfaceLaw::Sliding,
         }
     }
 }
@@ -187,6 +209,9 @@ pub struct SquatRun {
     /// The closest any muscle node (the insertions' excepted) came to the patella, which
     /// has no contact surface (`None`: none came within range).
     pub patella_approach: Option<PatellaApproach>,
+    /// The plausibility measures at every recorded instant and at the table's angles.
+    pub plausibility: Vec<PlausibilitySample>,
+    pub plausibility_rows: Vec<PlausibilityRow>,
 }
 
 /// Run the squat of `activation` on `geometry` with `fibers`.
@@ -204,8 +229,13 @@ pub fn run_squat(
         &settings.squat,
         settings.element,
     )?;
-    let mut built = knee_interactions(geometry, &model.mesh, model.material.as_ref())?;
-    let regions: Vec<ElementRegions> = (0..model.mesh.blocks.len())
+    let mut built = knee_interactions(
+        geometry,
+        &model.mesh,
+        model.material.as_ref(),
+        settings.interfaces,
+    )?;
+    let regions: Vec<ElementRegions> = (0..geometry.muscles.len())
         .map(|b| {
             let block = &model.mesh.blocks[b];
             let offset = fibers.block_offsets[b];
@@ -247,6 +277,11 @@ pub fn run_squat(
         insertion_ties: &model.insertion_ties,
         tendon: Vec::new(),
         patella_clearance: PatellaClearance::new(geometry)?,
+        muscle_count: geometry.muscles.len(),
+        tendon_blocks: geometry.tendon_blocks().collect(),
+        femur_interfaces: built.femur_interfaces.clone(),
+        femur_contacts: built.femur_contacts.clone(),
+        plausibility: Vec::new(),
     };
     let duration = settings.squat.duration;
     let context = || {
@@ -278,6 +313,9 @@ pub fn run_squat(
             if settings.inertia {
                 solver_settings.dynamics = Some(Newmark::default());
             }
+            // The muscles ride on the femur, which moves in the closed chain: each
+            // increment starts from them carried with it.
+            solver_settings.predictor_frame = Some(geometry.motions.femur.clone());
             let result = run_implicit_with(
                 &model.mesh,
                 &model.parts,
@@ -325,6 +363,7 @@ pub fn run_squat(
     let solve_time = started.elapsed();
     let muscles = &geometry.muscles;
     let rows = peak_stress_rows(&recorder.samples, muscles, &settings.squat, activation)?;
+    let plausibility_table = plausibility_rows(&recorder.plausibility, &settings.squat)?;
     let energy_error = added_mass_fraction
         .map(|_| recorder.energy_error / recorder.largest_energy.max(f64::MIN_POSITIVE));
     Ok(SquatRun {
@@ -345,6 +384,8 @@ pub fn run_squat(
         energy_error,
         tendon: std::mem::take(&mut recorder.tendon),
         patella_approach: recorder.patella_clearance.closest,
+        plausibility: std::mem::take(&mut recorder.plausibility),
+        plausibility_rows: plausibility_table,
     })
 }
 
@@ -377,6 +418,13 @@ struct Recorder<'a> {
     tendon: Vec<TendonRow>,
     /// The muscles' nodes against the patella (which has no contact surface).
     patella_clearance: PatellaClearance,
+    /// Blocks `0..muscle_count` are the bellies; the tendon blocks with their muscle.
+    muscle_count: usize,
+    tendon_blocks: Vec<(usize, usize)>,
+    /// (muscle, interaction) of the muscle–femur cohesive interfaces and contacts.
+    femur_interfaces: Vec<(usize, usize)>,
+    femur_contacts: Vec<(usize, usize)>,
+    plausibility: Vec<PlausibilitySample>,
 }
 
 /// Implicit increments over which a stall is judged.
@@ -430,14 +478,20 @@ impl Recorder<'_> {
 
     /// Tells the patella the quadriceps' pull at `time`: T = Σ |R| over the insertions'
     /// ties. Records the tendon's state the run had at that time (from the pull reported
-    /// before); stops the run if the measured pull would stretch the tendon beyond the
-    /// table.
-    fn report_pull(&mut self, time: f64, reactions: &[RigidReaction]) -> ControlFlow<()> {
-        let tension: f64 = self
+    /// before) and starts the instant's plausibility sample; stops the run if the measured
+    /// pull would stretch the tendon beyond the table.
+    fn report_pull(
+        &mut self,
+        time: f64,
+        reactions: &[RigidReaction],
+        interactions: &[InteractionReport],
+    ) -> ControlFlow<()> {
+        let insertion_pull: Vec<f64> = self
             .insertion_ties
             .iter()
             .map(|&i| reactions[i].force.norm())
-            .sum();
+            .collect();
+        let tension: f64 = insertion_pull.iter().sum();
         let applied = self.patella.state_at(time);
         self.patella.report(time, tension);
         let measured = self.patella.equilibrium(time, tension);
@@ -445,6 +499,25 @@ impl Recorder<'_> {
             time,
             measured_tension: tension,
             applied,
+        });
+        let per_muscle = |pairs: &[(usize, usize)]| {
+            let mut forces = vec![0.0; self.muscle_count];
+            for &(m, i) in pairs {
+                forces[m] += interactions[i].force.norm();
+            }
+            forces
+        };
+        self.plausibility.push(PlausibilitySample {
+            time,
+            flexion: self.squat.flexion_at(time),
+            insertion_pull,
+            tendon_force: applied.tendon_force,
+            extensor_moment: extensor_moment(&applied),
+            fiber_stretch_median: 1.0,
+            fiber_stretch_p95: 1.0,
+            femur_interface_force: per_muscle(&self.femur_interfaces),
+            femur_contact_force: per_muscle(&self.femur_contacts),
+            tendon_peak: vec![0.0; self.muscle_count],
         });
         if measured.beyond_table {
             self.error = Some(anyhow::anyhow!(
@@ -473,13 +546,28 @@ impl Recorder<'_> {
             location: Vec::with_capacity(fields.len()),
             min_jacobian_ratio: self.min_jacobian_ratio(snapshot.displacement),
         };
+        let mut stretches = Vec::new();
+        let mut tendon_peak = vec![0.0f64; self.muscle_count];
         for part in &fields {
             let von_mises = part.von_mises();
-            let vm95 = percentile(&von_mises, 0.95).unwrap_or(0.0);
-            sample.vm95.push(vm95);
-            sample
-                .location
-                .push(self.regions[part.block].locate(&von_mises, vm95));
+            if part.block < self.muscle_count {
+                let vm95 = percentile(&von_mises, 0.95).unwrap_or(0.0);
+                sample.vm95.push(vm95);
+                sample
+                    .location
+                    .push(self.regions[part.block].locate(&von_mises, vm95));
+                stretches.extend_from_slice(&part.fiber_stretch);
+            } else if let Some(&(_, m)) = self.tendon_blocks.iter().find(|(b, _)| *b == part.block)
+            {
+                tendon_peak[m] = von_mises.iter().fold(tendon_peak[m], |a, &b| a.max(b));
+            }
+        }
+        if let Some(last) = self.plausibility.last_mut()
+            && last.time == snapshot.time
+        {
+            last.fiber_stretch_median = percentile(&stretches, 0.5).unwrap_or(1.0);
+            last.fiber_stretch_p95 = percentile(&stretches, 0.95).unwrap_or(1.0);
+            last.tendon_peak = tendon_peak;
         }
         let motion = self.patella.isometry_at(snapshot.time);
         let (mesh, u) = (self.mesh, snapshot.displacement);
@@ -528,7 +616,7 @@ impl StallDetector {
 impl Observer<ImplicitHistoryRow> for Recorder<'_> {
     fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
         self.watcher.implicit_row(row);
-        self.report_pull(row.time, &row.rigid_reactions)?;
+        self.report_pull(row.time, &row.rigid_reactions, &row.interactions)?;
         self.record(snapshot)?;
         if let Some(message) = self.stall.advance(row.time, self.squat) {
             self.error = Some(anyhow::anyhow!(message));
@@ -553,7 +641,7 @@ impl Observer<HistoryRow> for Recorder<'_> {
                 - row.external_work;
         self.energy_error = self.energy_error.max(balance.abs());
         self.watcher.explicit_row(row);
-        self.report_pull(row.time, &row.rigid_reactions)?;
+        self.report_pull(row.time, &row.rigid_reactions, &row.interactions)?;
         self.record(snapshot)
     }
 
