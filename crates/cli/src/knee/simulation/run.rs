@@ -315,7 +315,7 @@ pub fn run_squat(
             }
             // The muscles ride on the femur, which moves in the closed chain: each
             // increment starts from them carried with it.
-            solver_settings.predictor_frame = Some(geometry.motions.femur.clone());
+            solver_settings.predictor_frame = Some(Box::new(geometry.motions.femur.clone()));
             let result = run_implicit_with(
                 &model.mesh,
                 &model.parts,
