@@ -17,9 +17,16 @@
 //! (`penalty/stiffness.rs`) is symmetric.
 //!
 //! A node whose closest point is on the rim of an open main surface (a boundary edge or a
-//! vertex of one) and that is not over the face (x − x_m leaning out of the normal's line
-//! by more than [`RIM_TOLERANCE`]) is beside the surface, not in it: it carries no force.
-//! A node right over the rim (on a symmetry plane, say) is in contact.
+//! vertex of one) may be beside the surface rather than in it. Its force fades with how
+//! far it overhangs the rim, s = the distance of x − x_m from the normal's line (with
+//! smooth normals: of the foot from the rim): f = w(s) ε A_s g ν with
+//! w = 1 − (3t² − 2t³), t = min(s / (RIM_FADE h), 1), h = √(2 A_t) the size of the rim
+//! triangle ([`rim_weight`]). A node right over the rim (on a symmetry plane, say) is in
+//! contact; one that overhangs it by a quarter of the triangle's size carries nothing.
+//! (A cut-off at a lean of 1 %, as before, made the force jump from ε A_s |g| to zero as a
+//! penetrating node crossed the rim: Newton's method then cannot converge at any step
+//! size, and the knee's muscles, whose surfaces are open at their ends, met it.) The
+//! stiffness leaves out ∂w/∂x (the weight scales the blocks).
 //!
 //! Default penalty ([`default_penalty`]): ε = 10 E / h with E the Young's modulus of the
 //! softer body [Pa] and h its element size [m]. A pressure p then penetrates by
@@ -98,9 +105,25 @@ pub fn default_penalty(modulus: f64, element_size: f64) -> Result<f64, ContactEr
     Ok(DEFAULT_PENALTY_FACTOR * modulus / element_size)
 }
 
-/// A node whose closest point is on the rim of an open main surface is beside it when
-/// x − x_m leans out of the face normal's line by more than this (as a sine).
-pub const RIM_TOLERANCE: f64 = 0.01;
+/// Past the rim of an open main surface a node's force fades over this share of the rim
+/// triangle's size (see the module docs).
+pub const RIM_FADE: f64 = 0.25;
+
+/// The weight w ∈ [0, 1] of the force of a node that overhangs the rim of the main
+/// triangle `corners` by `overhang` [m]: 1 − (3t² − 2t³), t = min(s / (RIM_FADE h), 1),
+/// h = √(2 A) [m] (C¹ in s; 1 over the rim, 0 a quarter of the triangle's size past it).
+pub fn rim_weight(overhang: f64, corners: &[Vector3<f64>; 3]) -> f64 {
+    let area = 0.5
+        * (corners[1] - corners[0])
+            .cross(&(corners[2] - corners[0]))
+            .norm();
+    let width = RIM_FADE * (2.0 * area).sqrt();
+    if !(width > 0.0) {
+        return if overhang > 0.0 { 0.0 } else { 1.0 };
+    }
+    let t = (overhang / width).clamp(0.0, 1.0);
+    1.0 - t * t * (3.0 - 2.0 * t)
+}
 
 /// The state of one secondary node at the last force evaluation.
 #[derive(Debug, Clone, Copy)]
@@ -111,6 +134,8 @@ struct NodeContact {
     gap: f64,
     /// Carries a force.
     active: bool,
+    /// The force's share past the rim ([`rim_weight`]; 1 over the face).
+    weight: f64,
     /// d = x_s − x_m in world axes [m].
     offset: Vector3<f64>,
     /// Vertices, weights and tangents of the feature, world axes.
@@ -123,6 +148,7 @@ impl Default for NodeContact {
             triangle: u32::MAX,
             gap: 0.0,
             active: false,
+            weight: 0.0,
             offset: Vector3::zeros(),
             geometry: FeatureGeometry::new(
                 Feature::Vertex(0),
@@ -408,7 +434,7 @@ impl PenaltyContact {
                 if !c.active {
                     continue;
                 }
-                let force = c.force(self.penalty_of(i) * self.secondary.node_area[i]);
+                let force = c.force(self.penalty_of(i) * self.secondary.node_area[i] * c.weight);
                 f(self.secondary.nodes[i], force);
                 if let Some(corners) = self.target.nodes(c.triangle as usize) {
                     for (vertex, phi) in corners.iter().zip(&c.projection.barycentric) {
@@ -422,7 +448,7 @@ impl PenaltyContact {
             if !c.active {
                 continue;
             }
-            let k = self.penalty_of(i) * self.secondary.node_area[i];
+            let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
             let force = c.offset * k;
             f(self.secondary.nodes[i], force);
             if let ContactTarget::Deformable(main) = &self.target {
@@ -460,15 +486,16 @@ impl Interaction for PenaltyContact {
         let mut resultant = Vector3::zeros();
         let (mut active_points, mut active_area, mut stored_energy) = (0, 0.0, 0.0);
         for (i, area) in self.secondary.node_area.iter().enumerate() {
-            let k = self.penalty_of(i) * area;
-            let (gap, force) = match &self.smooth {
+            let (gap, k, force) = match &self.smooth {
                 Some(smooth) if smooth.contacts[i].active => {
                     let c = &smooth.contacts[i];
-                    (c.gap, c.force(k))
+                    let k = self.penalty_of(i) * area * c.weight;
+                    (c.gap, k, c.force(k))
                 }
                 None if self.contacts[i].active => {
                     let c = &self.contacts[i];
-                    (c.gap, c.offset * k)
+                    let k = self.penalty_of(i) * area * c.weight;
+                    (c.gap, k, c.offset * k)
                 }
                 _ => continue,
             };
@@ -488,7 +515,7 @@ impl Interaction for PenaltyContact {
         if let Some(smooth) = &self.smooth {
             for (i, c) in smooth.contacts.iter().enumerate() {
                 if c.active {
-                    let k = self.penalty_of(i) * self.secondary.node_area[i];
+                    let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
                     let corners = self.target.nodes(c.triangle as usize);
                     c.blocks(k, self.secondary.nodes[i], corners, add);
                 }
@@ -501,7 +528,7 @@ impl Interaction for PenaltyContact {
                 continue;
             }
             let node = self.secondary.nodes[i];
-            let k = self.penalty_of(i) * self.secondary.node_area[i];
+            let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
             let vertices = match &self.target {
                 ContactTarget::Deformable(main) => main.triangles[c.triangle as usize],
                 ContactTarget::Rigid(_) => [node; 3],

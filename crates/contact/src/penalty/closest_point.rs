@@ -23,7 +23,7 @@ pub(super) struct Bounds<B, R> {
 
 /// The closest point of `x` over the `candidates` (skipping those `skip` says), the
 /// smallest |x − x_m| winning, ties to the lowest triangle index; active when g < 0 and
-/// the closest point is not on the rim. A candidate is measured (`corners`, then the
+/// the node does not overhang the rim by the whole fade ([`rim_weight`]). A candidate is measured (`corners`, then the
 /// closest feature) only when the `bounds` do not put it farther than the best so far;
 /// the `previous` winner (`u32::MAX`: none) first.
 pub(super) fn closest(
@@ -80,14 +80,20 @@ pub(super) fn closest(
         Feature::Edge(e) => rim_edges[t as usize] & (1 << e) != 0,
         Feature::Vertex(v) => rim_vertices[t as usize] & (1 << v) != 0,
     };
-    // Beside the rim: x − x_m leans out of the face's normal line by more than ~0.6°.
+    // Past the rim the force fades with the overhang: the distance of x from the normal's
+    // line through x_m.
     let offset = x - p.point;
     let along = offset.dot(&p.normal);
-    let beside = rim_feature && (offset - p.normal * along).norm() > RIM_TOLERANCE * offset.norm();
+    let weight = if rim_feature {
+        rim_weight((offset - p.normal * along).norm(), &c)
+    } else {
+        1.0
+    };
     NodeContact {
         triangle: t,
         gap: p.gap,
-        active: p.gap < 0.0 && !beside,
+        active: p.gap < 0.0 && weight > 0.0,
+        weight,
         offset,
         geometry: FeatureGeometry::new(p.feature, &p.barycentric, &c),
     }

@@ -13,12 +13,11 @@
 //!   flat surface: ν is not the gradient of d).
 //! - Past the rim of an open main surface the walk stops on a rim triangle with the foot
 //!   extrapolated outside it. With x_r the point of that triangle closest to the foot, the
-//!   node is beside the surface, and carries no force, when the foot lies farther than
-//!   [`super::RIM_TOLERANCE`] |x − x_r| from x_r (x − x_r leaning out of the line of the
-//!   normal by more than that sine, as in the closest-point rule: the same rule where the
-//!   normals are the face's). A foot outside its triangle for another reason (an edge
-//!   into a triangle the node belongs to, or a walk that ran out of hops) is treated the
-//!   same way.
+//!   node overhangs the rim by s = |foot − x_r| and its force fades to zero over a quarter
+//!   of the triangle's size ([`super::rim_weight`], the closest-point contact's rule: on
+//!   a flat surface s is the same distance). A foot outside its triangle for another
+//!   reason (an edge into a triangle the node belongs to, or a walk that ran out of hops)
+//!   is treated the same way.
 //! - Tangent: [`smooth_tangent`] with t = ε d, t' = ε (the vertex normals held fixed):
 //!   exact on a rigid main; on a deformable main the turn of the vertex normals with the
 //!   nodes around the triangle is left out (a relative error of the order of the
@@ -28,7 +27,7 @@
 
 use nalgebra::{Isometry3, Matrix3, Vector3};
 
-use super::RIM_TOLERANCE;
+use super::rim_weight;
 use crate::main_side::MainSide;
 use crate::normal_field::{NormalField, NormalProjection, OUTSIDE, smooth_tangent, walk};
 use crate::projection::closest_feature;
@@ -61,6 +60,8 @@ pub(super) struct SmoothContact {
     pub gap: f64,
     /// Carries a force.
     pub active: bool,
+    /// The force's share past the rim ([`rim_weight`]; 1 over the face).
+    pub weight: f64,
     /// The projection on `triangle`.
     pub projection: NormalProjection,
 }
@@ -71,6 +72,7 @@ impl SmoothContact {
         triangle: u32::MAX,
         gap: 0.0,
         active: false,
+        weight: 0.0,
         projection: NormalProjection {
             barycentric: Vector3::new(1.0, 0.0, 0.0),
             along: 0.0,
@@ -97,14 +99,17 @@ impl SmoothContact {
         let foot = walk(field, main, at, node, start, x);
         let projection = foot.projection;
         let gap = projection.gap();
-        let beside = projection.barycentric.min() < OUTSIDE && {
+        let weight = if projection.barycentric.min() < OUTSIDE {
             let corners = main.corners(foot.triangle as usize, at.0, at.1);
-            beside(x, &corners, &projection.barycentric)
+            rim_weight(overhang(&corners, &projection.barycentric), &corners)
+        } else {
+            1.0
         };
         SmoothContact {
             triangle: foot.triangle,
             gap,
-            active: gap < 0.0 && !beside,
+            active: gap < 0.0 && weight > 0.0,
+            weight,
             projection,
         }
     }
@@ -116,13 +121,13 @@ impl SmoothContact {
     }
 
     /// The force f_s = k d ν [N] on the secondary node (the corners take −φ_k f_s), with
-    /// `k` = ε A_s [N/m].
+    /// `k` = w ε A_s [N/m] (w the rim weight).
     pub fn force(&self, k: f64) -> Vector3<f64> {
         k * self.gap * self.direction().0
     }
 
     /// Calls `add(a, b, K_ab)` with the stiffness blocks [N/m] of an active node `node`
-    /// with `k` = ε A_s [N/m] on a main triangle with mesh nodes `corners` (a deformable
+    /// with `k` = w ε A_s [N/m] on a main triangle with mesh nodes `corners` (a deformable
     /// main) or on a rigid main (`None`: K_ss only). With f_k = −φ_k f_s,
     /// K_kj = −f_s ⊗ ∂φ_k/∂x_j − φ_k K_sj over j = the node and the corners.
     pub fn blocks(
@@ -152,15 +157,13 @@ impl SmoothContact {
     }
 }
 
-/// Whether `x`, whose foot has barycentric coordinates `phi` (some negative: outside) on
-/// the triangle `corners`, is beside it: the foot farther than [`RIM_TOLERANCE`] |x − x_r|
-/// from the triangle's point x_r closest to it.
-fn beside(x: &Vector3<f64>, corners: &[Vector3<f64>; 3], phi: &Vector3<f64>) -> bool {
+/// How far [m] the foot with barycentric coordinates `phi` (some negative: outside) on the
+/// triangle `corners` lies from the triangle's point closest to it.
+fn overhang(corners: &[Vector3<f64>; 3], phi: &Vector3<f64>) -> f64 {
     let point = |w: &[f64]| corners[0] * w[0] + corners[1] * w[1] + corners[2] * w[2];
     let foot = point(phi.as_slice());
     let (weights, _) = closest_feature(&foot, corners);
-    let rim = point(&weights);
-    (foot - rim).norm() > RIM_TOLERANCE * (x - rim).norm()
+    (foot - point(&weights)).norm()
 }
 
 #[cfg(test)]

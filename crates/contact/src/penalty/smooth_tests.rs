@@ -38,6 +38,7 @@ fn pair(
         triangle: 0,
         gap: projection.gap(),
         active: true,
+        weight: 1.0,
         projection,
     };
     let force = contact.force(k);
@@ -422,13 +423,15 @@ fn flat_outcomes(past: f64) -> [(Outcome, Outcome); 2] {
 /// flat grid. So is the stiffness on the rigid plane, and in the secondary nodes' columns
 /// on the grid; in the grid nodes' columns the smooth tangent, holding the vertex normals
 /// fixed, leaves out the turn of the faces that the closest point's includes (a term of
-/// the order of the penetration over the element size). Past the rim both contacts take a
-/// node that leans out of the normal's line by 3 % of its depth as beside the surface,
-/// and one that leans by 0.5 % as over it; that one the closest-point contact pushes from
-/// the rim's edge, the smooth one along the normal, a force differing by its lean.
+/// the order of the penetration over the element size). Past the rim both contacts fade
+/// the force with the overhang the same way: a node that overhangs by 15 times its depth
+/// (15–45 cm, past the fade of a quarter of the 0.4–0.5 m triangles) is beside the surface
+/// in both, and one that leans by 0.5 % is over it; that one the closest-point contact
+/// pushes from the rim's edge, the smooth one along the normal, a force differing by its
+/// lean.
 #[test]
 fn on_a_flat_surface_the_smooth_contact_is_the_closest_point_contact() {
-    let [rigid, deformable] = flat_outcomes(0.03);
+    let [rigid, deformable] = flat_outcomes(15.0);
     let (active, _) = assert_same(&rigid.0, &rigid.1, 1e-12, u32::MAX);
     eprintln!("flat rigid main: {active} of 49 nodes active, the same in both modes");
     assert_eq!(active, 42, "the right column beside the rim");
@@ -611,4 +614,54 @@ fn the_force_is_continuous_over_a_concave_fold() {
 fn the_force_is_continuous_around_a_concave_cone_vertex() {
     let cone = bowl(15f64.to_radians().tan());
     concave("concave cone vertex (15°)", &cone, (0.05, true), 0.2);
+}
+
+/// A node pressed 1 cm into a rigid plane of 0.5 m triangles and moved across its rim:
+/// in both modes the force is the penalty force over the face times the rim weight
+/// w = 1 − (3t² − 2t³), t = s / (0.25 h), of its overhang s (h = √(2 A) = 0.5 m): from
+/// the full force at the rim to none 12.5 cm past it, with no jump on the way (before,
+/// it dropped from ε A |g| to zero within 0.1 mm of the rim). (The closest-point force
+/// also turns, by the lean of x − x_m, quickly near the rim: its size is compared.)
+#[test]
+fn past_the_rim_the_force_fades_with_the_overhang() {
+    let plane = RigidSurface::plane("plane", Vector3::zeros(), Vector3::z(), 1.0, 4).unwrap();
+    let depth = 0.01;
+    let path: Vec<Vector3<f64>> = (0..=400)
+        .map(|k| Vector3::new(0.95 + 0.0005 * f64::from(k), 0.1, -depth))
+        .collect();
+    for smooth in [false, true] {
+        let forces = along_path(&plane, smooth, &path);
+        let full = forces[0].norm();
+        assert!(full > 0.0);
+        // The weight each force shows: its size over the full force (and the lean).
+        let mut weights = Vec::new();
+        for (x, f) in path.iter().zip(&forces) {
+            let overhang = (x.x - 1.0).max(0.0);
+            let t = (overhang / (0.25 * 0.5)).min(1.0);
+            let expected = 1.0 - t * t * (3.0 - 2.0 * t);
+            // The closest-point force leans by the overhang: |x − x_m| = √(s² + g²).
+            let lean = match smooth {
+                true => 1.0,
+                false => (overhang.powi(2) + depth * depth).sqrt() / depth,
+            };
+            let weight = f.norm() / (full * lean);
+            assert!(
+                (weight - expected).abs() <= 1e-9,
+                "smooth {smooth}, x {}: weight {weight} vs {expected}",
+                x.x
+            );
+            weights.push(weight);
+        }
+        let largest_step = weights
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f64::max);
+        eprintln!(
+            "smooth {smooth}: largest change of the weight between 0.5 mm steps over the rim \
+             {largest_step:.3e}"
+        );
+        // The steepest slope of w is 1.5 / (0.125 m): 0.006 per 0.5 mm step.
+        assert!(largest_step < 0.007, "{largest_step}");
+        assert_eq!(forces.last().unwrap().norm(), 0.0);
+    }
 }
