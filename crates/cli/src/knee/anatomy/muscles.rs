@@ -36,7 +36,9 @@
 //! with the distal aponeurosis that gathers the fibers (the vasti's segmentations end
 //! 0–40 mm above the patella, the rectus femoris's about 80 mm above it: the Visible Human
 //! Female data's README, `../shared/data/visible_human_female_right/`). The rectus starts
-//! with its direct tendon from the anterior inferior iliac spine. The solid stays one
+//! with its direct tendon from the anterior inferior iliac spine, each vastus with a
+//! tendinous origin 32–42 mm long (its proximal aponeurosis; see
+//! [`Quadriceps::tendon_layout`]). The solid stays one
 //! swept solid with a layer of nodes at each junction; the mesh has a block per segment:
 //! `<muscle>` (the belly, muscle material) and `<muscle>_tendon` (and
 //! `<muscle>_origin_tendon`), the belly alone volume-matched to the Visible Human.
@@ -173,11 +175,21 @@ impl Quadriceps {
     /// (VI, VL) and 20 mm (VM, whose oblique fibres reach lowest) above the patella's
     /// base (y ≈ 49 mm at 0°), the rectus femoris's 80 mm above it, and its direct tendon
     /// from the spine the first 42 mm below the origin (y = 482 → 440 mm).
+    ///
+    /// Each vastus begins with 32–42 mm of tendinous origin (VI 402 → 360 mm, VL 420 →
+    /// 380 mm, VM 352 → 320 mm): the proximal aponeuroses of the lateralis and medialis,
+    /// and for the intermedius the broad origin on the upper shaft, which the swept solid's
+    /// narrow end (VI 10 × 4 mm semi-axes, 1/33 of its largest section) cannot carry as
+    /// muscle. With those ends of muscle material the whole pull went through them: on
+    /// the coarse passive squat at 90° the first two of twelve layers stretched most
+    /// (fiber stretch 1.21–1.28 against 1.15–1.20 in the belly) and held every one of
+    /// VI's top-5 % elements (vm95 342 kPa; 106 kPa over the other layers; explicit
+    /// solver, 2026-11-25).
     pub fn tendon_layout(self) -> TendonLayout {
         let (origin_tendon_end, junction) = match self {
-            Quadriceps::VastusIntermedius => (None, 89.0),
-            Quadriceps::VastusLateralis => (None, 89.0),
-            Quadriceps::VastusMedialis => (None, 69.0),
+            Quadriceps::VastusIntermedius => (Some(360.0), 89.0),
+            Quadriceps::VastusLateralis => (Some(380.0), 89.0),
+            Quadriceps::VastusMedialis => (Some(320.0), 69.0),
             Quadriceps::RectusFemoris => (Some(440.0), 129.0),
         };
         TendonLayout {
