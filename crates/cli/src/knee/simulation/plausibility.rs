@@ -11,6 +11,9 @@
 //!   percentile (the matrix law was calibrated up to about 25 % strain);
 //! - the force each muscle–femur interface carries (the resultant on the muscle), as a
 //!   share of that muscle's pull: an interface that lets the muscle slide carries little;
+//!   and its component along the muscle's pull (the insertion reaction's direction),
+//!   which is what resists the slide: a frictionless interface under a muscle that the
+//!   others press onto the bone carries their pressure across the pull;
 //!   the same for the penalty contact with the femur (the quadriceps tendon's wrap over
 //!   the trochlea in deep flexion is real and carries more);
 //! - the peak von Mises stress of each muscle's tendon (reported apart from the muscles'
@@ -44,6 +47,9 @@ pub struct PlausibilitySample {
     /// |resultant| of each muscle's cohesive interface with the femur, and of its penalty
     /// contact with the femur [N] (0 without one).
     pub femur_interface_force: Vec<f64>,
+    /// |component| of each muscle–femur interface's resultant along that muscle's pull
+    /// (the direction of its insertion reaction) [N].
+    pub femur_interface_along_pull: Vec<f64>,
     pub femur_contact_force: Vec<f64>,
     /// The largest von Mises stress of each muscle's tendon elements [Pa] (0 without).
     pub tendon_peak: Vec<f64>,
@@ -96,6 +102,10 @@ fn interpolate(a: &PlausibilitySample, b: &PlausibilitySample, time: f64) -> Pla
         fiber_stretch_median: mix(a.fiber_stretch_median, b.fiber_stretch_median),
         fiber_stretch_p95: mix(a.fiber_stretch_p95, b.fiber_stretch_p95),
         femur_interface_force: mix_all(&a.femur_interface_force, &b.femur_interface_force),
+        femur_interface_along_pull: mix_all(
+            &a.femur_interface_along_pull,
+            &b.femur_interface_along_pull,
+        ),
         femur_contact_force: mix_all(&a.femur_contact_force, &b.femur_contact_force),
         tendon_peak: mix_all(&a.tendon_peak, &b.tendon_peak),
     }
@@ -141,7 +151,12 @@ pub fn plausibility_header(muscles: &[Quadriceps]) -> String {
     header.push_str(
         ",patellar_tendon_force_n,extensor_moment_nm,fiber_stretch_median,fiber_stretch_p95",
     );
-    for suffix in ["femur_interface_n", "femur_contact_n", "tendon_peak_pa"] {
+    for suffix in [
+        "femur_interface_n",
+        "femur_interface_along_pull_n",
+        "femur_contact_n",
+        "tendon_peak_pa",
+    ] {
         for m in muscles {
             header.push_str(&format!(",{}_{suffix}", m.abbreviation()));
         }
@@ -172,6 +187,7 @@ pub fn write_plausibility_csv(
             s.fiber_stretch_p95,
         ]);
         numbers.extend(&s.femur_interface_force);
+        numbers.extend(&s.femur_interface_along_pull);
         numbers.extend(&s.femur_contact_force);
         numbers.extend(&s.tendon_peak);
         fields.extend(numbers.iter().map(|&x| musclefem_io::csv::format_number(x)));
@@ -187,26 +203,34 @@ pub fn plausibility_report(rows: &[PlausibilityRow], muscles: &[Quadriceps]) -> 
     let mut text = String::from(
         "  plausibility (flexion): angle, quadriceps pull on the patella [N] (per muscle), \
          patellar tendon [N], extensor moment [N m], fiber stretch median / 95th pct, \
-         muscle–femur interface and contact force as a share of each muscle's pull, \
-         tendon peak von Mises [MPa]\n",
+         muscle–femur interface force (all of it / along the pull) and contact force as a \
+         share of each muscle's pull, tendon peak von Mises [MPa]\n",
     );
     for row in rows.iter().filter(|r| r.phase == Phase::Flexion) {
         let s = &row.sample;
         let pulls: Vec<String> = s.insertion_pull.iter().map(|p| format!("{p:.0}")).collect();
+        let percent = |f: f64, p: f64| 100.0 * f / p.max(f64::MIN_POSITIVE);
         let share = |forces: &[f64]| -> String {
             muscles
                 .iter()
                 .zip(forces.iter().zip(&s.insertion_pull))
-                .map(|(m, (f, p))| {
-                    format!(
-                        "{} {:.0} %",
-                        m.abbreviation(),
-                        100.0 * f / p.max(f64::MIN_POSITIVE)
-                    )
-                })
+                .map(|(m, (&f, &p))| format!("{} {:.0} %", m.abbreviation(), percent(f, p)))
                 .collect::<Vec<_>>()
                 .join(", ")
         };
+        let interface: Vec<String> = muscles
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let p = s.insertion_pull[i];
+                format!(
+                    "{} {:.0} / {:.0} %",
+                    m.abbreviation(),
+                    percent(s.femur_interface_force[i], p),
+                    percent(s.femur_interface_along_pull[i], p)
+                )
+            })
+            .collect();
         let peaks: Vec<String> = s
             .tendon_peak
             .iter()
@@ -222,7 +246,7 @@ pub fn plausibility_report(rows: &[PlausibilityRow], muscles: &[Quadriceps]) -> 
             s.extensor_moment,
             s.fiber_stretch_median,
             s.fiber_stretch_p95,
-            share(&s.femur_interface_force),
+            interface.join(", "),
             share(&s.femur_contact_force),
             peaks.join(" "),
         ));
