@@ -247,12 +247,19 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
     );
     assert!(passive("fiber_stretch_p95") <= 1.30);
     for muscle in ["VI", "VL", "VM"] {
-        // The femur lets the vasti slide: its interface carries a small share of the pull.
-        let share =
-            passive(&format!("{muscle}_femur_interface_n")) / passive(&format!("{muscle}_pull_n"));
+        // The femur lets the vasti slide: its interface resists a small share of the pull.
+        // The sliding bonds push only along the femur's normal, so their resultant is the
+        // pressure of the muscles over the vastus (the intermedius carries the rectus and
+        // the other vasti as they wrap the femur) and its component along the pull is
+        // what holds the muscle back (issue #29's note: the resultant itself was 55 % of
+        // VI's pull on the coarse mesh, 19 % along it).
+        let pull = passive(&format!("{muscle}_pull_n"));
+        let share = passive(&format!("{muscle}_femur_interface_along_pull_n")) / pull;
+        let all = passive(&format!("{muscle}_femur_interface_n")) / pull;
+        eprintln!("{muscle}: femur interface {all:.2} of the pull, {share:.2} along it");
         assert!(
             share <= 0.2,
-            "{muscle}: femur interface {share} of the pull"
+            "{muscle}: femur interface {share} of the pull along it"
         );
     }
     let active = plausibility("active");
