@@ -324,6 +324,7 @@ pub fn knee_interactions(
             modulus,
         )
         .with_context(|| format!("contact {name}"))?
+        .with_node_penalties(penalties(&surfaces[secondary])?)?
         .with_smooth_normals();
         result.summaries.push(InteractionSummary {
             name,
