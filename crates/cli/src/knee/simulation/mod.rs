@@ -17,8 +17,8 @@
 //!
 //! **The closed chain** ([`super::anatomy::ClosedChain`]). As in the paper, the distal
 //! tibia is pinned (free to turn in the sagittal plane) and the pelvis is lowered: the
-//! hip stays above the ankle, so the tibia tilts forward (β = 22.9° at 45° of knee
-//! flexion, 48.3° at 90°) and the hip flexes as much as the knee (the pelvis turns with
+//! hip stays above the ankle, so the tibia tilts forward (β = 23.9° at 45° of knee
+//! flexion, 48.4° at 90°) and the hip flexes as much as the knee (the pelvis turns with
 //! the thigh). The femur moves, and with it the vasti's origins; the rectus's origin
 //! rides on the pelvis. `kinematics.csv` records the motion.
 //!
