@@ -426,7 +426,6 @@ fn newton_step(
     let mut iterations = 1;
     let mut residuals = Vec::new();
     let mut line_search_cuts = 0;
-    let mut unchecked_steps = 0;
     let mut evaluated = false;
     let mut base = displacement.to_vec();
     loop {
@@ -521,18 +520,6 @@ fn newton_step(
             }
             alpha *= 0.5;
             line_search_cuts += 1;
-        }
-        if !accepted && unchecked_steps < settings.unchecked_full_steps {
-            // No trial lowered the residual: take the whole step anyway (see
-            // `ImplicitSettings::unchecked_full_steps`), with its stiffness.
-            unchecked_steps += 1;
-            alpha = 1.0;
-            model.apply(displacement, &base, &direction, alpha);
-            set_positions(&mut positions, reference, displacement);
-            accepted = model
-                .evaluate(&positions, end, step, true, None)
-                .is_ok_and(|n| n.residual.is_finite());
-            evaluated = accepted;
         }
         if !accepted {
             return Err(StepFailure::NotConverged {

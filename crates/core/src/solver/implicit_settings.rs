@@ -53,13 +53,6 @@ pub struct ImplicitSettings {
     pub round_off_correction: f64,
     /// Halvings the line search may try per iteration (default 8).
     pub line_search_cuts: usize,
-    /// Times per increment that a Newton step is taken whole although no trial of the
-    /// line search lowered the residual (default 0: the increment fails there). With an
-    /// approximate tangent (penalty contact along smooth normals leaves out the turn of
-    /// the normals) the Newton direction need not lower |r| near the solution, though the
-    /// iteration still converges; the increment fails as before if it does not within
-    /// `max_iterations`.
-    pub unchecked_full_steps: usize,
     /// Unknowns from which the sparse factorizations run on rayon's threads; below,
     /// they run serially. Default `usize::MAX`: always serial, so that whole runs are the
     /// same, bit for bit, on any number of threads (element updates are parallel and
@@ -119,7 +112,6 @@ impl ImplicitSettings {
             correction_tolerance: 1e-6,
             round_off_correction: 1e-10,
             line_search_cuts: 8,
-            unchecked_full_steps: 0,
             parallel_factorization_unknowns: usize::MAX,
             factor_reuse: Some(FactorReuse::default()),
             dynamics: None,

@@ -205,7 +205,10 @@ mod tests {
         // The numbers of the module documentation.
         for (degrees, tilt) in [(45.0, 23.9), (90.0, 48.4)] {
             let measured = chain.tibia_tilt(degrees * DEG) / DEG;
-            assert!((measured - tilt).abs() < 0.05, "{degrees}°: tibia tilt {measured}°");
+            assert!(
+                (measured - tilt).abs() < 0.05,
+                "{degrees}°: tibia tilt {measured}°"
+            );
         }
     }
 }

@@ -327,10 +327,6 @@ pub fn run_squat(
             // order and LBLᵀ, which made factorizations 3× cheaper and reuse less worth it).
             solver_settings.factor_reuse = None;
             solver_settings.line_search_cuts = KNEE_LINE_SEARCH_CUTS;
-            solver_settings.unchecked_full_steps = std::env::var("MUSCLEFEM_KNEE_UNCHECKED")
-                .ok()
-                .and_then(|a| a.parse().ok())
-                .unwrap_or(0);
             if settings.inertia {
                 solver_settings.dynamics = Some(dissipative_newmark(KNEE_NEWMARK_DISSIPATION));
             }
