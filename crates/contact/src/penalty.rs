@@ -118,7 +118,8 @@ pub fn rim_weight(overhang: f64, corners: &[Vector3<f64>; 3]) -> f64 {
             .cross(&(corners[2] - corners[0]))
             .norm();
     let width = RIM_FADE * (2.0 * area).sqrt();
-    if !(width > 0.0) {
+    // A degenerate triangle (no width, or NaN): over it or not.
+    if width.is_nan() || width <= 0.0 {
         return if overhang > 0.0 { 0.0 } else { 1.0 };
     }
     let t = (overhang / width).clamp(0.0, 1.0);

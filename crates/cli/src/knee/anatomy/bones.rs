@@ -259,6 +259,29 @@ pub fn patella_surface(around: usize) -> TriangleSurface {
     }
 }
 
+/// The unit outward normals ∇f/|∇f| of the implicit solid `f` at the vertices of its
+/// `surface` (central differences of 1 µm): the shape's own normals, smoother than its
+/// facets' (see `musclefem_contact::RigidSurface::with_vertex_normals`).
+pub fn implicit_normals(
+    surface: &TriangleSurface,
+    f: impl Fn(&Vector3<f64>) -> f64,
+) -> Vec<Vector3<f64>> {
+    let h = 1e-6;
+    surface
+        .vertices
+        .iter()
+        .map(|x| {
+            Vector3::from_fn(|k, _| {
+                let mut e = Vector3::zeros();
+                e[k] = h;
+                (f(&(x + e)) - f(&(x - e))) / (2.0 * h)
+            })
+            .try_normalize(0.0)
+            .unwrap_or_else(Vector3::y)
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -326,27 +349,4 @@ mod tests {
     fn mm(x: f64, y: f64, z: f64) -> Vector3<f64> {
         super::super::dimensions::mm(x, y, z)
     }
-}
-
-/// The unit outward normals ∇f/|∇f| of the implicit solid `f` at the vertices of its
-/// `surface` (central differences of 1 µm): the shape's own normals, smoother than its
-/// facets' (see `musclefem_contact::RigidSurface::with_vertex_normals`).
-pub fn implicit_normals(
-    surface: &TriangleSurface,
-    f: impl Fn(&Vector3<f64>) -> f64,
-) -> Vec<Vector3<f64>> {
-    let h = 1e-6;
-    surface
-        .vertices
-        .iter()
-        .map(|x| {
-            Vector3::from_fn(|k, _| {
-                let mut e = Vector3::zeros();
-                e[k] = h;
-                (f(&(x + e)) - f(&(x - e))) / (2.0 * h)
-            })
-            .try_normalize(0.0)
-            .unwrap_or_else(Vector3::y)
-        })
-        .collect()
 }

@@ -308,6 +308,82 @@ pub fn marching_tetrahedra(
     Ok(surface)
 }
 
+/// Moves the vertices of `surface`, a triangulation of f = 0, to even out its triangles
+/// (see the module documentation): `iterations` rounds of x ← x + ½ (mean of the
+/// neighbours − x), then three Newton steps x ← x − f ∇f / |∇f|² (∇f by central
+/// differences of 1 µm); a vertex whose move would turn one of its triangles by more than
+/// 60° keeps its place that round. The connectivity does not change.
+pub fn relax_on_surface(
+    surface: &mut TriangleSurface,
+    f: impl Fn(&Vector3<f64>) -> f64 + Sync,
+    iterations: usize,
+) {
+    let count = surface.vertices.len();
+    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); count];
+    let mut triangles_of: Vec<Vec<u32>> = vec![Vec::new(); count];
+    for (t, triangle) in surface.triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (triangle[k], triangle[(k + 1) % 3]);
+            neighbours[a as usize].push(b);
+            neighbours[b as usize].push(a);
+            triangles_of[a as usize].push(t as u32);
+        }
+    }
+    for list in &mut neighbours {
+        list.sort_unstable();
+        list.dedup();
+    }
+    let h = 1e-6;
+    let onto_surface = |mut x: Vector3<f64>| {
+        for _ in 0..3 {
+            let gradient = Vector3::from_fn(|k, _| {
+                let mut e = Vector3::zeros();
+                e[k] = h;
+                (f(&(x + e)) - f(&(x - e))) / (2.0 * h)
+            });
+            let norm2 = gradient.norm_squared();
+            if norm2 > 0.0 {
+                x -= f(&x) * gradient / norm2;
+            }
+        }
+        x
+    };
+    let normal = |vertices: &[Vector3<f64>], t: u32| {
+        let [a, b, c] = surface.triangles[t as usize].map(|i| vertices[i as usize]);
+        (b - a).cross(&(c - a))
+    };
+    for _ in 0..iterations {
+        let old = surface.vertices.clone();
+        let moved: Vec<Vector3<f64>> = (0..count)
+            .into_par_iter()
+            .map(|v| {
+                let list = &neighbours[v];
+                if list.is_empty() {
+                    return old[v];
+                }
+                let mean =
+                    list.iter().map(|&n| old[n as usize]).sum::<Vector3<f64>>() / list.len() as f64;
+                onto_surface(old[v] + 0.5 * (mean - old[v]))
+            })
+            .collect();
+        surface.vertices = moved;
+        // Undo the moves that turn a triangle over (compared with the old positions).
+        let turned: Vec<usize> = (0..count)
+            .into_par_iter()
+            .filter(|&v| {
+                triangles_of[v].iter().any(|&t| {
+                    let before = normal(&old, t);
+                    let after = normal(&surface.vertices, t);
+                    after.dot(&before) <= 0.5 * after.norm() * before.norm()
+                })
+            })
+            .collect();
+        for v in turned {
+            surface.vertices[v] = old[v];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::f64::consts::PI;
@@ -398,81 +474,5 @@ mod tests {
             "{}",
             surface.volume()
         );
-    }
-}
-
-/// Moves the vertices of `surface`, a triangulation of f = 0, to even out its triangles
-/// (see the module documentation): `iterations` rounds of x ← x + ½ (mean of the
-/// neighbours − x), then three Newton steps x ← x − f ∇f / |∇f|² (∇f by central
-/// differences of 1 µm); a vertex whose move would turn one of its triangles by more than
-/// 60° keeps its place that round. The connectivity does not change.
-pub fn relax_on_surface(
-    surface: &mut TriangleSurface,
-    f: impl Fn(&Vector3<f64>) -> f64 + Sync,
-    iterations: usize,
-) {
-    let count = surface.vertices.len();
-    let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); count];
-    let mut triangles_of: Vec<Vec<u32>> = vec![Vec::new(); count];
-    for (t, triangle) in surface.triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (triangle[k], triangle[(k + 1) % 3]);
-            neighbours[a as usize].push(b);
-            neighbours[b as usize].push(a);
-            triangles_of[a as usize].push(t as u32);
-        }
-    }
-    for list in &mut neighbours {
-        list.sort_unstable();
-        list.dedup();
-    }
-    let h = 1e-6;
-    let onto_surface = |mut x: Vector3<f64>| {
-        for _ in 0..3 {
-            let gradient = Vector3::from_fn(|k, _| {
-                let mut e = Vector3::zeros();
-                e[k] = h;
-                (f(&(x + e)) - f(&(x - e))) / (2.0 * h)
-            });
-            let norm2 = gradient.norm_squared();
-            if norm2 > 0.0 {
-                x -= f(&x) * gradient / norm2;
-            }
-        }
-        x
-    };
-    let normal = |vertices: &[Vector3<f64>], t: u32| {
-        let [a, b, c] = surface.triangles[t as usize].map(|i| vertices[i as usize]);
-        (b - a).cross(&(c - a))
-    };
-    for _ in 0..iterations {
-        let old = surface.vertices.clone();
-        let moved: Vec<Vector3<f64>> = (0..count)
-            .into_par_iter()
-            .map(|v| {
-                let list = &neighbours[v];
-                if list.is_empty() {
-                    return old[v];
-                }
-                let mean =
-                    list.iter().map(|&n| old[n as usize]).sum::<Vector3<f64>>() / list.len() as f64;
-                onto_surface(old[v] + 0.5 * (mean - old[v]))
-            })
-            .collect();
-        surface.vertices = moved;
-        // Undo the moves that turn a triangle over (compared with the old positions).
-        let turned: Vec<usize> = (0..count)
-            .into_par_iter()
-            .filter(|&v| {
-                triangles_of[v].iter().any(|&t| {
-                    let before = normal(&old, t);
-                    let after = normal(&surface.vertices, t);
-                    after.dot(&before) <= 0.5 * after.norm() * before.norm()
-                })
-            })
-            .collect();
-        for v in turned {
-            surface.vertices[v] = old[v];
-        }
     }
 }

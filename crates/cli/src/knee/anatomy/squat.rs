@@ -114,9 +114,9 @@ impl Squat {
     /// The bones' motions along `chain`. Errors if the squat is not usable (non-positive
     /// duration or peak flexion outside (0°, 150°]).
     pub fn motions(&self, chain: &ClosedChain) -> Result<BoneMotions> {
-        if !(self.duration.is_finite() && self.duration > 0.0)
-            || !(self.peak_flexion > 0.0 && self.peak_flexion <= 150f64.to_radians())
-        {
+        let duration_ok = self.duration.is_finite() && self.duration > 0.0;
+        let peak_ok = self.peak_flexion > 0.0 && self.peak_flexion <= 150f64.to_radians();
+        if !(duration_ok && peak_ok) {
             bail!(
                 "a squat needs a positive duration and a peak flexion in (0°, 150°]: {} s, {}°",
                 self.duration,
