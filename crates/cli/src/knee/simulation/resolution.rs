@@ -96,15 +96,15 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {
         Resolution::Coarse => {
-            "the closed-chain model's measured mesh: its implicit passive squat took 583 s \
-             on 2 cores (2026-11-25); how far it is from medium is not measured on this \
-             model (on the one before, passive vm95 differed by up to 37 %), so read the \
-             table as the coarse model's answer"
+            "the closed-chain model's measured mesh: passive and active side by side took \
+             30 minutes on 2 cores (2026-11-25); its passive vm95 differed from medium's \
+             by up to 17 % at 45° and 60° (90° not reached on medium), so read the table \
+             as the coarse model's answer"
         }
         Resolution::Medium => {
             "the default, 6 times coarse's elements: not yet run to the end on the \
-             closed-chain model (its implicit passive squat reached t = 0.6 s of 2 s in 19 \
-             minutes on 2 cores beside another run, 2026-11-25); expect an hour or more"
+             closed-chain model (its implicit passive squat reached 58° of flexion, t = 0.63 s \
+             of 2 s, in 25 minutes on 2 cores beside another run, 2026-11-25); expect hours"
         }
         Resolution::Fine => {
             "not run yet: 35 840 muscle elements, about 4 times medium's unknowns; expect \
