@@ -166,6 +166,23 @@ pub struct PeakStressRow {
     pub location: PeakLocation,
 }
 
+/// The instants of the table: (phase, angle [°], time [s]) at which the knee passes each
+/// of [`TABLE_ANGLES_DEGREES`] in flexion, then in extension.
+pub fn table_instants(squat: &Squat) -> Vec<(Phase, f64, f64)> {
+    let mut instants = Vec::new();
+    for phase in [Phase::Flexion, Phase::Extension] {
+        for &degrees in &TABLE_ANGLES_DEGREES {
+            let down = flexion_time(squat, degrees.to_radians());
+            let time = match phase {
+                Phase::Flexion => down,
+                Phase::Extension => squat.duration - down,
+            };
+            instants.push((phase, degrees, time));
+        }
+    }
+    instants
+}
+
 /// The rows of one run: every muscle at every table angle in both phases, interpolated
 /// from `samples` (in time order). Errors if the samples do not cover an angle's time.
 pub fn peak_stress_rows(
@@ -175,41 +192,34 @@ pub fn peak_stress_rows(
     activation: Activation,
 ) -> Result<Vec<PeakStressRow>> {
     let mut rows = Vec::new();
-    for phase in [Phase::Flexion, Phase::Extension] {
-        for &degrees in &TABLE_ANGLES_DEGREES {
-            let down = flexion_time(squat, degrees.to_radians());
-            let time = match phase {
-                Phase::Flexion => down,
-                Phase::Extension => squat.duration - down,
-            };
-            let after = samples.iter().position(|s| s.time >= time - 1e-12);
-            let (Some(after), Some(first)) = (after, samples.first()) else {
-                bail!(
-                    "the run ended before the knee reached {degrees}° in {} (t = {time:.4} s)",
-                    phase.name()
-                );
-            };
-            if first.time > time + 1e-12 {
-                bail!("no recorded instant before t = {time:.4} s");
-            }
-            let before = after.saturating_sub(1);
-            let (a, b) = (&samples[before], &samples[after]);
-            let weight = if b.time > a.time {
-                ((time - a.time) / (b.time - a.time)).clamp(0.0, 1.0)
-            } else {
-                1.0
-            };
-            let nearest = if weight < 0.5 { a } else { b };
-            for (m, &muscle) in muscles.iter().enumerate() {
-                rows.push(PeakStressRow {
-                    muscle,
-                    angle_degrees: degrees,
-                    phase,
-                    activation,
-                    vm95: a.vm95[m] + weight * (b.vm95[m] - a.vm95[m]),
-                    location: nearest.location[m],
-                });
-            }
+    for (phase, degrees, time) in table_instants(squat) {
+        let after = samples.iter().position(|s| s.time >= time - 1e-12);
+        let (Some(after), Some(first)) = (after, samples.first()) else {
+            bail!(
+                "the run ended before the knee reached {degrees}° in {} (t = {time:.4} s)",
+                phase.name()
+            );
+        };
+        if first.time > time + 1e-12 {
+            bail!("no recorded instant before t = {time:.4} s");
+        }
+        let before = after.saturating_sub(1);
+        let (a, b) = (&samples[before], &samples[after]);
+        let weight = if b.time > a.time {
+            ((time - a.time) / (b.time - a.time)).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let nearest = if weight < 0.5 { a } else { b };
+        for (m, &muscle) in muscles.iter().enumerate() {
+            rows.push(PeakStressRow {
+                muscle,
+                angle_degrees: degrees,
+                phase,
+                activation,
+                vm95: a.vm95[m] + weight * (b.vm95[m] - a.vm95[m]),
+                location: nearest.location[m],
+            });
         }
     }
     Ok(rows)

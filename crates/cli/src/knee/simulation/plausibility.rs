@@ -26,9 +26,8 @@ use anyhow::{Result, bail};
 use super::super::anatomy::dimensions::{APEX, TUBEROSITY};
 use super::super::anatomy::kinematics::flexion_rotation;
 use super::super::anatomy::{Quadriceps, Squat};
-use super::model::flexion_time;
 use super::patella::TendonState;
-use super::peak_stress::{Phase, TABLE_ANGLES_DEGREES};
+use super::peak_stress::{Phase, table_instants};
 
 /// The plausibility measures at one recorded instant.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,26 +117,19 @@ pub fn plausibility_rows(
     squat: &Squat,
 ) -> Result<Vec<PlausibilityRow>> {
     let mut rows = Vec::new();
-    for phase in [Phase::Flexion, Phase::Extension] {
-        for &degrees in &TABLE_ANGLES_DEGREES {
-            let down = flexion_time(squat, degrees.to_radians());
-            let time = match phase {
-                Phase::Flexion => down,
-                Phase::Extension => squat.duration - down,
-            };
-            let Some(after) = samples.iter().position(|s| s.time >= time - 1e-12) else {
-                bail!(
-                    "the run ended before the knee reached {degrees}° in {}",
-                    phase.name()
-                );
-            };
-            let before = after.saturating_sub(1);
-            rows.push(PlausibilityRow {
-                angle_degrees: degrees,
-                phase,
-                sample: interpolate(&samples[before], &samples[after], time),
-            });
-        }
+    for (phase, degrees, time) in table_instants(squat) {
+        let Some(after) = samples.iter().position(|s| s.time >= time - 1e-12) else {
+            bail!(
+                "the run ended before the knee reached {degrees}° in {}",
+                phase.name()
+            );
+        };
+        let before = after.saturating_sub(1);
+        rows.push(PlausibilityRow {
+            angle_degrees: degrees,
+            phase,
+            sample: interpolate(&samples[before], &samples[after], time),
+        });
     }
     Ok(rows)
 }
