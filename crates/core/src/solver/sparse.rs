@@ -61,6 +61,25 @@ pub enum Factorization {
     SymmetricIndefinite,
     /// Sparse LU with partial pivoting.
     Lu,
+    /// GMRES on an unsymmetric K, preconditioned with the Cholesky factor of its
+    /// symmetric part ½(K + Kᵀ) ([`GMRES_TOLERANCE`]).
+    SymmetricPartGmres,
+}
+
+/// Relative residual ‖b − K x‖ / ‖b‖ at which GMRES on an unsymmetric tangent stops
+/// (LU's solves reach ~1e-14; Newton's convergence tests sit far above both).
+pub const GMRES_TOLERANCE: f64 = 1e-10;
+
+/// Most GMRES iterations on an unsymmetric tangent before LU takes over.
+pub const GMRES_MAX_ITERATIONS: usize = 40;
+
+/// The factor of an unsymmetric tangent's symmetric part that preconditions GMRES.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SymmetricFactor {
+    /// LLᵀ: the symmetric part is positive definite.
+    Cholesky,
+    /// LBLᵀ (Bunch–Kaufman within supernodes): it is indefinite.
+    Lblt,
 }
 
 /// The stiffness of the free degrees of freedom and its factorizations.
@@ -274,7 +293,7 @@ impl SparseSystem {
     /// and 64, the tangents of increments 2, 4 and 8 times shorter, with the first that
     /// Cholesky accepts (see [`MASS_SHIFTS`]); LBLᵀ follows on K itself when none does.
     /// An unsymmetric K is shifted when its symmetric part is indefinite
-    /// ([`Self::factorize_lu_mass_shifted`]).
+    /// ([`Self::solve_unsymmetric`]).
     pub fn solve(
         &mut self,
         rhs: &mut [f64],
@@ -315,8 +334,8 @@ impl SparseSystem {
                 Err(e) => symmetric_errors = Some((cholesky_error, e)),
             }
         }
-        if let (false, Some((positions, masses))) = (symmetric, mass_shift) {
-            return self.factorize_lu_mass_shifted(rhs, positions, masses);
+        if !symmetric {
+            return self.solve_unsymmetric(rhs, mass_shift);
         }
         self.factorize_lu(rhs)
             .map_err(|e| match &symmetric_errors {
@@ -357,63 +376,147 @@ impl SparseSystem {
         false
     }
 
-    /// LU of an unsymmetric K, shifted by the mass where K is indefinite along its own
-    /// correction x = K⁻¹ b (xᵀ b = xᵀ K x ≤ 0). Then, as a symmetric K is shifted when
-    /// Cholesky finds it indefinite, K + (s − 1) M c is factorized by LU with the first of
-    /// the [`MASS_SHIFTS`] s
-    /// whose symmetric part Cholesky accepts (the matrix left shifted, as in
-    /// [`Self::factorize_mass_shifted`]), K itself when none does. Without this an
-    /// unsymmetric tangent (sliding interfaces and contact along smooth normals) lost the
-    /// protection the mass shift gives the symmetric one: on the active knee squat,
-    /// single corrections that raised the residual to 1e200. (Testing the symmetric part
-    /// at every solve instead shifted the passive squat's tangents from the start, and
-    /// its increments fell from 20 ms to 1 ms.)
-    fn factorize_lu_mass_shifted(
+    /// K x = `rhs` for an unsymmetric K (sliding interfaces and contact along smooth
+    /// normals), shifted by the mass where K is indefinite along its own correction.
+    ///
+    /// **Solves.** By GMRES preconditioned with a factor of the symmetric part
+    /// ½(K + Kᵀ) in the Cholesky analysis (METIS's order): its Cholesky factor, or its
+    /// LBLᵀ factor when it is indefinite ([`GMRES_TOLERANCE`],
+    /// [`GMRES_MAX_ITERATIONS`]); by LU when GMRES does not converge or the pattern is
+    /// not symmetric. faer's LU orders the columns by COLAMD on the structure of KᵀK: on
+    /// the coarse knee one LU cost several Cholesky factorizations of the same matrix.
+    ///
+    /// **Mass shift** (with `mass_shift`, as [`Self::solve`]). A correction x along
+    /// which K has negative curvature (xᵀ K x = xᵀ b ≤ 0) is replaced, as a symmetric K
+    /// is shifted when Cholesky finds it indefinite, by the solve with K + (s − 1) M c for
+    /// the first of the [`MASS_SHIFTS`] s whose symmetric part Cholesky accepts (the
+    /// matrix left shifted, as in [`Self::factorize_mass_shifted`]); K's own when none
+    /// does. A definite symmetric part gives positive curvature by itself. Without this
+    /// an unsymmetric tangent lost the protection the mass shift gives the symmetric one:
+    /// on the active knee squat, single corrections that raised the residual to 1e200.
+    /// (Testing the symmetric part at every solve and shifting it whenever indefinite
+    /// shifted the passive squat's tangents from the start, and its increments fell from
+    /// 20 ms to 1 ms.)
+    fn solve_unsymmetric(
         &mut self,
         rhs: &mut [f64],
-        positions: &[usize],
-        masses: &[f64],
+        mass_shift: Option<(&[usize], &[f64])>,
     ) -> Result<Factorization, String> {
-        let b = rhs.to_vec();
-        self.factorize_lu(rhs)
-            .map_err(|e| format!("LU failed ({e})"))?;
-        // Positive curvature along K's own correction (xᵀ K x = xᵀ b > 0): take it.
-        if rhs.iter().zip(&b).map(|(x, b)| x * b).sum::<f64>() > 0.0 {
+        let lu_failed = |e: String| format!("LU failed ({e})");
+        if !self.pattern_is_symmetric() {
+            self.factorize_lu(rhs).map_err(lu_failed)?;
             return Ok(Factorization::Lu);
         }
-        rhs.copy_from_slice(&b);
-        let mut shift_used = 0.0;
-        for shift in [1.0].into_iter().chain(MASS_SHIFTS) {
-            match self.symmetric_part_is_definite(positions, masses, shift - 1.0) {
-                Some(true) => {
-                    shift_used = shift - 1.0;
-                    break;
-                }
-                Some(false) => continue,
-                // A pattern that is not symmetric: no test, K itself.
-                None => break,
-            }
+        let b = rhs.to_vec();
+        // K's own correction.
+        let definite = self.factorize_symmetric_part(0.0, mass_shift, SymmetricFactor::Cholesky);
+        if definite && self.gmres_with_symmetric_factor(rhs, SymmetricFactor::Cholesky) {
+            return Ok(Factorization::SymmetricPartGmres);
         }
-        if shift_used > 0.0 {
+        let used = if !definite
+            && self.factorize_symmetric_part(0.0, mass_shift, SymmetricFactor::Lblt)
+            && self.gmres_with_symmetric_factor(rhs, SymmetricFactor::Lblt)
+        {
+            Factorization::SymmetricPartGmres
+        } else {
+            self.factorize_lu(rhs).map_err(lu_failed)?;
+            Factorization::Lu
+        };
+        let Some((positions, masses)) = mass_shift else {
+            return Ok(used);
+        };
+        if rhs.iter().zip(&b).map(|(x, b)| x * b).sum::<f64>() > 0.0 {
+            return Ok(used);
+        }
+        // Negative curvature along K's own correction: the first shift that makes the
+        // symmetric part definite.
+        let own = rhs.to_vec();
+        for shift in MASS_SHIFTS {
+            let added = shift - 1.0;
+            if !self.factorize_symmetric_part(added, mass_shift, SymmetricFactor::Cholesky) {
+                continue;
+            }
             let values = self.matrix.val_mut();
             for (&position, &mass) in positions.iter().zip(masses) {
-                values[position] += shift_used * mass;
+                values[position] += added * mass;
             }
             self.statistics.mass_shifted_factorizations += 1;
+            rhs.copy_from_slice(&b);
+            if self.gmres_with_symmetric_factor(rhs, SymmetricFactor::Cholesky) {
+                return Ok(Factorization::SymmetricPartGmres);
+            }
+            self.factorize_lu(rhs).map_err(lu_failed)?;
+            return Ok(Factorization::Lu);
         }
-        self.factorize_lu(rhs)
-            .map_err(|e| format!("LU failed ({e})"))?;
-        Ok(Factorization::Lu)
+        rhs.copy_from_slice(&own);
+        Ok(used)
     }
 
-    /// Whether Cholesky accepts ½(K + Kᵀ) + `added` M c (`None` when the pattern is not
-    /// symmetric); K is left as it was.
-    fn symmetric_part_is_definite(
+    /// Whether every stored entry's transpose is stored (the pattern is symmetric).
+    fn pattern_is_symmetric(&mut self) -> bool {
+        let transpose = self.take_transpose();
+        let symmetric = !transpose.is_empty();
+        self.transpose = Some(transpose);
+        symmetric
+    }
+
+    /// Factorizes ½(K + Kᵀ) + `added` M c (`mass_shift`'s diagonal positions and mass
+    /// terms; none without it) by `kind` in the Cholesky analysis, keeping the factor for
+    /// [`Self::gmres_with_symmetric_factor`]; true when the factorization succeeded. K is
+    /// left as it was; the pattern must be symmetric.
+    fn factorize_symmetric_part(
         &mut self,
-        positions: &[usize],
-        masses: &[f64],
         added: f64,
-    ) -> Option<bool> {
+        mass_shift: Option<(&[usize], &[f64])>,
+        kind: SymmetricFactor,
+    ) -> bool {
+        let transpose = self.take_transpose();
+        let original = self.matrix.val().to_vec();
+        let values = self.matrix.val_mut();
+        for (p, &t) in transpose.iter().enumerate() {
+            values[p] = 0.5 * (original[p] + original[t]);
+        }
+        if let Some((positions, masses)) = mass_shift {
+            for (&position, &mass) in positions.iter().zip(masses) {
+                values[position] += added * mass;
+            }
+        }
+        self.transpose = Some(transpose);
+        let factorized = match kind {
+            SymmetricFactor::Cholesky => {
+                let mut scratch = vec![0.0; self.size()];
+                self.factorize_cholesky(&mut scratch).is_ok()
+            }
+            SymmetricFactor::Lblt => self.factorize_lblt().is_ok(),
+        };
+        self.matrix.val_mut().copy_from_slice(&original);
+        // The factor is of the symmetric part, not of a symmetric K to come.
+        self.cholesky_is_fresh = false;
+        factorized
+    }
+
+    /// GMRES on the stored K, preconditioned with the factor of `kind` at hand; true
+    /// with the solution in `rhs`, false with `rhs` unchanged.
+    fn gmres_with_symmetric_factor(&mut self, rhs: &mut [f64], kind: SymmetricFactor) -> bool {
+        let start = Instant::now();
+        let outcome = self.gmres_with_factor(rhs, kind, GMRES_TOLERANCE, GMRES_MAX_ITERATIONS);
+        self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
+        match outcome {
+            Some(iterations) => {
+                self.statistics.krylov_solves += 1;
+                self.statistics.krylov_iterations += iterations;
+                true
+            }
+            None => {
+                self.statistics.krylov_failures += 1;
+                false
+            }
+        }
+    }
+
+    /// For every stored entry (r, c), where (c, r) is stored; empty when the pattern is
+    /// not symmetric. Built on the first call; put it back in `self.transpose` after use.
+    fn take_transpose(&mut self) -> Vec<usize> {
         if self.transpose.is_none() {
             let symbolic = self.matrix.symbolic();
             let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
@@ -431,24 +534,7 @@ impl SparseSystem {
             }
             self.transpose = Some(transpose);
         }
-        let transpose = self.transpose.take().expect("just built");
-        if transpose.is_empty() {
-            self.transpose = Some(transpose);
-            return None;
-        }
-        let original = self.matrix.val().to_vec();
-        let values = self.matrix.val_mut();
-        for (p, &t) in transpose.iter().enumerate() {
-            values[p] = 0.5 * (original[p] + original[t]);
-        }
-        for (&position, &mass) in positions.iter().zip(masses) {
-            values[position] += added * mass;
-        }
-        let mut scratch = vec![0.0; self.size()];
-        let definite = self.factorize_cholesky(&mut scratch).is_ok();
-        self.matrix.val_mut().copy_from_slice(&original);
-        self.transpose = Some(transpose);
-        Some(definite)
+        self.transpose.take().expect("just built")
     }
 
     /// Statistics of the solves so far.

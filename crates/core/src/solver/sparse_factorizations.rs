@@ -9,13 +9,13 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::SparseColMat;
 use faer::sparse::linalg::cholesky::{
-    LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    IntranodeLbltRef, LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
 use faer::sparse::linalg::lu::{NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::{Conj, Par, Side};
 
-use super::super::krylov::preconditioned_cg;
-use super::{EquationOrder, FactorReuse, SparseSystem};
+use super::super::krylov::{preconditioned_cg, preconditioned_gmres};
+use super::{EquationOrder, FactorReuse, SparseSystem, SymmetricFactor};
 
 /// The fill-reducing order of a symmetric factorization.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,18 +68,24 @@ pub(super) struct Lu {
 }
 
 impl SparseSystem {
-    /// Cholesky of K and the solve of K x = `rhs` in place; faer's reason when K is not
-    /// positive definite (then `rhs` is unchanged).
-    pub(super) fn factorize_cholesky(&mut self, rhs: &mut [f64]) -> Result<(), String> {
-        let (n, par) = (self.size(), self.par);
+    /// The symbolic Cholesky analysis, on the first call.
+    fn analyse_cholesky(&mut self) -> Result<(), String> {
         if self.llt.is_none() {
             let start = Instant::now();
-            let cholesky = Cholesky::new(&self.matrix, &self.orders, par)?;
+            let cholesky = Cholesky::new(&self.matrix, &self.orders, self.par)?;
             self.statistics.factor_entries = cholesky.factor.len();
             self.statistics.ordering = Some(cholesky.order);
             self.llt = Some(cholesky);
             self.statistics.symbolic_seconds += start.elapsed().as_secs_f64();
         }
+        Ok(())
+    }
+
+    /// Cholesky of K and the solve of K x = `rhs` in place; faer's reason when K is not
+    /// positive definite (then `rhs` is unchanged).
+    pub(super) fn factorize_cholesky(&mut self, rhs: &mut [f64]) -> Result<(), String> {
+        let (n, par) = (self.size(), self.par);
+        self.analyse_cholesky()?;
         let start = Instant::now();
         let cholesky = self.llt.as_mut().expect("just built");
         let stack = MemStack::new(&mut cholesky.scratch);
@@ -222,6 +228,74 @@ impl SparseSystem {
                     par,
                     stack,
                 );
+            },
+        )
+    }
+}
+
+impl SparseSystem {
+    /// LBLᵀ of the stored (symmetric) K in the Cholesky analysis, kept for
+    /// [`Self::gmres_with_factor`]; faer's reason when it fails or the factor is not
+    /// finite.
+    pub(super) fn factorize_lblt(&mut self) -> Result<(), String> {
+        let par = self.par;
+        self.analyse_cholesky()?;
+        let cholesky = self.llt.as_mut().expect("just built");
+        let start = Instant::now();
+        let stack = MemStack::new(&mut cholesky.scratch);
+        cholesky.symbolic.factorize_numeric_intranode_lblt(
+            &mut cholesky.factor,
+            &mut cholesky.subdiagonal,
+            &mut cholesky.pivot_forward,
+            &mut cholesky.pivot_inverse,
+            self.matrix.as_ref(),
+            Side::Lower,
+            par,
+            stack,
+            Default::default(),
+        );
+        self.statistics.numeric_factorizations += 1;
+        self.statistics.indefinite_factorizations += 1;
+        self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
+        if cholesky.factor.iter().all(|v| v.is_finite())
+            && cholesky.subdiagonal.iter().all(|v| v.is_finite())
+        {
+            Ok(())
+        } else {
+            Err("the LBLᵀ factor is not finite".to_string())
+        }
+    }
+
+    /// GMRES on K x = `rhs` (K as stored, unsymmetric), preconditioned with the
+    /// Cholesky analysis's factor at hand, LLᵀ or LBLᵀ as `kind` says.
+    pub(super) fn gmres_with_factor(
+        &mut self,
+        rhs: &mut [f64],
+        kind: SymmetricFactor,
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> Option<usize> {
+        let (n, par, matrix) = (self.size(), self.par, &self.matrix);
+        let cholesky = self.llt.as_mut()?;
+        preconditioned_gmres(
+            rhs,
+            tolerance,
+            max_iterations,
+            |x, y| multiply(matrix, x, y),
+            |v| {
+                let stack = MemStack::new(&mut cholesky.scratch);
+                let v = faer::MatMut::from_column_major_slice_mut(v, n, 1);
+                match kind {
+                    SymmetricFactor::Cholesky => LltRef::new(&cholesky.symbolic, &cholesky.factor)
+                        .solve_in_place_with_conj(Conj::No, v, par, stack),
+                    SymmetricFactor::Lblt => IntranodeLbltRef::new(
+                        &cholesky.symbolic,
+                        &cholesky.factor,
+                        &cholesky.subdiagonal,
+                        PermRef::new_checked(&cholesky.pivot_forward, &cholesky.pivot_inverse, n),
+                    )
+                    .solve_in_place_with_conj(Conj::No, v, par, stack),
+                }
             },
         )
     }
