@@ -163,7 +163,8 @@ pub(crate) fn preconditioned_gmres(
                 .map(|(b, kx)| (b - kx) * (b - kx))
                 .sum::<f64>()
                 .sqrt();
-            if !(residual <= 10.0 * target) {
+            // (A NaN residual fails too.)
+            if residual.is_nan() || residual > 10.0 * target {
                 return None;
             }
             rhs.copy_from_slice(&x);

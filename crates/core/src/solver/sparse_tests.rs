@@ -141,7 +141,7 @@ fn unsymmetric_systems_with_a_definite_symmetric_part_use_gmres() {
     assert!(statistics.krylov_iterations <= 24);
     // The matrix is left as it was (not symmetrized): K 1 is still K 1.
     let mut product = vec![0.0; 24];
-    factorizations::multiply(&system.matrix, &vec![1.0; 24], &mut product);
+    factorizations::multiply(&system.matrix, &[1.0; 24], &mut product);
     for (row, p) in product.iter().enumerate() {
         let expected: f64 = (0..24).map(|c| unsymmetric(row, c)).sum();
         assert!((p - expected).abs() < 1e-15);
