@@ -57,7 +57,7 @@ use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Resolution {
     /// 4 × 4 O-grid cells inside 1 ring (32 per section), 12 layers: 384 hex8 per
-    /// muscle belly, 1536 in all, and 832 in the tendons; bones on a 3 mm grid at the knee
+    /// muscle belly, 1536 in all, and 1376 in the tendons; bones on a 3 mm grid at the knee
     /// (9 mm along the shafts).
     Coarse,
     /// 6 × 6 inside 2 rings (84 per section), 28 layers: 2352 per muscle belly, 9408 in

@@ -96,13 +96,13 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {
         Resolution::Coarse => {
-            "the closed-chain model's measured mesh: passive and active side by side took \
-             30 minutes on 2 cores (2026-11-25); its passive vm95 differed from medium's \
-             by up to 17 % at 45° and 60° (90° not reached on medium), so read the table \
-             as the coarse model's answer"
+            "the default, the closed-chain model's measured mesh: passive and active side \
+             by side took 14 minutes on 2 cores (2026-11-26); its passive vm95 differed \
+             from medium's by up to 17 % at 45° and 60° (90° not reached on medium), so \
+             read the table as the coarse model's answer"
         }
         Resolution::Medium => {
-            "the default, 6 times coarse's elements: not yet run to the end on the \
+            "6 times coarse's elements: not yet run to the end on the \
              closed-chain model (its implicit passive squat reached 58° of flexion, t = 0.63 s \
              of 2 s, in 25 minutes on 2 cores beside another run, 2026-11-25); expect hours"
         }

@@ -131,8 +131,8 @@ pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
 pub fn solver_rationale(solver: Solver) -> &'static str {
     match solver {
         Solver::Implicit => {
-            "the default: on the coarse closed-chain knee (2026-11-25) passive and active \
-             ran side by side to the end in 30 minutes on a 2-core machine (544 and 312 \
+            "the default: on the coarse closed-chain knee (2026-11-26) passive and active \
+             ran side by side to the end in 14 minutes on a 2-core machine (511 and 312 \
              increments), the active vm95 at 90° within 10 % of the explicit solver's"
         }
         Solver::Explicit => {
