@@ -116,35 +116,15 @@ impl SparseSystem {
     /// analysis exists) and the solve of K x = `rhs` in place, accepted when its backward
     /// error is at most [`LBLT_BACKWARD_ERROR`]; otherwise `rhs` is unchanged.
     pub(super) fn factorize_symmetric_indefinite(&mut self, rhs: &mut [f64]) -> Result<(), String> {
-        let (n, par) = (self.size(), self.par);
-        let cholesky = self
-            .llt
-            .as_mut()
-            .ok_or("no symbolic analysis (Cholesky was not attempted)")?;
+        let par = self.par;
+        if self.llt.is_none() {
+            return Err("no symbolic analysis (Cholesky was not attempted)".to_string());
+        }
+        self.numeric_lblt();
+        let cholesky = self.llt.as_mut().expect("checked above");
         cholesky.right_hand_side.copy_from_slice(rhs);
         let start = Instant::now();
-        let stack = MemStack::new(&mut cholesky.scratch);
-        let factor = cholesky.symbolic.factorize_numeric_intranode_lblt(
-            &mut cholesky.factor,
-            &mut cholesky.subdiagonal,
-            &mut cholesky.pivot_forward,
-            &mut cholesky.pivot_inverse,
-            self.matrix.as_ref(),
-            Side::Lower,
-            par,
-            stack,
-            Default::default(),
-        );
-        self.statistics.numeric_factorizations += 1;
-        self.statistics.indefinite_factorizations += 1;
-        self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        factor.solve_in_place_with_conj(
-            Conj::No,
-            faer::MatMut::from_column_major_slice_mut(rhs, n, 1),
-            par,
-            stack,
-        );
+        cholesky.solve_lblt(rhs, par);
         // The backward error ‖b − K x‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞).
         let largest = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         let product = &mut cholesky.product;
@@ -238,9 +218,23 @@ impl SparseSystem {
     /// [`Self::gmres_with_factor`]; faer's reason when it fails or the factor is not
     /// finite.
     pub(super) fn factorize_lblt(&mut self) -> Result<(), String> {
-        let par = self.par;
         self.analyse_cholesky()?;
-        let cholesky = self.llt.as_mut().expect("just built");
+        self.numeric_lblt();
+        let cholesky = self.llt.as_ref().expect("just built");
+        if cholesky.factor.iter().all(|v| v.is_finite())
+            && cholesky.subdiagonal.iter().all(|v| v.is_finite())
+        {
+            Ok(())
+        } else {
+            Err("the LBLᵀ factor is not finite".to_string())
+        }
+    }
+
+    /// The numeric LBLᵀ factorization of the stored K into the Cholesky analysis's
+    /// storage (the analysis must exist), counted and timed.
+    fn numeric_lblt(&mut self) {
+        let par = self.par;
+        let cholesky = self.llt.as_mut().expect("the Cholesky analysis exists");
         let start = Instant::now();
         let stack = MemStack::new(&mut cholesky.scratch);
         cholesky.symbolic.factorize_numeric_intranode_lblt(
@@ -257,13 +251,6 @@ impl SparseSystem {
         self.statistics.numeric_factorizations += 1;
         self.statistics.indefinite_factorizations += 1;
         self.statistics.numeric_seconds += start.elapsed().as_secs_f64();
-        if cholesky.factor.iter().all(|v| v.is_finite())
-            && cholesky.subdiagonal.iter().all(|v| v.is_finite())
-        {
-            Ok(())
-        } else {
-            Err("the LBLᵀ factor is not finite".to_string())
-        }
     }
 
     /// GMRES on K x = `rhs` (K as stored, unsymmetric), preconditioned with the
@@ -282,20 +269,17 @@ impl SparseSystem {
             tolerance,
             max_iterations,
             |x, y| multiply(matrix, x, y),
-            |v| {
-                let stack = MemStack::new(&mut cholesky.scratch);
-                let v = faer::MatMut::from_column_major_slice_mut(v, n, 1);
-                match kind {
-                    SymmetricFactor::Cholesky => LltRef::new(&cholesky.symbolic, &cholesky.factor)
-                        .solve_in_place_with_conj(Conj::No, v, par, stack),
-                    SymmetricFactor::Lblt => IntranodeLbltRef::new(
-                        &cholesky.symbolic,
-                        &cholesky.factor,
-                        &cholesky.subdiagonal,
-                        PermRef::new_checked(&cholesky.pivot_forward, &cholesky.pivot_inverse, n),
+            |v| match kind {
+                SymmetricFactor::Cholesky => {
+                    let stack = MemStack::new(&mut cholesky.scratch);
+                    LltRef::new(&cholesky.symbolic, &cholesky.factor).solve_in_place_with_conj(
+                        Conj::No,
+                        faer::MatMut::from_column_major_slice_mut(v, n, 1),
+                        par,
+                        stack,
                     )
-                    .solve_in_place_with_conj(Conj::No, v, par, stack),
                 }
+                SymmetricFactor::Lblt => cholesky.solve_lblt(v, par),
             },
         )
     }
@@ -331,6 +315,24 @@ pub(super) fn multiply(matrix: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f6
 }
 
 impl Cholesky {
+    /// v ← (LBLᵀ)⁻¹ v with the LBLᵀ factor held.
+    fn solve_lblt(&mut self, v: &mut [f64], par: Par) {
+        let n = self.pivot_forward.len();
+        let stack = MemStack::new(&mut self.scratch);
+        IntranodeLbltRef::new(
+            &self.symbolic,
+            &self.factor,
+            &self.subdiagonal,
+            PermRef::new_checked(&self.pivot_forward, &self.pivot_inverse, n),
+        )
+        .solve_in_place_with_conj(
+            Conj::No,
+            faer::MatMut::from_column_major_slice_mut(v, n, 1),
+            par,
+            stack,
+        );
+    }
+
     /// The symbolic analysis in whichever of the `candidates` and faer's AMD order gives
     /// the factor fewer entries (the analyses cost a few percent of one numeric
     /// factorization).
