@@ -193,22 +193,14 @@ impl SparseSystem {
         rhs: &mut [f64],
         reuse: &FactorReuse,
     ) -> Option<usize> {
-        let (n, par, matrix) = (self.size(), self.par, &self.matrix);
+        let (par, matrix) = (self.par, &self.matrix);
         let cholesky = self.llt.as_mut()?;
         preconditioned_cg(
             rhs,
             reuse.tolerance,
             reuse.max_iterations,
             |x, y| multiply(matrix, x, y),
-            |v| {
-                let stack = MemStack::new(&mut cholesky.scratch);
-                LltRef::new(&cholesky.symbolic, &cholesky.factor).solve_in_place_with_conj(
-                    Conj::No,
-                    faer::MatMut::from_column_major_slice_mut(v, n, 1),
-                    par,
-                    stack,
-                );
-            },
+            |v| cholesky.solve_llt(v, par),
         )
     }
 }
@@ -262,7 +254,7 @@ impl SparseSystem {
         tolerance: f64,
         max_iterations: usize,
     ) -> Option<usize> {
-        let (n, par, matrix) = (self.size(), self.par, &self.matrix);
+        let (par, matrix) = (self.par, &self.matrix);
         let cholesky = self.llt.as_mut()?;
         preconditioned_gmres(
             rhs,
@@ -270,15 +262,7 @@ impl SparseSystem {
             max_iterations,
             |x, y| multiply(matrix, x, y),
             |v| match kind {
-                SymmetricFactor::Cholesky => {
-                    let stack = MemStack::new(&mut cholesky.scratch);
-                    LltRef::new(&cholesky.symbolic, &cholesky.factor).solve_in_place_with_conj(
-                        Conj::No,
-                        faer::MatMut::from_column_major_slice_mut(v, n, 1),
-                        par,
-                        stack,
-                    )
-                }
+                SymmetricFactor::Cholesky => cholesky.solve_llt(v, par),
                 SymmetricFactor::Lblt => cholesky.solve_lblt(v, par),
             },
         )
@@ -315,6 +299,18 @@ pub(super) fn multiply(matrix: &SparseColMat<usize, f64>, x: &[f64], y: &mut [f6
 }
 
 impl Cholesky {
+    /// v ← (LLᵀ)⁻¹ v with the Cholesky factor held.
+    fn solve_llt(&mut self, v: &mut [f64], par: Par) {
+        let n = self.pivot_forward.len();
+        let stack = MemStack::new(&mut self.scratch);
+        LltRef::new(&self.symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            faer::MatMut::from_column_major_slice_mut(v, n, 1),
+            par,
+            stack,
+        );
+    }
+
     /// v ← (LBLᵀ)⁻¹ v with the LBLᵀ factor held.
     fn solve_lblt(&mut self, v: &mut [f64], par: Par) {
         let n = self.pivot_forward.len();
