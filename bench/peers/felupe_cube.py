@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Peer comparison (not run by CI): the bench's neo-Hookean cube in felupe and in musclefem.
 
-The cube of `musclefem bench` (crates/cli/src/bench/cube.rs): 1 cm, neo-Hookean with
+The cube of `musclefem bench` (crates/studies/src/bench/cube.rs): 1 cm, neo-Hookean with
 mu = 10 kPa and K = 2/D = 100 kPa (felupe's NeoHooke(mu, bulk) has the same energy,
 W = mu/2 (J^-2/3 I1 - 3) + K/2 (J - 1)^2), face x = 0 clamped, face x = 1 cm clamped
 laterally and pulled 5 mm along x in 10 equal quasi-static increments. Both codes use

@@ -8,13 +8,13 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem::bench::chart::work_precision_figure;
-use musclefem::bench::csv::{WorkPrecisionRow, to_csv};
-use musclefem::bench::method::millimetres;
-use musclefem::bench::pareto::pareto_front;
-use musclefem::bench::{Measurement, Problem, matrix, reference_method};
 use musclefem_io::PendingFile;
 use musclefem_io::plot::stage_png;
+use musclefem_studies::bench::chart::work_precision_figure;
+use musclefem_studies::bench::csv::{WorkPrecisionRow, to_csv};
+use musclefem_studies::bench::method::millimetres;
+use musclefem_studies::bench::pareto::pareto_front;
+use musclefem_studies::bench::{Measurement, Problem, matrix, reference_method};
 
 /// Which problems to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -48,7 +48,6 @@ pub struct BenchArgs {
     pub out: PathBuf,
 }
 
-#[path = "bench_scene.rs"]
 mod scene;
 
 pub fn bench(args: &BenchArgs) -> Result<()> {

@@ -10,17 +10,17 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem::bench::{Problem, select};
-use musclefem::elongation::options::TestOptions;
-use musclefem::elongation::run::run_on;
-use musclefem::elongation::setup::setup;
-use musclefem::elongation::{
-    Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
-    ElongationTest, ElongationWatcher, Grips, Mode, Shape, Solver,
-};
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{ElementFieldArrays, ExistingResults, Frame, RunDirectory, RunLog};
 use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
+use musclefem_studies::bench::{Problem, select};
+use musclefem_studies::elongation::options::TestOptions;
+use musclefem_studies::elongation::run::run_on;
+use musclefem_studies::elongation::setup::setup;
+use musclefem_studies::elongation::{
+    Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
+    ElongationTest, ElongationWatcher, Grips, Mode, Shape, Solver,
+};
 
 /// Which tests to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -63,7 +63,7 @@ pub struct ElongateArgs {
 }
 
 /// The cheapest measured setting of the passive elongation within `percent` (see
-/// [`musclefem::bench::select`]), with the reason printed.
+/// [`musclefem_studies::bench::select`]), with the reason printed.
 fn setting_within(percent: f64, table: &Path) -> Result<(Solver, ElementChoice, f64, f64)> {
     if !(percent.is_finite() && percent > 0.0) {
         bail!("--tolerance {percent} must be a positive percentage");
@@ -90,7 +90,7 @@ fn setting_within(percent: f64, table: &Path) -> Result<(Solver, ElementChoice, 
         );
     };
     let method = select::method_of(row)?;
-    let test = musclefem::bench::elongate::elongation_test(&method)?;
+    let test = musclefem_studies::bench::elongate::elongation_test(&method)?;
     println!(
         "--tolerance {percent} %: {} ({:.2} % error in {:.1} s, the cheapest within the \
          tolerance of the {} passive-elongation runs in {})",

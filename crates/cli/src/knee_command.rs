@@ -28,18 +28,6 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use musclefem::elongation::{ElementChoice, Solver};
-use musclefem::knee::anatomy::export::write_anatomy;
-use musclefem::knee::simulation::interactions::InterfaceLaw;
-use musclefem::knee::simulation::patella::write_tendon_csv;
-use musclefem::knee::simulation::peak_stress::{TABLE_ANGLES_DEGREES, stage_peak_stress_csv};
-use musclefem::knee::simulation::plausibility::write_plausibility_csv;
-use musclefem::knee::simulation::resolution::resolution_rationale;
-use musclefem::knee::simulation::{
-    Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
-    SquatWatcher, StressSample, run_squat,
-};
-use musclefem::knee::{Anatomy, Quadriceps, Resolution};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
@@ -48,6 +36,20 @@ use musclefem_io::output::{
     ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory,
 };
 use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
+use musclefem_studies::elongation::{ElementChoice, Solver};
+use musclefem_studies::knee::anatomy::export::write_anatomy;
+use musclefem_studies::knee::simulation::interactions::InterfaceLaw;
+use musclefem_studies::knee::simulation::patella::write_tendon_csv;
+use musclefem_studies::knee::simulation::peak_stress::{
+    TABLE_ANGLES_DEGREES, stage_peak_stress_csv,
+};
+use musclefem_studies::knee::simulation::plausibility::write_plausibility_csv;
+use musclefem_studies::knee::simulation::resolution::resolution_rationale;
+use musclefem_studies::knee::simulation::{
+    Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
+    SquatWatcher, StressSample, run_squat,
+};
+use musclefem_studies::knee::{Anatomy, Quadriceps, Resolution};
 
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
@@ -101,7 +103,7 @@ pub struct KneeArgs {
     #[arg(long, value_enum, default_value = "sliding")]
     pub interfaces: InterfaceLaw,
     /// Duration of the squat 0° → 90° → 0° [s].
-    #[arg(long, value_name = "SECONDS", default_value_t = musclefem::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
+    #[arg(long, value_name = "SECONDS", default_value_t = musclefem_studies::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
     pub duration: f64,
     /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.02 s
     /// implicit, 2e-5 s explicit).
@@ -174,7 +176,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
-        Some(directory) => musclefem::knee::simulation::files::geometry_from_directory(
+        Some(directory) => musclefem_studies::knee::simulation::files::geometry_from_directory(
             directory,
             &anatomy,
             &settings.squat,
@@ -238,7 +240,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     println!(
         "  {} solver: {}",
         settings.solver.name(),
-        musclefem::knee::simulation::run::solver_rationale(settings.solver)
+        musclefem_studies::knee::simulation::run::solver_rationale(settings.solver)
     );
     if args.anatomy.is_none() {
         println!(
@@ -319,11 +321,9 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     Ok(())
 }
 
-#[path = "knee_tolerance.rs"]
 mod tolerance;
 use tolerance::setting_within;
 
-#[path = "knee_run_files.rs"]
 mod run_files;
 use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};
 

@@ -1,4 +1,6 @@
-//! The `musclefem` command. It composes the library crates; no physics lives here.
+//! The `musclefem` command: argument parsing, progress bars and printing. The physics is
+//! in the library crates; the studies behind `knee`, `elongate`, `sweep`, `fit` and `bench`
+//! are in `musclefem-studies` (`crates/studies`).
 //!
 //! - `musclefem materials`: list every material with its parameters;
 //! - `musclefem point`: one material point in uniaxial stress along the fiber
@@ -11,11 +13,8 @@
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
 //!   fusiform muscle (see the library's `elongation` module).
 
-// Every crate that registers materials with `inventory` must be named here, or the
-// linker may drop its registrations (see docs/design.md, "Two traps").
-use musclefem_contact as _;
-use musclefem_core as _;
-use musclefem_io as _;
+// Every crate that registers materials with `inventory` (today: materials) must be named
+// here, or the linker may drop its registrations (see docs/design.md, "Two traps").
 use musclefem_materials as _;
 
 mod bench_command;
@@ -76,11 +75,11 @@ enum Command {
     /// Parametric study of the elongation tests: every combination (or a Latin-hypercube
     /// sample) of varied Hill parameters, several runs at a time; writes sweep.csv (one row
     /// per run, resumable) and the normalised sensitivities (sensitivity.csv, .png).
-    Sweep(musclefem::sweep::SweepArgs),
+    Sweep(musclefem_studies::sweep::SweepArgs),
     /// Least-squares fit of Hill parameters to a measured stress-strain curve through the
     /// elongation test; writes fit.csv (values, 95 % confidence intervals), fit_curve.csv,
     /// fit.txt (residual) and fit.png (data against the fit).
-    Fit(musclefem::fit::FitArgs),
+    Fit(musclefem_studies::fit::FitArgs),
     /// Speed against accuracy: run a matrix of solvers, elements, mesh sizes and steps on
     /// the cube and the elongation test, time each run and measure its error against a
     /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
@@ -189,8 +188,8 @@ fn main() -> ExitCode {
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         Some(Command::Knee(args)) => knee_command::knee(&args),
-        Some(Command::Sweep(args)) => musclefem::sweep::sweep(&args),
-        Some(Command::Fit(args)) => musclefem::fit::fit(&args),
+        Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
+        Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),

@@ -23,9 +23,8 @@ use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
 use crate::{CheckArgs, RunArgs, SolverChoice};
-use musclefem::bench::scene::{SceneProblem, scene_name};
+use musclefem_studies::bench::scene::{SceneProblem, scene_name};
 
-#[path = "scene_tolerance.rs"]
 mod tolerance;
 
 /// Print what the scene holds, or fail naming the file, line and key.

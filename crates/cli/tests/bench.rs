@@ -4,8 +4,8 @@
 
 use std::process::Command;
 
-use musclefem::bench::csv::WORK_PRECISION_HEADER;
-use musclefem::bench::{Problem, matrix};
+use musclefem_studies::bench::csv::WORK_PRECISION_HEADER;
+use musclefem_studies::bench::{Problem, matrix};
 
 #[test]
 fn the_quick_cube_bench_writes_the_table_chart_and_log() {

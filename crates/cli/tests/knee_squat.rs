@@ -11,16 +11,16 @@ use std::collections::HashMap;
 
 use support::{musclefem, test_dir, text};
 
-use musclefem::elongation::Solver;
-use musclefem::knee::anatomy::TendonSpring;
-use musclefem::knee::simulation::interactions::{InterfaceLaw, knee_interactions};
-use musclefem::knee::simulation::patella::TENDON_CSV_HEADER;
-use musclefem::knee::simulation::{
-    Activation, KneeGeometry, KneeModel, SquatSettings, SquatWatcher, StressSample, run_squat,
-};
-use musclefem::knee::{Anatomy, Resolution, Squat};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;
+use musclefem_studies::elongation::Solver;
+use musclefem_studies::knee::anatomy::TendonSpring;
+use musclefem_studies::knee::simulation::interactions::{InterfaceLaw, knee_interactions};
+use musclefem_studies::knee::simulation::patella::TENDON_CSV_HEADER;
+use musclefem_studies::knee::simulation::{
+    Activation, KneeGeometry, KneeModel, SquatSettings, SquatWatcher, StressSample, run_squat,
+};
+use musclefem_studies::knee::{Anatomy, Resolution, Squat};
 use nalgebra::Vector3;
 
 /// The rows of a CSV as (header fields, rows of fields).

@@ -99,7 +99,12 @@ typedef struct {
     uint64_t struct_size;   /* sizeof(MusclefemPointBlock) of the host, set by the host */
     uint64_t point_count;   /* number of points p = 0 .. point_count-1 (may be 0) */
     double time;            /* time at the END of the step, t+dt [s] */
-    double dt;              /* step [s], >= 0 (0 e.g. for the initial state) */
+    double dt;              /* step [s], >= 0. dt = 0 is a re-evaluation, not a step:
+                               the host calls it with F_old = F_new and state_old =
+                               the accepted state to write frames and history, and
+                               expects the stress of that accepted state (rate terms,
+                               e.g. force-velocity, taken as in the step that made it,
+                               or at rest), state_new = state_old, and no error. */
     const double* properties;  /* parameter values in declared order */
     uint64_t property_count;   /* = parameter_count of the table */
     const double* deformation_gradient_old; /* 9 per point, column-major: F(i,J) at

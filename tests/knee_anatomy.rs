@@ -10,15 +10,17 @@ use std::sync::OnceLock;
 
 use nalgebra::Vector3;
 
-use musclefem::knee::anatomy::ClosedChain;
-use musclefem::knee::anatomy::bones::{femur_distance, tibia_distance};
-use musclefem::knee::anatomy::dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH};
-use musclefem::knee::anatomy::moment_arms::{hip_length_change, lengths_at, moment_arms_at};
-use musclefem::knee::{Anatomy, Quadriceps, Resolution, Squat};
+use musclefem_studies::knee::anatomy::ClosedChain;
+use musclefem_studies::knee::anatomy::bones::{femur_distance, tibia_distance};
+use musclefem_studies::knee::anatomy::dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH};
+use musclefem_studies::knee::anatomy::moment_arms::{
+    hip_length_change, lengths_at, moment_arms_at,
+};
+use musclefem_studies::knee::{Anatomy, Quadriceps, Resolution, Squat};
 
 fn data_file(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/knee_reference")
+        .join("../../shared/data/knee_reference")
         .join(name)
 }
 
@@ -522,8 +524,12 @@ fn the_anatomy_is_written_at_0_45_and_90_degrees() {
     let anatomy = anatomy();
     let directory =
         std::env::temp_dir().join(format!("musclefem_knee_anatomy_{}", std::process::id()));
-    musclefem::knee::anatomy::export::write_anatomy(anatomy, &directory, &[0.0, 45.0, 90.0])
-        .unwrap();
+    musclefem_studies::knee::anatomy::export::write_anatomy(
+        anatomy,
+        &directory,
+        &[0.0, 45.0, 90.0],
+    )
+    .unwrap();
     for name in [
         "muscles.vtu",
         "femur.stl",

@@ -1,5 +1,7 @@
-//! The `musclefem` program's library: the scenarios behind its subcommands, usable from
-//! tests, benchmarks and the parametric studies.
+//! musclefem's studies: the scenarios behind the `musclefem` command's subcommands, as a
+//! library for tests, benchmarks, notebooks and other programs. The command
+//! (`crates/cli`) parses arguments, shows progress and prints; the physics of each study
+//! lives here, over the library crates (materials, core, contact, fibers, io).
 //!
 //! - [`bench`]: the work–precision matrix (`musclefem bench`).
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).

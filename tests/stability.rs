@@ -16,13 +16,15 @@ use std::path::Path;
 
 use nalgebra::{Matrix3, Vector3};
 
-use musclefem::bench::cube::CubeScene;
-use musclefem::inertia::{KINETIC_TO_INTERNAL_LIMIT, inertia_warning, largest_kinetic_to_internal};
 use musclefem_core::solver::SolverError;
 use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit};
 use musclefem_core::solver::implicit::{ImplicitSettings, StepCutting, run_quasi_static};
 use musclefem_io::scene::{Model, build_model, locking_warning, parse_scene};
 use musclefem_materials::{MaterialLibrary, PointBlock, PointResponse, VoigtStress};
+use musclefem_studies::bench::cube::CubeScene;
+use musclefem_studies::inertia::{
+    KINETIC_TO_INTERNAL_LIMIT, inertia_warning, largest_kinetic_to_internal,
+};
 
 /// The bench's neo-Hookean cube with `element`, `divisions` per edge, pulled by `pull` [m]
 /// in `duration` [s].

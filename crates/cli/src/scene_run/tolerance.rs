@@ -5,10 +5,10 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem::bench::method::millimetres;
-use musclefem::bench::scene::SceneProblem;
-use musclefem::bench::select;
 use musclefem_io::scene::Analysis;
+use musclefem_studies::bench::method::millimetres;
+use musclefem_studies::bench::scene::SceneProblem;
+use musclefem_studies::bench::select;
 
 /// The analysis of the cheapest measured run of `scene` within `percent` [%] in the
 /// work–precision table `table`, and why (one sentence). Errors when the table is

@@ -6,9 +6,9 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 
-use musclefem::bench::csv::WorkPrecisionRow;
-use musclefem::bench::reference::relative_error;
-use musclefem::bench::scene::{ERROR_METRIC, SceneProblem};
+use musclefem_studies::bench::csv::WorkPrecisionRow;
+use musclefem_studies::bench::reference::relative_error;
+use musclefem_studies::bench::scene::{ERROR_METRIC, SceneProblem};
 
 use super::{machine, pareto_log, progress_bar, say, write_outputs};
 

@@ -5,12 +5,12 @@ use std::path::Path;
 
 use anyhow::Result;
 
-use musclefem::knee::Quadriceps;
-use musclefem::knee::simulation::patella::tendon_summary;
-use musclefem::knee::simulation::plausibility::plausibility_report;
-use musclefem::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
 use musclefem_core::solver::implicit::{CutAttempt, Factorization, StepReport};
 use musclefem_io::output::RunLog;
+use musclefem_studies::knee::Quadriceps;
+use musclefem_studies::knee::simulation::patella::tendon_summary;
+use musclefem_studies::knee::simulation::plausibility::plausibility_report;
+use musclefem_studies::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
 
 /// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
 /// Jacobian ratio (positive: no element inverted).

@@ -2,7 +2,7 @@
 //! and prints its moment arms.
 //!
 //! ```text
-//! cargo run --release -p musclefem --example knee_anatomy -- [directory] [coarse|medium|fine]
+//! cargo run --release -p musclefem-studies --example knee_anatomy -- [directory] [coarse|medium|fine]
 //! ```
 //!
 //! Open `femur.stl`, the four `<muscle>.stl` (or `muscles.vtu`), then `tibia_*deg.stl`,
@@ -14,9 +14,9 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 
-use musclefem::knee::anatomy::export::write_anatomy;
-use musclefem::knee::anatomy::moment_arms::moment_arms_at;
-use musclefem::knee::{Anatomy, Resolution};
+use musclefem_studies::knee::anatomy::export::write_anatomy;
+use musclefem_studies::knee::anatomy::moment_arms::moment_arms_at;
+use musclefem_studies::knee::{Anatomy, Resolution};
 
 fn main() -> Result<()> {
     let mut args = std::env::args().skip(1);
