@@ -102,9 +102,9 @@ typedef struct {
     double dt;              /* step [s], >= 0. dt = 0 is a re-evaluation, not a step:
                                the host calls it with F_old = F_new and state_old =
                                the accepted state to write frames and history, and
-                               expects the stress of that accepted state (rate terms,
-                               e.g. force-velocity, taken as in the step that made it,
-                               or at rest), state_new = state_old, and no error. */
+                               expects the stress of that accepted state, state_new =
+                               state_old, and no error (the Hill model: the contractile
+                               element cannot move in no time, so nothing changes). */
     const double* properties;  /* parameter values in declared order */
     uint64_t property_count;   /* = parameter_count of the table */
     const double* deformation_gradient_old; /* 9 per point, column-major: F(i,J) at
