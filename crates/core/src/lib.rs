@@ -2,12 +2,9 @@
 //!
 //! The finite-element side of musclefem. What exists today:
 //!
-//! - [`mesh`]: nodes (structure of arrays), element blocks of hex8, tet4 and tet10 with a
-//!   fiber direction per element, node sets, element sets, surfaces made of element faces,
-//!   checks ([`Mesh::validate`]), volumes and face area vectors, and structured box
-//!   generators (hexes, linear or quadratic tets) with a random interior distortion for
-//!   patch tests.
-//!
+//! - [`mesh`]: the `musclefem-mesh` crate (nodes, element blocks, sets, surfaces, checks,
+//!   geometry, generators), re-exported; use that crate alone to read or build meshes
+//!   without the solvers.
 //! - [`element`]: total-Lagrangian element kernels, each passing the patch tests on
 //!   distorted meshes: the fully integrated hex8 (locks; kept as a reference), the F-bar
 //!   (mean dilatation) hex8 with its consistent tangent, the one-point hex8 with the mean
@@ -23,14 +20,20 @@
 //!   both under the same [`solver::Loads`]: prescribed displacements, nodal forces, rigid
 //!   ties.
 //!
-//! Not built yet: the implicit tangent of the nodally averaged tet4, and the trait
-//! through which contact forces enter a solve (interactions issue).
+//! Not built yet: the implicit tangent of the nodally averaged tet4.
 //!
 //! Units are SI throughout (m, kg, s, Pa). Node, element and block ids are 0-based
 //! indices; file formats with 1-based labels (Abaqus, Gmsh) are mapped on import.
 
 pub mod element;
-pub mod mesh;
+/// The mesh, its checks and generators: the `musclefem-mesh` crate, re-exported so that
+/// `musclefem_core::mesh::...` paths work for users of the solvers.
+pub use musclefem_mesh as mesh;
 pub mod solver;
 
 pub use mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

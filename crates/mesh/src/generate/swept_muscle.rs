@@ -37,7 +37,7 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 
 use super::fusiform::o_grid::{UnitSection, polygon_area};
-use crate::mesh::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
+use crate::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
 use centreline::{Centreline, invert};
 
 const GENERATOR: &str = "swept_muscle_mesh";
@@ -578,7 +578,7 @@ fn insert_segment_sets(
         mesh.element_sets.insert(
             format!("segment_{i}"),
             ((pair[0] * cells) as u32..(pair[1] * cells) as u32)
-                .map(|e| crate::mesh::ElementRef::new(0, e))
+                .map(|e| crate::ElementRef::new(0, e))
                 .collect(),
         );
     }

@@ -1,7 +1,7 @@
 use std::collections::HashMap;
 
 use super::*;
-use crate::mesh::{ElementRef, Face};
+use crate::{ElementRef, Face};
 
 const MM: f64 = 1e-3;
 

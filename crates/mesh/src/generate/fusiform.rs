@@ -18,7 +18,7 @@ use std::f64::consts::PI;
 use nalgebra::Vector3;
 
 use super::add_mid_edge_nodes;
-use crate::mesh::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
+use crate::{ElementBlock, ElementShape, Mesh, MeshError, Nodes};
 use o_grid::{UnitSection, polygon_area, ring_thickness};
 use prism_split::tets;
 

@@ -274,3 +274,8 @@ fn lookup<'a, T>(
 
 #[cfg(test)]
 mod tests;
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

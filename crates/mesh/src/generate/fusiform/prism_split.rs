@@ -4,8 +4,8 @@
 use nalgebra::Vector3;
 
 use super::o_grid::UnitSection;
-use crate::mesh::Nodes;
-use crate::mesh::geometry::tet4_volume;
+use crate::Nodes;
+use crate::geometry::tet4_volume;
 
 /// Tet4 connectivity of the split described at [`super::fusiform_mesh`]: each section
 /// quad into two triangles along its shorter diagonal, each triangular prism between two

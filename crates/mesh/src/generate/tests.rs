@@ -1,7 +1,7 @@
 use std::collections::{BTreeSet, HashMap};
 
 use super::*;
-use crate::mesh::MeshError;
+use crate::MeshError;
 
 const SIZE: [f64; 3] = [0.03, 0.02, 0.05];
 const DIVISIONS: [usize; 3] = [3, 2, 4];

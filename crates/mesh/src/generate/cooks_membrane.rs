@@ -27,7 +27,7 @@ use std::collections::BTreeMap;
 use nalgebra::{Vector2, Vector3};
 
 use super::{TetOrder, box_of_hexes, box_of_tets};
-use crate::mesh::{ElementShape, FaceShape, Mesh, MeshError};
+use crate::{ElementShape, FaceShape, Mesh, MeshError};
 
 /// Corners A, B, C, D of the panel [m] (x, y), counter-clockwise.
 pub const COOKS_MEMBRANE_CORNERS: [[f64; 2]; 4] =

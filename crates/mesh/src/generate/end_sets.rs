@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-use crate::mesh::{ElementRef, Face, Mesh, MeshError};
+use crate::{ElementRef, Face, Mesh, MeshError};
 
 /// Sorts the boundary faces of block 0 of `mesh` by the layers of their corner nodes
 /// (node id / `per_layer`; mid-edge nodes come after all corner nodes): all in layer 0 →
