@@ -16,8 +16,10 @@
 //! solvers use by default are of the same order but, on 3-D solid meshes, with a larger
 //! constant.
 
+#[cfg(feature = "metis")]
 use std::sync::Mutex;
 
+#[cfg(feature = "metis")]
 use metis_sys::idx_t;
 use nalgebra::Vector3;
 
@@ -121,12 +123,15 @@ fn dissect(
 }
 
 /// Held while METIS runs.
+#[cfg(feature = "metis")]
 static METIS_LOCK: Mutex<()> = Mutex::new(());
 
 /// METIS's multilevel nested dissection (`METIS_NodeND`, Karypis & Kumar 1998) of the
 /// nodes of `graph` that carry unknowns, each weighted by their count (`unknowns[node]`,
 /// 0 to 3): `order[k]` is the node numbered k-th, nodes without unknowns left out.
-/// Deterministic (METIS's default options, fixed seed).
+/// Deterministic (METIS's default options, fixed seed). Only with the `metis` feature (on
+/// by default): without it the solver chooses between AMD and the geometric order.
+#[cfg(feature = "metis")]
 pub(crate) fn multilevel_nested_dissection(
     graph: &NodeGraph,
     unknowns: &[u8],
@@ -219,6 +224,7 @@ mod tests {
     }
 
     /// The graph of a cubic lattice of `n`³ nodes, each coupled to its 26 neighbours.
+    #[cfg(feature = "metis")]
     fn lattice(n: usize) -> NodeGraph {
         let index = |i: usize, j: usize, k: usize| (i + n * (j + n * k)) as u32;
         let mut offsets = vec![0];
@@ -243,6 +249,7 @@ mod tests {
     /// METIS numbers every node that carries unknowns once and leaves out the others;
     /// four threads that order the same graph at once get the same order as one alone.
     #[test]
+    #[cfg(feature = "metis")]
     fn metis_orders_the_nodes_with_unknowns_the_same_in_every_thread() {
         let graph = lattice(12);
         // The bottom layer prescribed, one unknown left on each node of the next layer.
@@ -269,6 +276,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "metis")]
     fn metis_orders_an_empty_graph() {
         let graph = lattice(2);
         assert!(

@@ -39,7 +39,9 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use nalgebra::Vector3;
 
-use super::ordering::{NodeGraph, multilevel_nested_dissection, nested_dissection};
+#[cfg(feature = "metis")]
+use super::ordering::multilevel_nested_dissection;
+use super::ordering::{NodeGraph, nested_dissection};
 use crate::mesh::ElementBlock;
 
 /// Marks a prescribed degree of freedom in the equation map.
@@ -195,16 +197,19 @@ impl SparseSystem {
         }
         debug_assert_eq!(col_ptr.len(), free + 1);
         // Fill-reducing orders of the equations, from orders of the nodes.
+        #[cfg(feature = "metis")]
         let unknowns: Vec<u8> = equation
             .chunks_exact(3)
             .map(|dofs| dofs.iter().filter(|&&eq| eq != PRESCRIBED).count() as u8)
             .collect();
+        #[cfg_attr(not(feature = "metis"), allow(unused_mut))]
         let mut orders = vec![EquationOrder::of_nodes(
             FillReducingOrder::NestedDissection,
             &nested_dissection(&graph, positions),
             equation,
             free,
         )];
+        #[cfg(feature = "metis")]
         match multilevel_nested_dissection(&graph, &unknowns) {
             Ok(nodes) => orders.push(EquationOrder::of_nodes(
                 FillReducingOrder::MultilevelNestedDissection,
