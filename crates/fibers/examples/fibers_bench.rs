@@ -15,8 +15,8 @@
 
 use std::time::Instant;
 
-use musclefem_core::mesh::generate::{TetOrder, box_of_tets};
 use musclefem_fibers::{FlowBoundary, FlowSettings, Preconditioner, compute_fibers};
+use musclefem_mesh::generate::{TetOrder, box_of_tets};
 
 fn main() {
     let max_cells: f64 = std::env::args()

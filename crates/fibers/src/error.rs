@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use musclefem_core::mesh::{ElementShape, MeshError, quoted_list};
+use musclefem_mesh::{ElementShape, MeshError, quoted_list};
 
 /// Which end of the flow a boundary region belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use musclefem_core::mesh::{ElementRef, Mesh, MeshError};
+use musclefem_mesh::{ElementRef, Mesh, MeshError};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -175,7 +175,7 @@ impl FiberField {
     /// Writes the directions into the blocks' [`fiber_direction`] fields. Errors if the
     /// mesh's blocks do not have the sizes of the mesh the field was computed on.
     ///
-    /// [`fiber_direction`]: musclefem_core::ElementBlock::fiber_direction
+    /// [`fiber_direction`]: musclefem_mesh::ElementBlock::fiber_direction
     pub fn assign_to(&self, mesh: &mut Mesh) -> Result<(), FiberError> {
         let blocks = self.block_offsets.len().saturating_sub(1);
         if mesh.blocks.len() != blocks {

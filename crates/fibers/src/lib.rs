@@ -12,7 +12,7 @@
 //!
 //! ```no_run
 //! # fn main() -> Result<(), musclefem_fibers::FiberError> {
-//! use musclefem_core::mesh::generate::box_of_hexes;
+//! use musclefem_mesh::generate::box_of_hexes;
 //! use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
 //!
 //! let mut mesh = box_of_hexes([0.1, 0.02, 0.02], [20, 4, 4])?;
@@ -54,7 +54,7 @@ mod solve;
 
 use std::time::Instant;
 
-use musclefem_core::mesh::Mesh;
+use musclefem_mesh::Mesh;
 
 pub use boundary::{BoundaryRegion, FlowBoundary};
 pub use error::{FaceLabel, FiberError, MissingEnd, Side};
@@ -88,3 +88,8 @@ pub fn compute_fibers(
     field.solve_time = start.elapsed() - setup_time;
     Ok(field)
 }
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

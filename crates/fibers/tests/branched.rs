@@ -34,7 +34,7 @@ fn far_from_branch_point(x: Vector3<f64>) -> bool {
 
 /// Largest angle between the directions of two elements that share a face, both far from
 /// the singular points [°].
-fn largest_neighbour_angle(mesh: &musclefem_core::Mesh, directions: &[Vector3<f64>]) -> f64 {
+fn largest_neighbour_angle(mesh: &musclefem_mesh::Mesh, directions: &[Vector3<f64>]) -> f64 {
     let centres = element_centres(mesh);
     let block = &mesh.blocks[0];
     let shape = block.shape;
@@ -151,7 +151,7 @@ fn assert_region_fluxes(cells: Cells, field: &FiberField) {
 
 /// The hex mesh is symmetric about x = 1: the direction at the mirror image of an element
 /// centre is the mirror image of its direction.
-fn assert_mirror_symmetric(mesh: &musclefem_core::Mesh, directions: &[Vector3<f64>]) {
+fn assert_mirror_symmetric(mesh: &musclefem_mesh::Mesh, directions: &[Vector3<f64>]) {
     let key = |x: Vector3<f64>| {
         (
             (x.x * 1e6).round() as i64,

@@ -4,11 +4,11 @@
 mod common;
 
 use common::{Cells, box_mesh};
-use musclefem_core::mesh::{ElementRef, Face, MeshError};
-use musclefem_core::{ElementBlock, ElementShape, Mesh};
 use musclefem_fibers::{
     BoundaryRegion, FiberError, FlowBoundary, FlowSettings, MissingEnd, Side, compute_fibers,
 };
+use musclefem_mesh::{ElementBlock, ElementShape, Mesh};
+use musclefem_mesh::{ElementRef, Face, MeshError};
 use nalgebra::Vector3;
 
 fn tube(cells: Cells) -> Mesh {
@@ -243,7 +243,7 @@ fn unknown_names_and_bad_settings() {
     assert!(matches!(err, FiberError::InvalidSettings { .. }), "{err}");
     // A solve that cannot reach its tolerance in the allowed sweeps says so.
     let mut distorted = tube(Cells::Tet4);
-    musclefem_core::mesh::generate::distort(&mut distorted, 0.3, 3).unwrap();
+    musclefem_mesh::generate::distort(&mut distorted, 0.3, 3).unwrap();
     let settings = FlowSettings {
         max_correction_sweeps: 2,
         ..FlowSettings::default()

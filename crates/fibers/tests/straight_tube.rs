@@ -5,10 +5,10 @@
 mod common;
 
 use common::{Cells, angle_degrees, box_mesh};
-use musclefem_core::ElementBlock;
-use musclefem_core::mesh::Face;
-use musclefem_core::mesh::generate::distort;
 use musclefem_fibers::{BoundaryRegion, FlowBoundary, FlowSettings, Side, compute_fibers};
+use musclefem_mesh::ElementBlock;
+use musclefem_mesh::Face;
+use musclefem_mesh::generate::distort;
 use nalgebra::Vector3;
 
 /// Largest angle between a fiber and e_x allowed [rad].

@@ -15,15 +15,29 @@
 //!   line in every error;
 //! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built
 //!   into what the solvers take, with errors that name the line and key.
+//!
+//! Features (all on by default): `results` (the [`output`] module: frames and histories
+//! of a solver run, with musclefem-core and vtkio), `plot` ([`plot`], with plotters) and
+//! `scene` ([`scene`]: also contact and fibers). Without them the crate reads meshes
+//! and writes CSV over musclefem-mesh and musclefem-materials alone:
+//! `cargo tree -p musclefem-io --no-default-features -e normal`.
 
 pub mod atomic;
 pub mod csv;
 pub mod error;
 pub mod fiber_csv;
 pub mod mesh_import;
+#[cfg(feature = "results")]
 pub mod output;
+#[cfg(feature = "plot")]
 pub mod plot;
+#[cfg(feature = "scene")]
 pub mod scene;
 
 pub use atomic::{PendingFile, write_atomically};
 pub use error::OutputError;
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -4,9 +4,9 @@
 mod common;
 
 use common::{elem_label, node_label, to_inp, to_msh};
-use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
-use musclefem_core::mesh::{ElementRef, Face, Mesh};
 use musclefem_io::mesh_import::{ImportedMesh, parse_abaqus, parse_gmsh, read_mesh};
+use musclefem_mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
+use musclefem_mesh::{ElementRef, Face, Mesh};
 
 fn fixture(name: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,7 +1,7 @@
 //! Classifying the boundary faces as inlet, outlet or wall, with the checks that make the
 //! potential well defined.
 
-use musclefem_core::mesh::{Mesh, MeshError};
+use musclefem_mesh::{Mesh, MeshError};
 
 use super::{BoundaryRegion, FlowBoundary};
 use crate::error::{FiberError, MissingEnd, Side};

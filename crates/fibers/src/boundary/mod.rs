@@ -8,7 +8,7 @@
 
 mod classify;
 
-use musclefem_core::mesh::{Face, Mesh};
+use musclefem_mesh::{Face, Mesh};
 
 pub(crate) use classify::{BoundaryKind, ClassifiedBoundary, classify_boundary};
 
@@ -115,7 +115,7 @@ impl FlowBoundary {
 
 #[cfg(test)]
 mod tests {
-    use musclefem_core::mesh::generate::box_of_hexes;
+    use musclefem_mesh::generate::box_of_hexes;
 
     use super::*;
 

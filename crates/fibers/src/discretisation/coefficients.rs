@@ -1,7 +1,7 @@
 //! Geometric coefficients of the face fluxes: the orthogonal coefficient, the correction
 //! vector and the interpolation weight of every face.
 
-use musclefem_core::mesh::Mesh;
+use musclefem_mesh::Mesh;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 

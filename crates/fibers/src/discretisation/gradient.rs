@@ -12,7 +12,7 @@
 //! only, so its inverse is computed once per cell. Exact for a linear potential whose
 //! gradient is parallel to the walls.
 
-use musclefem_core::mesh::Mesh;
+use musclefem_mesh::Mesh;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
@@ -150,7 +150,7 @@ fn stencil_point(fv: &FvMesh, kinds: &[BoundaryKind], cell: usize, face: FaceRef
 
 #[cfg(test)]
 mod tests {
-    use musclefem_core::mesh::generate::{TetOrder, box_of_tets, distort};
+    use musclefem_mesh::generate::{TetOrder, box_of_tets, distort};
 
     use super::*;
 

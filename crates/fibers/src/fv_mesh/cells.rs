@@ -5,8 +5,8 @@
 //! a tet10 are ignored: the finite-volume cells are straight-sided). A hex8 cell is the
 //! trilinear hexahedron of its eight nodes.
 
-use musclefem_core::mesh::geometry::{hex8_gradients, jacobian, tet4_volume};
-use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_mesh::geometry::{hex8_gradients, jacobian, tet4_volume};
+use musclefem_mesh::{ElementShape, Mesh};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -92,7 +92,7 @@ fn hex_centroid_and_volume(p: &[Vector3<f64>; 8]) -> (Vector3<f64>, f64) {
 
 #[cfg(test)]
 mod tests {
-    use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
+    use musclefem_mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 
     use super::*;
 

@@ -6,7 +6,7 @@
 //! blocks by key puts the two halves of an interior face next to each other; a key seen
 //! once is a boundary face, a key seen three or more times a non-manifold mesh.
 
-use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_mesh::{ElementShape, Mesh};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -278,8 +278,8 @@ fn label(mesh: &Mesh, block_offsets: &[usize], half: &HalfFace) -> FaceLabel {
 
 #[cfg(test)]
 mod tests {
-    use musclefem_core::mesh::generate::{TetOrder, box_of_tets};
-    use musclefem_core::mesh::{ElementBlock, ElementShape};
+    use musclefem_mesh::generate::{TetOrder, box_of_tets};
+    use musclefem_mesh::{ElementBlock, ElementShape};
 
     use super::*;
 

@@ -15,7 +15,7 @@ pub(crate) mod cells;
 pub(crate) mod components;
 pub(crate) mod faces;
 
-use musclefem_core::mesh::{ElementRef, Mesh, MeshError};
+use musclefem_mesh::{ElementRef, Mesh, MeshError};
 use nalgebra::Vector3;
 
 use crate::error::{FaceLabel, FiberError};
@@ -162,8 +162,8 @@ impl FvMesh {
 
     /// The mesh face of boundary face `face`.
     #[cfg(test)]
-    pub fn boundary_mesh_face(&self, face: &BoundaryFace) -> musclefem_core::mesh::Face {
-        musclefem_core::mesh::Face::new(self.element_of(face.cell as usize), face.local_face)
+    pub fn boundary_mesh_face(&self, face: &BoundaryFace) -> musclefem_mesh::Face {
+        musclefem_mesh::Face::new(self.element_of(face.cell as usize), face.local_face)
     }
 }
 
@@ -210,7 +210,7 @@ fn check_connectivity(mesh: &Mesh) -> Result<(), FiberError> {
 
 #[cfg(test)]
 mod tests {
-    use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
+    use musclefem_mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 
     use super::*;
 
@@ -226,7 +226,7 @@ mod tests {
             // Boundary faces are the generator's outer surface.
             let mut outer = mesh.surface("outer").unwrap().to_vec();
             outer.sort();
-            let ours: Vec<musclefem_core::mesh::Face> = fv
+            let ours: Vec<musclefem_mesh::Face> = fv
                 .boundary
                 .iter()
                 .map(|f| fv.boundary_mesh_face(f))
@@ -261,12 +261,12 @@ mod tests {
         let mut mesh = box_of_tets([1.0; 3], [1, 1, 1], TetOrder::Linear).unwrap();
         // Split the six tets into blocks of 0, 2 and 4 elements.
         let block = mesh.blocks.remove(0);
-        let empty = musclefem_core::ElementBlock::new("empty", block.shape, vec![]).unwrap();
+        let empty = musclefem_mesh::ElementBlock::new("empty", block.shape, vec![]).unwrap();
         let first =
-            musclefem_core::ElementBlock::new("a", block.shape, block.connectivity[..8].to_vec())
+            musclefem_mesh::ElementBlock::new("a", block.shape, block.connectivity[..8].to_vec())
                 .unwrap();
         let second =
-            musclefem_core::ElementBlock::new("b", block.shape, block.connectivity[8..].to_vec())
+            musclefem_mesh::ElementBlock::new("b", block.shape, block.connectivity[8..].to_vec())
                 .unwrap();
         mesh.blocks = vec![empty, first, second];
         mesh.surfaces.clear();

@@ -5,8 +5,8 @@
 
 use std::f64::consts::PI;
 
-use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
-use musclefem_core::mesh::{ElementBlock, Mesh};
+use musclefem_mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
+use musclefem_mesh::{ElementBlock, Mesh};
 use nalgebra::Vector3;
 
 /// The element shapes the tests run on.

@@ -160,7 +160,7 @@ impl Reader {
     fn block(
         &mut self,
         type_name: &str,
-        shape: musclefem_core::mesh::ElementShape,
+        shape: musclefem_mesh::ElementShape,
         elset: Option<&str>,
     ) -> usize {
         let key = (

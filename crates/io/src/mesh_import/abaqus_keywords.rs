@@ -1,7 +1,7 @@
 //! The Abaqus vocabulary the reader knows: element types, the keywords it reads, the
 //! keywords it skips, those it refuses, and the nearest-keyword suggestion.
 
-use musclefem_core::mesh::ElementShape;
+use musclefem_mesh::ElementShape;
 
 /// Abaqus element types read, with their shape. The type is kept per block, so the solver
 /// can tell `C3D8R` (one-point) from `C3D8`.

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::collections::hash_map::Entry as MapEntry;
 use std::path::PathBuf;
 
-use musclefem_core::mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
+use musclefem_mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
 
 use super::{ImportError, ImportedMesh, SkippedKeyword};
 

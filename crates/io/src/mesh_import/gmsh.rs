@@ -25,7 +25,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use musclefem_core::mesh::ElementShape;
+use musclefem_mesh::ElementShape;
 
 use super::build::{Entry, Loc, Member, RawBlock, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};

@@ -11,7 +11,7 @@
 //!
 //! - node ids follow the order in which nodes appear in the file(s); element ids the order
 //!   within their block;
-//! - local node order is Abaqus's (see [`musclefem_core::mesh::ElementShape`]); Gmsh's
+//! - local node order is Abaqus's (see [`musclefem_mesh::ElementShape`]); Gmsh's
 //!   10-node tetrahedron is reordered (its last two mid-edge nodes are swapped);
 //! - node sets, element sets and surfaces are sorted by id and free of duplicates;
 //! - every fiber direction is e_x (fibers come from elsewhere);
@@ -29,7 +29,7 @@ pub mod gmsh;
 
 use std::path::{Path, PathBuf};
 
-use musclefem_core::mesh::Mesh;
+use musclefem_mesh::Mesh;
 
 pub use abaqus::{parse_abaqus, read_abaqus};
 pub use error::ImportError;

@@ -4,7 +4,7 @@
 
 use std::fmt::Write;
 
-use musclefem_core::mesh::Mesh;
+use musclefem_mesh::Mesh;
 
 /// File label of node id `id`: not contiguous, not starting at 1.
 pub fn node_label(id: usize) -> i64 {
