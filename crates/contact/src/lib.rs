@@ -55,3 +55,8 @@ pub use penalty::{PenaltyContact, default_penalty};
 pub use projection::{Feature, Projection, closest_feature, project_on_triangle};
 pub use rigid_surface::RigidSurface;
 pub use surface::{ContactTarget, DeformableSurface};
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -31,3 +31,8 @@ pub use error::MaterialError;
 pub use material::{Material, PointBlock, PointResponse, StateVariable, Tangent, VoigtStress};
 pub use parameters::{Bound, ParameterSet, ParameterSpec};
 pub use registry::{MaterialInfo, MaterialLibrary, MaterialOrigin, MaterialRegistration};
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -16,3 +16,8 @@ pub mod fit;
 pub mod inertia;
 pub mod knee;
 pub mod sweep;
+
+/// The README's examples, compiled and run by `cargo test --doc`.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
