@@ -28,9 +28,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use musclefem_core::solver::Record;
 use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::explicit::HistoryRow;
-use musclefem_core::solver::implicit::ImplicitHistoryRow;
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{
     ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory,
@@ -457,17 +456,9 @@ impl SquatWatcher for Outputs<'_> {
         ControlFlow::Continue(())
     }
 
-    fn implicit_row(&mut self, row: &ImplicitHistoryRow) {
+    fn history_row(&mut self, record: &Record) {
         if let Some(history) = &mut self.history
-            && let Err(e) = history.push_implicit(row)
-        {
-            self.error = Some(e.into());
-        }
-    }
-
-    fn explicit_row(&mut self, row: &HistoryRow) {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_explicit(row)
+            && let Err(e) = history.push_record(record)
         {
             self.error = Some(e.into());
         }

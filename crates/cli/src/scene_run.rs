@@ -11,10 +11,11 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem_core::solver::SolverError;
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
-use musclefem_core::solver::implicit::{ImplicitHistoryRow, ImplicitSettings, run_implicit_with};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::implicit::ImplicitSettings;
+use musclefem_core::solver::{
+    Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
+};
 use musclefem_io::OutputError;
 use musclefem_io::output::{
     ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
@@ -152,10 +153,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         });
     }
     print!("{}", describe(&model));
-    let duration = match &model.analysis {
-        Analysis::Explicit(s) => s.end_time,
-        Analysis::Implicit(s) => s.end_time,
-    };
+    let duration = model.analysis.end_time();
     let setup = started.elapsed();
     let solve_started = Instant::now();
     let mut watcher = Watcher {
@@ -172,34 +170,16 @@ pub fn run(args: &RunArgs) -> Result<()> {
         fields_error: None,
         last_row: String::new(),
     };
-    let (outcome, steps) = match &model.analysis {
-        Analysis::Explicit(settings) => {
-            watcher.history = Some(directory_history(&watcher, &columns, true)?);
-            let result = run_explicit_with(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &mut interactions,
-                settings,
-                &mut watcher,
-            );
-            let steps = result.as_ref().map_or(0, |r| r.steps);
-            (result.map(|_| ()), steps)
-        }
-        Analysis::Implicit(settings) => {
-            watcher.history = Some(directory_history(&watcher, &columns, false)?);
-            let result = run_implicit_with(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &mut interactions,
-                settings,
-                &mut watcher,
-            );
-            let steps = result.as_ref().map_or(0, |r| r.history.len());
-            (result.map(|_| ()), steps)
-        }
+    watcher.history = Some(watcher.directory.history(&columns, &model.analysis)?);
+    let problem = Problem {
+        mesh: &model.mesh,
+        parts: &model.parts,
+        loads: &model.loads,
+        interactions: &mut interactions,
     };
+    let result = solve(problem, &model.analysis, &mut watcher);
+    let steps = result.as_ref().map_or(0, Outcome::steps);
+    let outcome = result.map(|_| ());
     let solve = solve_started.elapsed();
     watcher.bar.finish_and_clear();
     let write_error = watcher.error.take();
@@ -258,24 +238,9 @@ pub fn run(args: &RunArgs) -> Result<()> {
     }
 }
 
-fn directory_history(
-    watcher: &Watcher,
-    columns: &HistoryColumns,
-    explicit: bool,
-) -> Result<HistoryWriter, OutputError> {
-    if explicit {
-        watcher.directory.explicit_history(columns)
-    } else {
-        watcher.directory.implicit_history(columns)
-    }
-}
-
 /// The other solver's default settings for the scene's duration and output interval.
 fn switch_solver(model: &Model, choice: SolverChoice) -> Analysis {
-    let duration = match &model.analysis {
-        Analysis::Explicit(s) => s.end_time,
-        Analysis::Implicit(s) => s.end_time,
-    };
+    let duration = model.analysis.end_time();
     match (choice, &model.analysis) {
         (SolverChoice::Explicit, Analysis::Explicit(_))
         | (SolverChoice::Implicit, Analysis::Implicit(_)) => model.analysis.clone(),
@@ -386,18 +351,22 @@ impl Watcher<'_> {
     }
 }
 
-impl Observer<HistoryRow> for Watcher<'_> {
-    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
+impl Observer for Watcher<'_> {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         if let Some(history) = &mut self.history
-            && let Err(e) = history.push_explicit(row)
+            && let Err(e) = history.push_record(record)
         {
             self.error = Some(e);
             return ControlFlow::Break(());
         }
+        let newton = match record {
+            Record::Explicit(_) => String::new(),
+            Record::Implicit(row) => format!(" ({} Newton iterations)", row.iterations),
+        };
         self.last_row = format!(
-            "t = {:.6e} s: {}",
-            row.time,
-            self.reactions_text(&row.reactions)
+            "t = {:.6e} s{newton}: {}",
+            record.time(),
+            self.reactions_text(record.reactions())
         );
         self.frame(snapshot)
     }
@@ -408,23 +377,5 @@ impl Observer<HistoryRow> for Watcher<'_> {
         } else {
             ControlFlow::Continue(())
         }
-    }
-}
-
-impl Observer<ImplicitHistoryRow> for Watcher<'_> {
-    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_implicit(row)
-        {
-            self.error = Some(e);
-            return ControlFlow::Break(());
-        }
-        self.last_row = format!(
-            "t = {:.6e} s ({} Newton iterations): {}",
-            row.time,
-            row.iterations,
-            self.reactions_text(&row.reactions)
-        );
-        self.frame(snapshot)
     }
 }

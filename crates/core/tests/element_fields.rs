@@ -14,11 +14,9 @@ use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_observed};
-use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, run_implicit_observed,
-};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit_observed};
+use musclefem_core::solver::implicit::{ImplicitSettings, run_implicit_observed};
+use musclefem_core::solver::observer::{Observer, Record, Snapshot};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
 use musclefem_materials::hill::functions::series_elastic;
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
@@ -87,15 +85,9 @@ impl LastFields {
     }
 }
 
-impl Observer<HistoryRow> for LastFields {
-    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.keep(snapshot, row.reactions[0])
-    }
-}
-
-impl Observer<ImplicitHistoryRow> for LastFields {
-    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.keep(snapshot, row.reactions[0])
+impl Observer for LastFields {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.keep(snapshot, record.reactions()[0])
     }
 }
 

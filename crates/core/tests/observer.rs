@@ -7,13 +7,9 @@ use std::ops::ControlFlow;
 use musclefem_core::element::Technology;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::box_of_hexes;
-use musclefem_core::solver::explicit::{
-    ExplicitSettings, HistoryRow, run_explicit, run_explicit_observed,
-};
-use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, run_implicit_observed, run_quasi_static,
-};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit, run_explicit_observed};
+use musclefem_core::solver::implicit::{ImplicitSettings, run_implicit_observed, run_quasi_static};
+use musclefem_core::solver::observer::{Observer, Record, Snapshot};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement, SolverError};
 use musclefem_materials::{Amplitude, MaterialLibrary};
 
@@ -50,33 +46,19 @@ struct Recorder {
     stop_after: usize,
 }
 
-impl<R: TimeOf> Observer<R> for Recorder {
-    fn record(&mut self, row: &R, snapshot: &Snapshot) -> ControlFlow<()> {
+impl Observer for Recorder {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         let largest = snapshot
             .displacement
             .iter()
             .map(|u| u.amax())
             .fold(0.0, f64::max);
-        self.seen.push((row.time_of(), largest));
+        self.seen.push((record.time(), largest));
         if self.seen.len() >= self.stop_after {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
-    }
-}
-
-trait TimeOf {
-    fn time_of(&self) -> f64;
-}
-impl TimeOf for HistoryRow {
-    fn time_of(&self) -> f64 {
-        self.time
-    }
-}
-impl TimeOf for ImplicitHistoryRow {
-    fn time_of(&self) -> f64 {
-        self.time
     }
 }
 

@@ -127,10 +127,10 @@ impl Frame {
     }
 }
 
-impl<Row> musclefem_core::solver::observer::Observer<Row> for Recorder {
+impl musclefem_core::solver::observer::Observer for Recorder {
     fn record(
         &mut self,
-        _row: &Row,
+        _record: &musclefem_core::solver::observer::Record,
         snapshot: &musclefem_core::solver::observer::Snapshot,
     ) -> std::ops::ControlFlow<()> {
         self.frames.push(Frame {

@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 use musclefem_core::element::Technology;
 use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_core::mesh::{ElementRef, Face, Mesh};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::observer::{Observer, Record, Snapshot};
 use musclefem_core::solver::{NodalField, Part, PrescribedDisplacement};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
@@ -134,8 +134,8 @@ impl LastFields {
     }
 }
 
-impl<Row> Observer<Row> for LastFields {
-    fn record(&mut self, _row: &Row, snapshot: &Snapshot) -> ControlFlow<()> {
+impl Observer for LastFields {
+    fn record(&mut self, _record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         self.time = snapshot.time;
         self.fields = snapshot.nodal_fields();
         ControlFlow::Continue(())

@@ -59,7 +59,7 @@ use super::explicit_parts::{
 };
 use super::interaction::{Interaction, InteractionReport, NodalField};
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
-use super::observer::{NoObserver, Observer, Snapshot};
+use super::observer::{NoObserver, Observer, Record, Snapshot};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
@@ -167,7 +167,7 @@ pub fn run_explicit_observed(
     parts: &[Part],
     loads: &Loads,
     settings: &ExplicitSettings,
-    observer: &mut dyn Observer<HistoryRow>,
+    observer: &mut dyn Observer,
 ) -> Result<ExplicitResult, SolverError> {
     run_explicit_with(mesh, parts, loads, &mut [], settings, observer)
 }
@@ -180,7 +180,7 @@ pub fn run_explicit_with(
     loads: &Loads,
     interactions: &mut [Box<dyn Interaction>],
     settings: &ExplicitSettings,
-    observer: &mut dyn Observer<HistoryRow>,
+    observer: &mut dyn Observer,
 ) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
     let node_count = mesh.nodes.len();
@@ -369,7 +369,9 @@ pub fn run_explicit_with(
             let nodal = || all_nodal_fields(interactions, node_count);
             let snapshot = Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
             if let (Some(row), false) = (history.last(), closing)
-                && observer.record(row, &snapshot).is_break()
+                && observer
+                    .record(&Record::Explicit(row), &snapshot)
+                    .is_break()
             {
                 return Err(SolverError::Interrupted { time });
             }
@@ -389,7 +391,7 @@ pub fn run_explicit_with(
                 let nodal = || all_nodal_fields(interactions, node_count);
                 let snapshot =
                     Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
-                let _ = observer.record(row, &snapshot);
+                let _ = observer.record(&Record::Explicit(row), &snapshot);
             }
             break;
         }

@@ -58,7 +58,7 @@ use super::explicit::all_nodal_fields;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
 use super::interaction::Interaction;
-use super::observer::{NoObserver, Observer, Snapshot};
+use super::observer::{NoObserver, Observer, Record, Snapshot};
 use super::sparse::PRESCRIBED;
 use super::{Loads, Part, SolverError};
 use crate::mesh::Mesh;
@@ -98,7 +98,7 @@ pub fn run_implicit_observed(
     parts: &[Part],
     loads: &Loads,
     settings: &ImplicitSettings,
-    observer: &mut dyn Observer<ImplicitHistoryRow>,
+    observer: &mut dyn Observer,
 ) -> Result<ImplicitResult, SolverError> {
     run_implicit_with(mesh, parts, loads, &mut [], settings, observer)
 }
@@ -111,7 +111,7 @@ pub fn run_implicit_with(
     loads: &Loads,
     interactions: &mut [Box<dyn Interaction>],
     settings: &ImplicitSettings,
-    observer: &mut dyn Observer<ImplicitHistoryRow>,
+    observer: &mut dyn Observer,
 ) -> Result<ImplicitResult, SolverError> {
     check_settings(settings)?;
     let mut model = Model::new(
@@ -225,7 +225,9 @@ pub fn run_implicit_with(
                 let snapshot =
                     Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
                 if let Some(row) = history.last()
-                    && (observer.record(row, &snapshot).is_break()
+                    && (observer
+                        .record(&Record::Implicit(row), &snapshot)
+                        .is_break()
                         || observer.progress(time, history.len()).is_break())
                     && time < end
                 {

@@ -4,6 +4,10 @@
 //! the implicit solver ([`implicit`]), quasi-static or Newmark dynamics, with Newton on the
 //! consistent tangent, line search, sparse direct solves (faer) and step cutting.
 //!
+//! Both run through [`run`]: a [`Problem`] (mesh, parts, loads, interactions), an
+//! [`Analysis`] (explicit or implicit settings) and one [`Observer`] of the recorded
+//! [`Record`]s.
+//!
 //! Loads ([`Loads`]): prescribed displacement components, nodal forces and nodes tied to
 //! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
 //! force and moment resultants).
@@ -32,12 +36,15 @@ pub mod observer;
 mod ordering;
 mod part;
 mod rigid_motion;
+mod run;
 mod sparse;
 
 pub use interaction::{Interaction, InteractionReport, NodalField};
 pub use loads::{Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidTie};
+pub use observer::{NoObserver, Observer, Record, Snapshot};
 pub use part::Part;
 pub use rigid_motion::{PoseFollower, RigidMotion, RigidRotation};
+pub use run::{Analysis, Outcome, Problem, run};
 
 use thiserror::Error;
 

@@ -1,8 +1,9 @@
-//! What a caller sees of a run while it goes: every recorded history row with a
-//! [`Snapshot`] of that instant (displacements, and per-element fields on request, for
-//! frames and live histories), and the progress of the steps (for a progress bar). Either
-//! may stop the run cleanly (Ctrl-C): the solver then returns
-//! [`super::SolverError::Interrupted`] after the last recorded row.
+//! What a caller sees of a run while it goes: every recorded history row as a [`Record`]
+//! (explicit or implicit) with a [`Snapshot`] of that instant (displacements, and
+//! per-element fields on request, for frames and live histories), and the progress of the
+//! steps (for a progress bar). Either may stop the run cleanly (Ctrl-C): the solver then
+//! returns [`super::SolverError::Interrupted`] after the last recorded row. One observer
+//! serves both solvers.
 
 use std::ops::ControlFlow;
 
@@ -10,7 +11,10 @@ use nalgebra::Vector3;
 
 use super::SolverError;
 use super::element_fields::PartFields;
-use super::interaction::NodalField;
+use super::explicit::HistoryRow;
+use super::implicit::ImplicitHistoryRow;
+use super::interaction::{InteractionReport, NodalField};
+use super::loads::RigidReaction;
 
 /// The state of a run at a recorded instant.
 pub struct Snapshot<'a> {
@@ -57,10 +61,61 @@ impl<'a> Snapshot<'a> {
     }
 }
 
-/// Watches a run whose history rows are `Row`s.
-pub trait Observer<Row> {
+/// One recorded instant of a run: the row of the solver that recorded it.
+#[derive(Debug, Clone, Copy)]
+pub enum Record<'a> {
+    /// A row of the explicit solver (energies of the central-difference balance).
+    Explicit(&'a HistoryRow),
+    /// A row of the implicit solver (Newton iterations, Newmark energies).
+    Implicit(&'a ImplicitHistoryRow),
+}
+
+impl Record<'_> {
+    /// Time [s].
+    pub fn time(&self) -> f64 {
+        match self {
+            Record::Explicit(row) => row.time,
+            Record::Implicit(row) => row.time,
+        }
+    }
+
+    /// Reaction force of each prescribed displacement, in its direction [N].
+    pub fn reactions(&self) -> &[f64] {
+        match self {
+            Record::Explicit(row) => &row.reactions,
+            Record::Implicit(row) => &row.reactions,
+        }
+    }
+
+    /// Resultant reaction force and moment of each rigid tie.
+    pub fn rigid_reactions(&self) -> &[RigidReaction] {
+        match self {
+            Record::Explicit(row) => &row.rigid_reactions,
+            Record::Implicit(row) => &row.rigid_reactions,
+        }
+    }
+
+    /// Totals of each interaction, in the order given.
+    pub fn interactions(&self) -> &[InteractionReport] {
+        match self {
+            Record::Explicit(row) => &row.interactions,
+            Record::Implicit(row) => &row.interactions,
+        }
+    }
+
+    /// Kinetic energy [J] (0 in a quasi-static implicit run).
+    pub fn kinetic_energy(&self) -> f64 {
+        match self {
+            Record::Explicit(row) => row.kinetic_energy,
+            Record::Implicit(row) => row.energy.kinetic,
+        }
+    }
+}
+
+/// Watches a run, explicit or implicit.
+pub trait Observer {
     /// A history row was recorded, with the state of the run at its time.
-    fn record(&mut self, row: &Row, snapshot: &Snapshot) -> ControlFlow<()>;
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()>;
 
     /// A step ended at `time` [s], the `steps`-th; called every step, keep it cheap.
     fn progress(&mut self, _time: f64, _steps: usize) -> ControlFlow<()> {
@@ -72,8 +127,8 @@ pub trait Observer<Row> {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct NoObserver;
 
-impl<Row> Observer<Row> for NoObserver {
-    fn record(&mut self, _row: &Row, _snapshot: &Snapshot) -> ControlFlow<()> {
+impl Observer for NoObserver {
+    fn record(&mut self, _record: &Record, _snapshot: &Snapshot) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
 }

@@ -38,9 +38,9 @@
 
 use std::path::{Path, PathBuf};
 
-use musclefem_core::solver::InteractionReport;
 use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
+use musclefem_core::solver::{Analysis, InteractionReport, Record};
 
 use crate::OutputError;
 use crate::atomic::write_atomically;
@@ -384,6 +384,26 @@ impl HistoryWriter {
             self.flush()?;
         }
         Ok(())
+    }
+
+    /// A history with the header of the solver that `analysis` runs.
+    pub fn for_analysis(
+        path: &Path,
+        columns: &HistoryColumns,
+        analysis: &Analysis,
+    ) -> Result<Self, OutputError> {
+        match analysis {
+            Analysis::Explicit(_) => Self::explicit(path, columns),
+            Analysis::Implicit(_) => Self::implicit(path, columns),
+        }
+    }
+
+    /// Append a recorded row of either solver (the writer's header must be that solver's).
+    pub fn push_record(&mut self, record: &Record) -> Result<(), OutputError> {
+        match record {
+            Record::Explicit(row) => self.push_explicit(row),
+            Record::Implicit(row) => self.push_implicit(row),
+        }
     }
 
     /// Append an explicit solver row (needs a writer made by [`explicit`](Self::explicit)).

@@ -20,6 +20,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use musclefem_core::solver::Analysis;
 use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
 
@@ -184,6 +185,16 @@ impl RunDirectory {
     /// A streaming explicit history at `history.csv`.
     pub fn explicit_history(&self, columns: &HistoryColumns) -> Result<HistoryWriter, OutputError> {
         HistoryWriter::explicit(&self.history_path(), columns)
+    }
+
+    /// A streaming history at `history.csv` with the columns of the solver `analysis`
+    /// runs.
+    pub fn history(
+        &self,
+        columns: &HistoryColumns,
+        analysis: &Analysis,
+    ) -> Result<HistoryWriter, OutputError> {
+        HistoryWriter::for_analysis(&self.history_path(), columns, analysis)
     }
 
     /// A streaming implicit history at `history.csv`.

@@ -38,12 +38,8 @@ pub const ELEMENT_NAMES: [&str; 6] = [
     "tet10",
 ];
 
-/// The analysis of the step.
-#[derive(Debug, Clone)]
-pub enum Analysis {
-    Explicit(ExplicitSettings),
-    Implicit(ImplicitSettings),
-}
+/// The analysis of the step: the solver's own [`musclefem_core::solver::Analysis`].
+pub use musclefem_core::solver::Analysis;
 
 /// Everything a run needs.
 #[derive(Debug, Clone)]

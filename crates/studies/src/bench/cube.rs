@@ -11,11 +11,9 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_observed};
-use musclefem_core::solver::implicit::{
-    ImplicitHistoryRow, ImplicitSettings, run_implicit_observed,
-};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::implicit::ImplicitSettings;
+use musclefem_core::solver::{Analysis, Observer, Problem, Record, Snapshot, run};
 use musclefem_io::scene::{Model, build_model, parse_scene};
 use musclefem_materials::MaterialLibrary;
 
@@ -150,17 +148,10 @@ pub fn run_cube(method: &Method) -> Result<Response> {
         points: vec![(0.0, 0.0)],
         kinetic_to_internal: 0.0,
     };
-    match method.step {
+    let analysis = match method.step {
         StepSetting::Implicit { increment } => {
             let increments = (PULL_DURATION / increment).round().max(1.0) as usize;
-            let settings = ImplicitSettings::new(PULL_DURATION, increments).with_cutting();
-            run_implicit_observed(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &settings,
-                &mut history,
-            )?;
+            Analysis::Implicit(ImplicitSettings::new(PULL_DURATION, increments).with_cutting())
         }
         StepSetting::Explicit {
             mass_scaling,
@@ -170,15 +161,16 @@ pub fn run_cube(method: &Method) -> Result<Response> {
             settings.safety_factor = safety;
             settings.mass_scaling_time_step = mass_scaling;
             settings.history_interval = PULL_DURATION / 200.0;
-            run_explicit_observed(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &settings,
-                &mut history,
-            )?;
+            Analysis::Explicit(settings)
         }
-    }
+    };
+    let problem = Problem {
+        mesh: &model.mesh,
+        parts: &model.parts,
+        loads: &model.loads,
+        interactions: &mut [],
+    };
+    run(problem, &analysis, &mut history)?;
     Ok(Response {
         warning: inertia_warning(history.kinetic_to_internal),
         samples: SAMPLE_TIMES
@@ -196,18 +188,14 @@ struct ReactionHistory {
     kinetic_to_internal: f64,
 }
 
-impl Observer<HistoryRow> for ReactionHistory {
-    fn record(&mut self, row: &HistoryRow, _snapshot: &Snapshot) -> ControlFlow<()> {
-        self.points.push((row.time, row.reactions[0]));
-        let ratio = largest_kinetic_to_internal(std::slice::from_ref(row), 0.1 * PULL_DURATION);
-        self.kinetic_to_internal = self.kinetic_to_internal.max(ratio);
-        ControlFlow::Continue(())
-    }
-}
-
-impl Observer<ImplicitHistoryRow> for ReactionHistory {
-    fn record(&mut self, row: &ImplicitHistoryRow, _snapshot: &Snapshot) -> ControlFlow<()> {
-        self.points.push((row.time, row.reactions[0]));
+impl Observer for ReactionHistory {
+    fn record(&mut self, record: &Record, _snapshot: &Snapshot) -> ControlFlow<()> {
+        self.points.push((record.time(), record.reactions()[0]));
+        if let Record::Explicit(row) = record {
+            let ratio =
+                largest_kinetic_to_internal(std::slice::from_ref(*row), 0.1 * PULL_DURATION);
+            self.kinetic_to_internal = self.kinetic_to_internal.max(ratio);
+        }
         ControlFlow::Continue(())
     }
 }

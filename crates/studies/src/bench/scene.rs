@@ -28,10 +28,10 @@ use nalgebra::Vector3;
 
 use musclefem_core::element::Technology;
 use musclefem_core::mesh::ElementRef;
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
-use musclefem_core::solver::implicit::{ImplicitHistoryRow, ImplicitSettings, run_implicit_with};
-use musclefem_core::solver::observer::{Observer, Snapshot};
-use musclefem_io::scene::{Analysis, Model, fastest_wave_speed, load_scene};
+use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::implicit::ImplicitSettings;
+use musclefem_core::solver::{Analysis, Observer, Problem, Record, Snapshot, run};
+use musclefem_io::scene::{Model, fastest_wave_speed, load_scene};
 use musclefem_materials::MaterialLibrary;
 
 use super::Response;
@@ -211,28 +211,13 @@ impl SceneProblem {
             kinetic_to_internal: 0.0,
         };
         let quasi_static = matches!(&model.analysis, Analysis::Implicit(s) if s.dynamics.is_none());
-        match self.analysis(step) {
-            Analysis::Implicit(settings) => {
-                run_implicit_with(
-                    &model.mesh,
-                    &model.parts,
-                    &model.loads,
-                    &mut interactions,
-                    &settings,
-                    &mut end,
-                )?;
-            }
-            Analysis::Explicit(settings) => {
-                run_explicit_with(
-                    &model.mesh,
-                    &model.parts,
-                    &model.loads,
-                    &mut interactions,
-                    &settings,
-                    &mut end,
-                )?;
-            }
-        }
+        let problem = Problem {
+            mesh: &model.mesh,
+            parts: &model.parts,
+            loads: &model.loads,
+            interactions: &mut interactions,
+        };
+        run(problem, &self.analysis(step), &mut end)?;
         let duration = self.duration();
         if (end.time - duration).abs() > 1e-9 * duration.max(1.0) {
             bail!(
@@ -301,18 +286,13 @@ impl EndState {
     }
 }
 
-impl Observer<HistoryRow> for EndState {
-    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.keep(row.time, snapshot);
-        let ratio = largest_kinetic_to_internal(std::slice::from_ref(row), self.from_time);
-        self.kinetic_to_internal = self.kinetic_to_internal.max(ratio);
-        ControlFlow::Continue(())
-    }
-}
-
-impl Observer<ImplicitHistoryRow> for EndState {
-    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.keep(row.time, snapshot);
+impl Observer for EndState {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.keep(record.time(), snapshot);
+        if let Record::Explicit(row) = record {
+            let ratio = largest_kinetic_to_internal(std::slice::from_ref(*row), self.from_time);
+            self.kinetic_to_internal = self.kinetic_to_internal.max(ratio);
+        }
         ControlFlow::Continue(())
     }
 }

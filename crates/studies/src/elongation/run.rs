@@ -6,9 +6,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use musclefem_core::solver::explicit::{HistoryRow, run_explicit_observed};
-use musclefem_core::solver::implicit::{ImplicitHistoryRow, run_implicit_observed};
-use musclefem_core::solver::observer::{Observer, Snapshot};
+use musclefem_core::solver::{Analysis, Observer, Outcome, Problem, Record, Snapshot, run};
 
 use super::curve::{Curve, CurvePoint};
 use super::setup::{Setup, explicit_settings, implicit_settings, setup};
@@ -84,35 +82,28 @@ pub fn run_on(
             mesh.element_count()
         )
     };
-    let (steps, newton_iterations, kinetic_to_internal, added_mass_fraction) = match test.solver {
-        Solver::Implicit => {
-            let result = run_implicit_observed(
-                mesh,
-                &setup.parts,
-                &setup.loads,
-                &implicit_settings(test),
-                &mut adapter,
-            )
-            .with_context(context)?;
+    let analysis = match test.solver {
+        Solver::Implicit => Analysis::Implicit(implicit_settings(test)),
+        Solver::Explicit => Analysis::Explicit(explicit_settings(test)),
+    };
+    let problem = Problem {
+        mesh,
+        parts: &setup.parts,
+        loads: &setup.loads,
+        interactions: &mut [],
+    };
+    let outcome = run(problem, &analysis, &mut adapter).with_context(context)?;
+    let (steps, newton_iterations, kinetic_to_internal, added_mass_fraction) = match &outcome {
+        Outcome::Implicit(result) => {
             let iterations = result.history.iter().map(|r| r.iterations).sum();
             (result.history.len(), Some(iterations), None, None)
         }
-        Solver::Explicit => {
-            let result = run_explicit_observed(
-                mesh,
-                &setup.parts,
-                &setup.loads,
-                &explicit_settings(test),
-                &mut adapter,
-            )
-            .with_context(context)?;
-            (
-                result.steps,
-                None,
-                Some(adapter.kinetic_to_internal),
-                Some(result.added_mass_fraction),
-            )
-        }
+        Outcome::Explicit(result) => (
+            result.steps,
+            None,
+            Some(adapter.kinetic_to_internal),
+            Some(result.added_mass_fraction),
+        ),
     };
     let mut curve = std::mem::take(&mut adapter.curve);
     if curve.points.first().is_none_or(|p| p.time > 0.0) {
@@ -164,14 +155,23 @@ impl Adapter<'_> {
     }
 }
 
-impl Observer<HistoryRow> for Adapter<'_> {
-    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        if row.time > self.hold && row.internal_energy > 0.0 {
-            self.kinetic_to_internal = self
-                .kinetic_to_internal
-                .max(row.kinetic_energy / row.internal_energy);
+impl Observer for Adapter<'_> {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        match record {
+            Record::Explicit(row) => {
+                if row.time > self.hold && row.internal_energy > 0.0 {
+                    self.kinetic_to_internal = self
+                        .kinetic_to_internal
+                        .max(row.kinetic_energy / row.internal_energy);
+                }
+                self.add(row.time, row.reactions[0], snapshot)
+            }
+            // Implicit increments are few: every one is a progress report.
+            Record::Implicit(row) => {
+                self.add(row.time, row.reactions[0], snapshot)?;
+                self.watcher.progress(row.time)
+            }
         }
-        self.add(row.time, row.reactions[0], snapshot)
     }
 
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
@@ -180,12 +180,5 @@ impl Observer<HistoryRow> for Adapter<'_> {
         } else {
             ControlFlow::Continue(())
         }
-    }
-}
-
-impl Observer<ImplicitHistoryRow> for Adapter<'_> {
-    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.add(row.time, row.reactions[0], snapshot)?;
-        self.watcher.progress(row.time)
     }
 }

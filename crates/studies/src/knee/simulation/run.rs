@@ -11,15 +11,15 @@ use anyhow::{Context, Result};
 use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
-use musclefem_core::solver::PoseFollower;
 use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::explicit::{ExplicitSettings, HistoryRow, run_explicit_with};
+use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{
-    CutAttempt, EvaluationTimes, ImplicitHistoryRow, ImplicitSettings, LinearSolveStatistics,
-    Newmark, StepReport, run_implicit_with,
+    CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, Newmark, StepReport,
 };
-use musclefem_core::solver::observer::{Observer, Snapshot};
-use musclefem_core::solver::{InteractionReport, RigidReaction};
+use musclefem_core::solver::{
+    Analysis, InteractionReport, Observer, Outcome, PoseFollower, Problem, Record, RigidReaction,
+    Snapshot, run,
+};
 use musclefem_fibers::FiberField;
 
 use super::super::anatomy::Squat;
@@ -192,8 +192,7 @@ pub trait SquatWatcher {
         ControlFlow::Continue(())
     }
     /// The solver's history row of a recorded instant (before `recorded`).
-    fn implicit_row(&mut self, _row: &ImplicitHistoryRow) {}
-    fn explicit_row(&mut self, _row: &HistoryRow) {}
+    fn history_row(&mut self, _record: &Record) {}
 }
 
 /// The result of one squat.
@@ -310,9 +309,7 @@ pub fn run_squat(
     };
     let started = Instant::now();
     let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
-    let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match settings
-        .solver
-    {
+    let analysis = match settings.solver {
         Solver::Implicit => {
             let increments = (duration / settings.time_step).round().max(1.0) as usize;
             let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
@@ -332,16 +329,26 @@ pub fn run_squat(
             // The muscles ride on the femur, which moves in the closed chain: each
             // increment starts from them carried with it.
             solver_settings.predictor_frame = Some(Box::new(geometry.motions.femur.clone()));
-            let result = run_implicit_with(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &mut built.interactions,
-                &solver_settings,
-                &mut recorder,
-            );
-            let result =
-                finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
+            Analysis::Implicit(solver_settings)
+        }
+        Solver::Explicit => {
+            let mut solver_settings = ExplicitSettings::new(duration);
+            solver_settings.mass_scaling_time_step = Some(settings.time_step);
+            solver_settings.history_interval = settings.record_interval;
+            Analysis::Explicit(solver_settings)
+        }
+    };
+    let problem = Problem {
+        mesh: &model.mesh,
+        parts: &model.parts,
+        loads: &model.loads,
+        interactions: &mut built.interactions,
+    };
+    let outcome = run(problem, &analysis, &mut recorder);
+    let outcome =
+        finish(outcome.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
+    let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match outcome {
+        Outcome::Implicit(result) => {
             let iterations = result.steps.iter().map(|s| s.iterations).sum();
             newton_steps = result.steps;
             cut_attempts = result.cut_attempts;
@@ -353,28 +360,13 @@ pub fn run_squat(
                 None,
             )
         }
-        Solver::Explicit => {
-            let mut solver_settings = ExplicitSettings::new(duration);
-            solver_settings.mass_scaling_time_step = Some(settings.time_step);
-            solver_settings.history_interval = settings.record_interval;
-            let result = run_explicit_with(
-                &model.mesh,
-                &model.parts,
-                &model.loads,
-                &mut built.interactions,
-                &solver_settings,
-                &mut recorder,
-            );
-            let result =
-                finish(result.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
-            (
-                result.steps,
-                None,
-                None,
-                None,
-                Some(result.added_mass_fraction),
-            )
-        }
+        Outcome::Explicit(result) => (
+            result.steps,
+            None,
+            None,
+            None,
+            Some(result.added_mass_fraction),
+        ),
     };
     let solve_time = started.elapsed();
     let muscles = &geometry.muscles;
@@ -641,36 +633,42 @@ impl StallDetector {
     }
 }
 
-impl Observer<ImplicitHistoryRow> for Recorder<'_> {
-    fn record(&mut self, row: &ImplicitHistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.watcher.implicit_row(row);
-        self.report_pull(row.time, &row.rigid_reactions, &row.interactions)?;
-        self.record(snapshot)?;
-        if let Some(message) = self.stall.advance(row.time, self.squat) {
-            self.error = Some(anyhow::anyhow!(message));
-            return ControlFlow::Break(());
-        }
-        self.watcher.progress(row.time)
-    }
-}
-
-impl Observer<HistoryRow> for Recorder<'_> {
-    fn record(&mut self, row: &HistoryRow, snapshot: &Snapshot) -> ControlFlow<()> {
-        let energies = [
-            row.internal_energy,
-            row.kinetic_energy,
-            row.external_work,
-            row.viscous_energy,
-            row.interaction_work.abs(),
-        ];
-        self.largest_energy = energies.iter().fold(self.largest_energy, |a, &b| a.max(b));
-        let balance =
-            row.internal_energy + row.viscous_energy + row.interaction_work + row.kinetic_energy
+impl Observer for Recorder<'_> {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        if let Record::Explicit(row) = record {
+            let energies = [
+                row.internal_energy,
+                row.kinetic_energy,
+                row.external_work,
+                row.viscous_energy,
+                row.interaction_work.abs(),
+            ];
+            self.largest_energy = energies.iter().fold(self.largest_energy, |a, &b| a.max(b));
+            let balance = row.internal_energy
+                + row.viscous_energy
+                + row.interaction_work
+                + row.kinetic_energy
                 - row.external_work;
-        self.energy_error = self.energy_error.max(balance.abs());
-        self.watcher.explicit_row(row);
-        self.report_pull(row.time, &row.rigid_reactions, &row.interactions)?;
-        self.record(snapshot)
+            self.energy_error = self.energy_error.max(balance.abs());
+        }
+        self.watcher.history_row(record);
+        self.report_pull(
+            record.time(),
+            record.rigid_reactions(),
+            record.interactions(),
+        )?;
+        self.record(snapshot)?;
+        match record {
+            // Implicit increments are few: each is checked for a stall and reported.
+            Record::Implicit(row) => {
+                if let Some(message) = self.stall.advance(row.time, self.squat) {
+                    self.error = Some(anyhow::anyhow!(message));
+                    return ControlFlow::Break(());
+                }
+                self.watcher.progress(row.time)
+            }
+            Record::Explicit(_) => ControlFlow::Continue(()),
+        }
     }
 
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
