@@ -11,7 +11,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{ElementFieldArrays, ExistingResults, Frame, RunDirectory, RunLog};
+use musclefem_io::output::{ExistingResults, RunDirectory, RunLog};
 use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
 use musclefem_studies::bench::{Problem, select};
 use musclefem_studies::elongation::options::TestOptions;
@@ -261,10 +261,8 @@ impl ElongationWatcher for FrameWriter<'_> {
             .element_fields()
             .map_err(anyhow::Error::from)
             .and_then(|parts| {
-                let fields = ElementFieldArrays::gather(mesh, &parts);
-                let frame = Frame::new(point.time, mesh, snapshot.displacement);
                 self.directory
-                    .write_frame(&fields.attach(frame))
+                    .write_state_frame(mesh, point.time, snapshot.displacement, &parts, &[])
                     .map_err(anyhow::Error::from)
             });
         match written {

@@ -31,9 +31,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use musclefem_core::solver::Record;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{
-    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory,
-};
+use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory};
 use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
 use musclefem_studies::elongation::{ElementChoice, Solver};
 use musclefem_studies::knee::anatomy::export::write_anatomy;
@@ -439,9 +437,13 @@ impl SquatWatcher for Outputs<'_> {
         let Some(mesh) = &self.mesh else {
             return ControlFlow::Continue(());
         };
-        let arrays = ElementFieldArrays::gather(mesh, fields);
-        let frame = arrays.attach(Frame::new(snapshot.time, mesh, snapshot.displacement));
-        match self.directory.write_frame(&frame) {
+        match self.directory.write_state_frame(
+            mesh,
+            snapshot.time,
+            snapshot.displacement,
+            fields,
+            &[],
+        ) {
             Ok(_) => ControlFlow::Continue(()),
             Err(e) => self.fail(e),
         }

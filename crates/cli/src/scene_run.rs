@@ -17,9 +17,7 @@ use musclefem_core::solver::{
     Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
 };
 use musclefem_io::OutputError;
-use musclefem_io::output::{
-    ElementFieldArrays, ExistingResults, Frame, HistoryColumns, HistoryWriter, RunDirectory, RunLog,
-};
+use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory, RunLog};
 use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
@@ -297,19 +295,20 @@ impl Watcher<'_> {
     /// The frame of `snapshot`, with its element fields, if frames are asked for.
     fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
         if self.write_frames {
-            let fields = match snapshot.element_fields() {
-                Ok(parts) => ElementFieldArrays::gather(&self.model.mesh, &parts),
+            let parts = match snapshot.element_fields() {
+                Ok(parts) => parts,
                 Err(e) => {
                     self.fields_error = Some(e);
                     return ControlFlow::Break(());
                 }
             };
-            let nodal = snapshot.nodal_fields();
-            let mut frame = Frame::new(snapshot.time, &self.model.mesh, snapshot.displacement);
-            for field in &nodal {
-                frame = frame.with_point_components(&field.name, field.components, &field.values);
-            }
-            if let Err(e) = self.directory.write_frame(&fields.attach(frame)) {
+            if let Err(e) = self.directory.write_state_frame(
+                &self.model.mesh,
+                snapshot.time,
+                snapshot.displacement,
+                &parts,
+                &snapshot.nodal_fields(),
+            ) {
                 self.error = Some(e);
                 return ControlFlow::Break(());
             }
@@ -318,10 +317,7 @@ impl Watcher<'_> {
     }
 
     fn tick(&mut self, time: f64) -> ControlFlow<()> {
-        let duration = match &self.model.analysis {
-            Analysis::Explicit(s) => s.end_time,
-            Analysis::Implicit(s) => s.end_time,
-        };
+        let duration = self.model.analysis.end_time();
         self.bar.set_position((1e6 * time / duration) as u64);
         self.bar.set_message(format!("{time:.4e} / {duration} s"));
         let at_end = time >= duration * (1.0 - 1e-12);

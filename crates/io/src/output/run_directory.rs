@@ -20,10 +20,14 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use musclefem_core::solver::Analysis;
+use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
+use musclefem_core::solver::{Analysis, NodalField};
+use nalgebra::Vector3;
 
+use super::element_fields::ElementFieldArrays;
 use super::frame::Frame;
 use super::history::{
     HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history,
@@ -133,6 +137,26 @@ impl RunDirectory {
     /// Time since [`create`](Self::create).
     pub fn elapsed(&self) -> Duration {
         self.created.elapsed()
+    }
+
+    /// Write the frame of a solver's recorded state: the displacement of every node, the
+    /// element fields of every part (stress, fibers, state, activation) and the
+    /// interactions' per-node fields (contact pressure, cohesive traction, …; pass `&[]`
+    /// for none). The one frame writer of the scene run, the knee and the elongation tests.
+    pub fn write_state_frame(
+        &mut self,
+        mesh: &Mesh,
+        time: f64,
+        displacement: &[Vector3<f64>],
+        parts: &[PartFields],
+        nodal: &[NodalField],
+    ) -> Result<PathBuf, OutputError> {
+        let fields = ElementFieldArrays::gather(mesh, parts);
+        let mut frame = Frame::new(time, mesh, displacement);
+        for field in nodal {
+            frame = frame.with_point_components(&field.name, field.components, &field.values);
+        }
+        self.write_frame(&fields.attach(frame))
     }
 
     /// Write `frame` as the next VTU file, then rewrite `result.pvd` to list it. Times
