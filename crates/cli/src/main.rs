@@ -28,7 +28,8 @@ mod summary;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
+use musclefem_studies::solver::Solver;
 
 /// musclefem: 3D finite-element simulation of active skeletal muscle (Hill-type and
 /// neo-Hookean materials and plugins, explicit and implicit solvers, flow-based fibers,
@@ -93,12 +94,6 @@ pub struct CheckArgs {
     pub scene: PathBuf,
 }
 
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum SolverChoice {
-    Explicit,
-    Implicit,
-}
-
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// The scene file (see docs/scene-format.md).
@@ -109,7 +104,7 @@ pub struct RunArgs {
     /// Use this solver instead of the scene's, with its default settings for the scene's
     /// duration and output interval.
     #[arg(long, value_enum)]
-    pub solver: Option<SolverChoice>,
+    pub solver: Option<Solver>,
     /// Run the cheapest solver and step setting whose measured error (`musclefem bench
     /// --scene SCENE`: displacements at the end against its reference run) is at most
     /// this [%].

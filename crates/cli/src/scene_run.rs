@@ -21,8 +21,9 @@ use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDi
 use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
-use crate::{CheckArgs, RunArgs, SolverChoice};
+use crate::{CheckArgs, RunArgs};
 use musclefem_studies::bench::scene::{SceneProblem, scene_name};
+use musclefem_studies::solver::Solver;
 
 mod tolerance;
 
@@ -237,17 +238,18 @@ pub fn run(args: &RunArgs) -> Result<()> {
 }
 
 /// The other solver's default settings for the scene's duration and output interval.
-fn switch_solver(model: &Model, choice: SolverChoice) -> Analysis {
+fn switch_solver(model: &Model, choice: Solver) -> Analysis {
     let duration = model.analysis.end_time();
     match (choice, &model.analysis) {
-        (SolverChoice::Explicit, Analysis::Explicit(_))
-        | (SolverChoice::Implicit, Analysis::Implicit(_)) => model.analysis.clone(),
-        (SolverChoice::Explicit, _) => {
+        (Solver::Explicit, Analysis::Explicit(_)) | (Solver::Implicit, Analysis::Implicit(_)) => {
+            model.analysis.clone()
+        }
+        (Solver::Explicit, _) => {
             let mut settings = ExplicitSettings::new(duration);
             settings.history_interval = model.output_interval;
             Analysis::Explicit(settings)
         }
-        (SolverChoice::Implicit, _) => {
+        (Solver::Implicit, _) => {
             let increments = ((duration / model.output_interval).round() as usize).max(1);
             Analysis::Implicit(ImplicitSettings::new(duration, increments).with_cutting())
         }

@@ -8,6 +8,7 @@
 //! - [`fit`]: least-squares calibration of Hill parameters to a measured curve (`musclefem fit`).
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`solver`]: the one solver choice of every study and command.
 //! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
 
 pub mod bench;
@@ -15,6 +16,7 @@ pub mod elongation;
 pub mod fit;
 pub mod inertia;
 pub mod knee;
+pub mod solver;
 pub mod sweep;
 
 /// The README's examples, compiled and run by `cargo test --doc`.

@@ -32,12 +32,14 @@ mod hex8_full;
 pub(crate) mod hex8_one_point;
 pub(crate) mod hex8_one_point_batch;
 mod isoparametric;
+mod kind;
 mod stiffness;
 mod tet10;
 mod tet4;
 pub(crate) mod tet4_nodal_average;
 
 pub use hex8_one_point::DEFAULT_HOURGLASS_FACTOR;
+pub use kind::ElementKind;
 pub use stiffness::{SYMMETRY_TOLERANCE, has_major_symmetry};
 
 use nalgebra::{Matrix3, Vector3};

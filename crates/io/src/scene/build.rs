@@ -10,7 +10,7 @@ use std::sync::Arc;
 use nalgebra::{Unit, Vector3};
 use toml::Spanned;
 
-use musclefem_core::element::Technology;
+use musclefem_core::element::{ElementKind, Technology};
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::bulk_viscosity::BulkViscosity;
 use musclefem_core::solver::explicit::ExplicitSettings;
@@ -28,15 +28,8 @@ use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
 use super::solver_choice::{AutoSolver, choose_solver};
 
-/// Element technologies by scene name.
-pub const ELEMENT_NAMES: [&str; 6] = [
-    "hex8-full",
-    "hex8-fbar",
-    "hex8-one-point",
-    "tet4",
-    "tet4-nodal-average",
-    "tet10",
-];
+/// Element technologies by scene name ([`ElementKind::NAMES`]).
+pub const ELEMENT_NAMES: [&str; 6] = ElementKind::NAMES;
 
 /// The analysis of the step: the solver's own [`musclefem_core::solver::Analysis`].
 pub use musclefem_core::solver::Analysis;
@@ -444,33 +437,22 @@ fn technology(
     locator: &Locator,
 ) -> Result<Technology, SceneError> {
     let name = entry.element.get_ref().as_str();
-    Ok(match name {
-        "hex8-full" => Technology::Hex8Full,
-        "hex8-fbar" => Technology::Hex8FBar,
-        "hex8-one-point" => {
-            let mu = small_strain_shear_modulus(material).ok_or_else(|| {
-                locator.error(
-                    entry.material.span(),
-                    "the material gives no positive shear modulus at F = I, which the \
-                     one-point hex8's hourglass control scales with",
-                )
-            })?;
-            Technology::hex8_one_point(mu)
-        }
-        "tet4" => Technology::Tet4,
-        "tet4-nodal-average" => Technology::Tet4NodalAverage,
-        "tet10" => Technology::Tet10,
-        _ => {
-            return Err(locator.error(
-                entry.element.span(),
-                format!(
-                    "unknown element '{name}'{}; known: {}",
-                    suggestion(name, ELEMENT_NAMES),
-                    ELEMENT_NAMES.join(", ")
-                ),
-            ));
-        }
-    })
+    let Some(kind) = ElementKind::from_name(name) else {
+        return Err(locator.error(
+            entry.element.span(),
+            format!(
+                "unknown element '{name}'{}; known: {}",
+                suggestion(name, ELEMENT_NAMES),
+                ELEMENT_NAMES.join(", ")
+            ),
+        ));
+    };
+    let shear_modulus = match kind {
+        ElementKind::Hex8OnePoint => small_strain_shear_modulus(material),
+        _ => None,
+    };
+    kind.technology(shear_modulus)
+        .map_err(|reason| locator.error(entry.material.span(), reason))
 }
 
 /// The material tangent ∂P/∂F at F = I, t = 0 (vec(F) column-major: F_ij sits at i + 3 j),

@@ -26,7 +26,6 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use nalgebra::Vector3;
 
-use musclefem_core::element::Technology;
 use musclefem_core::mesh::ElementRef;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::ImplicitSettings;
@@ -163,7 +162,7 @@ impl SceneProblem {
             .model
             .parts
             .iter()
-            .map(|p| technology_name(p.technology))
+            .map(|p| p.technology.name())
             .collect();
         names.dedup();
         names.join("+")
@@ -254,18 +253,6 @@ pub fn scene_name(path: &Path) -> Result<String> {
                 path.display()
             )
         })
-}
-
-/// A technology's name in scene files.
-fn technology_name(technology: Technology) -> &'static str {
-    match technology {
-        Technology::Hex8Full => "hex8-full",
-        Technology::Hex8FBar => "hex8-fbar",
-        Technology::Hex8OnePoint { .. } => "hex8-one-point",
-        Technology::Tet4 => "tet4",
-        Technology::Tet4NodalAverage => "tet4-nodal-average",
-        Technology::Tet10 => "tet10",
-    }
 }
 
 /// The last recorded state of a run, and (explicit) the largest kinetic/internal energy

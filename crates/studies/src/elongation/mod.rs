@@ -21,9 +21,9 @@ pub mod specimen;
 
 use std::collections::BTreeMap;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-use musclefem_core::element::Technology;
+use musclefem_core::element::{ElementKind, Technology};
 use musclefem_io::scene::small_strain_shear_modulus;
 use musclefem_materials::Material;
 
@@ -32,15 +32,8 @@ pub use protocol::{Grips, Mode};
 pub use run::{ElongationRun, ElongationWatcher, Unwatched, run_elongation};
 pub use specimen::Shape;
 
-/// Which solver runs the test.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
-pub enum Solver {
-    /// Central differences with mass scaling (the paper's method).
-    Explicit,
-    /// Quasi-static Newton with automatic step cutting (the recommended one: the motion
-    /// is slow).
-    Implicit,
-}
+/// Which solver runs the test (the studies' one solver choice).
+pub use crate::solver::Solver;
 
 /// The element technology, by its scene-file name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
@@ -66,41 +59,38 @@ pub enum ElementChoice {
 }
 
 impl ElementChoice {
+    /// The element kind in the library's one table of names.
+    pub fn kind(self) -> ElementKind {
+        match self {
+            ElementChoice::Hex8Fbar => ElementKind::Hex8FBar,
+            ElementChoice::Hex8Full => ElementKind::Hex8Full,
+            ElementChoice::Hex8OnePoint => ElementKind::Hex8OnePoint,
+            ElementChoice::Tet4 => ElementKind::Tet4,
+            ElementChoice::Tet4NodalAverage => ElementKind::Tet4NodalAverage,
+            ElementChoice::Tet10 => ElementKind::Tet10,
+        }
+    }
+
     /// Whether the element is a hexahedron (else a tetrahedron).
     pub fn is_hex(self) -> bool {
-        matches!(
-            self,
-            ElementChoice::Hex8Fbar | ElementChoice::Hex8Full | ElementChoice::Hex8OnePoint
-        )
+        self.kind().is_hex()
     }
 
     /// The scene-file name of the element (as on the command line).
     pub fn name(self) -> &'static str {
-        match self {
-            ElementChoice::Hex8Fbar => "hex8-fbar",
-            ElementChoice::Hex8Full => "hex8-full",
-            ElementChoice::Hex8OnePoint => "hex8-one-point",
-            ElementChoice::Tet4 => "tet4",
-            ElementChoice::Tet4NodalAverage => "tet4-nodal-average",
-            ElementChoice::Tet10 => "tet10",
-        }
+        self.kind().name()
     }
 
     /// The element technology for parts of `material` (the one-point hex8's hourglass
     /// modulus scales with the material's small-strain shear modulus).
     pub fn technology(self, material: &dyn Material) -> Result<Technology> {
-        Ok(match self {
-            ElementChoice::Hex8Fbar => Technology::Hex8FBar,
-            ElementChoice::Hex8Full => Technology::Hex8Full,
-            ElementChoice::Hex8OnePoint => {
-                let mu = small_strain_shear_modulus(material)
-                    .context("the material has no small-strain shear modulus")?;
-                Technology::hex8_one_point(mu)
-            }
-            ElementChoice::Tet4 => Technology::Tet4,
-            ElementChoice::Tet4NodalAverage => Technology::Tet4NodalAverage,
-            ElementChoice::Tet10 => Technology::Tet10,
-        })
+        let shear_modulus = match self.kind() {
+            ElementKind::Hex8OnePoint => small_strain_shear_modulus(material),
+            _ => None,
+        };
+        self.kind()
+            .technology(shear_modulus)
+            .map_err(anyhow::Error::msg)
     }
 }
 
