@@ -99,6 +99,16 @@ struct PointSolution {
 }
 
 impl HillMuscle {
+    /// The Hill muscle with typed `parameters` (checked: declared ranges, t1 ≥ t0), for
+    /// studies that set activation or slack in code rather than by name.
+    pub fn with_parameters(
+        parameters: &HillParameters,
+    ) -> Result<Arc<dyn Material>, MaterialError> {
+        Ok(Arc::new(HillMuscle {
+            parameters: parameters.checked()?,
+        }))
+    }
+
     fn from_parameters(p: &ParameterSet) -> Result<Arc<dyn Material>, MaterialError> {
         Ok(Arc::new(HillMuscle {
             parameters: HillParameters::from_set(p)?,

@@ -1,6 +1,8 @@
 //! Parameters of the Hill-type active muscle: Table 1 of the seed paper (SI units) plus
 //! the activation constants of Eqs. 12–13.
 
+use std::collections::BTreeMap;
+
 use super::functions::{Activation, ForceVelocity};
 use crate::MaterialError;
 use crate::parameters::{Bound, ParameterSet, ParameterSpec};
@@ -225,6 +227,45 @@ impl HillParameters {
             },
             activation,
         })
+    }
+}
+
+impl HillParameters {
+    /// The values by their declared names: the inverse of [`HillParameters::from_set`],
+    /// so that typed parameters pass the same range checks as named ones.
+    pub fn named(&self) -> BTreeMap<String, f64> {
+        let a = &self.activation;
+        let v = &self.force_velocity;
+        [
+            ("D", self.compressibility),
+            ("b", self.matrix_exponent),
+            ("c", self.matrix_stress),
+            ("A", self.parallel_factor),
+            ("lambda_pe", self.parallel_slack),
+            ("sigma0", self.max_isometric_stress),
+            ("alpha", self.see_exponent),
+            ("beta", self.see_stress),
+            ("lambda_opt", self.optimal_stretch),
+            ("k", self.length_ratio),
+            ("k_c", v.k_c),
+            ("k_e", v.k_e),
+            ("d", v.d),
+            ("lambda_dot_min", v.lambda_dot_min),
+            ("S", a.rate),
+            ("n1", a.n1),
+            ("n2", a.n2),
+            ("t0", a.t0),
+            ("t1", a.t1),
+        ]
+        .into_iter()
+        .map(|(name, value)| (name.to_string(), value))
+        .collect()
+    }
+
+    /// The values checked as the registry checks named ones (declared ranges, t1 ≥ t0).
+    pub fn checked(&self) -> Result<Self, MaterialError> {
+        let set = ParameterSet::resolve("hill", &HILL_PARAMETERS, &self.named())?;
+        Self::from_set(&set)
     }
 }
 

@@ -429,3 +429,33 @@ fn tangent_matches_finite_differences_at_the_activation_onset() {
     }
     println!("largest relative error {worst:e}");
 }
+
+/// Typed parameters read back through their names unchanged, and are range-checked as
+/// named ones are: an activation level above 1 or t1 before t0 is refused.
+#[test]
+fn typed_parameters_are_checked_as_named_ones() {
+    let mut p = HillParameters::default();
+    assert_eq!(p.checked().unwrap(), p);
+    p.activation.n2 = 0.5;
+    p.activation.t0 = 0.25;
+    p.parallel_slack = 1.1;
+    assert_eq!(p.checked().unwrap(), p);
+    let named = p.named();
+    assert_eq!(
+        (named["n2"], named["t0"], named["lambda_pe"]),
+        (0.5, 0.25, 1.1)
+    );
+    assert_eq!(named.len(), HILL_PARAMETERS.len());
+    assert!(HillMuscle::with_parameters(&p).is_ok());
+    p.activation.n2 = 1.5;
+    assert!(matches!(
+        HillMuscle::with_parameters(&p),
+        Err(MaterialError::ParameterOutOfRange { .. })
+    ));
+    p.activation.n2 = 0.5;
+    p.activation.t1 = 0.1;
+    assert!(matches!(
+        HillMuscle::with_parameters(&p),
+        Err(MaterialError::InconsistentParameters { .. })
+    ));
+}

@@ -10,6 +10,7 @@ use anyhow::{Context, Result, bail};
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Loads, Part, RigidMotion, RigidTie};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
+use musclefem_materials::hill::{HillMuscle, HillParameters};
 use musclefem_materials::{Material, MaterialLibrary};
 
 use crate::elongation::ElementChoice;
@@ -236,16 +237,11 @@ pub fn muscle_material(
         Activation::Passive => 0.0,
         Activation::Active => ACTIVE_LEVEL,
     };
-    let parameters = [
-        ("n2".to_string(), level),
-        ("t0".to_string(), flexion_time(squat, ACTIVATION_FLEXION)),
-        ("lambda_pe".to_string(), slack),
-    ]
-    .into_iter()
-    .collect();
-    MaterialLibrary::with_builtins()
-        .create("hill", &parameters)
-        .context("the quadriceps' Hill muscle")
+    let mut parameters = HillParameters::default();
+    parameters.activation.n2 = level;
+    parameters.activation.t0 = flexion_time(squat, ACTIVATION_FLEXION);
+    parameters.parallel_slack = slack;
+    HillMuscle::with_parameters(&parameters).context("the quadriceps' Hill muscle")
 }
 
 /// The tendon material: [`musclefem_materials::tendon`] with its defaults (fibers of
