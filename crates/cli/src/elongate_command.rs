@@ -16,7 +16,7 @@ use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
 use musclefem_studies::bench::{Problem, select};
 use musclefem_studies::elongation::options::TestOptions;
 use musclefem_studies::elongation::run::run_on;
-use musclefem_studies::elongation::setup::setup;
+use musclefem_studies::elongation::setup::{check_time_step, setup};
 use musclefem_studies::elongation::{
     Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
     ElongationTest, ElongationWatcher, Grips, Mode, Shape, Solver,
@@ -145,6 +145,8 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
             time_step,
             ..ElongationTest::recommended(mode)
         };
+        // Refused before any directory is made (the run's own checks come later).
+        check_time_step(&test)?;
         let directory = if modes.len() == 1 {
             args.out.clone()
         } else {

@@ -87,7 +87,18 @@ fn describe(model: &Model) -> String {
 
 /// Run the scene and write its run directory.
 pub fn run(args: &RunArgs) -> Result<()> {
-    if let Some(threads) = args.threads {
+    if let Some(requested) = args.threads {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if requested == 0 {
+            bail!("--threads 0: at least one thread must run");
+        }
+        // More threads than cores only add switching (100 000 of them never started).
+        let threads = requested.min(cores);
+        if threads < requested {
+            eprintln!(
+                "warning: --threads {requested} is more than the {cores} cores; using {cores}"
+            );
+        }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build_global()

@@ -69,3 +69,51 @@ fn the_command_writes_both_runs_and_one_chart() {
         .unwrap();
     assert!(!again.status.success());
 }
+
+/// `--time-step` 0 and 1e-300 ran forever, −0.1 and 1e9 took one step and printed a wrong
+/// stress with exit 0: each is refused at once, naming the value, and nothing is written.
+#[test]
+fn a_time_step_that_cannot_give_the_curve_is_refused_before_any_output() {
+    for (step, expected) in [
+        ("0", "must be a positive number"),
+        ("-0.1", "must be a positive number"),
+        ("1e-300", "would take"),
+        ("1e9", "more than a fifth"),
+        ("NaN", "must be a positive number"),
+    ] {
+        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
+            "musclefem-elongate-step-{}-{step}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args([
+                "elongate",
+                "--mode",
+                "passive",
+                "--shape",
+                "cylinder",
+                "--grips",
+                "sliding",
+                "--mesh-size",
+                "8.75",
+                "--time-step",
+                step,
+                "--out",
+            ])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success(), "--time-step {step} was accepted");
+        assert!(
+            stderr.contains(&format!("--time-step {}", step.parse::<f64>().unwrap()))
+                && stderr.contains(expected),
+            "--time-step {step}: {stderr}"
+        );
+        assert!(
+            !dir.join("passive").join("curve.csv").exists(),
+            "--time-step {step} wrote a curve"
+        );
+    }
+}

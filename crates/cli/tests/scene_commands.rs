@@ -223,3 +223,34 @@ fn ctrl_c_stops_a_run_cleanly() {
     assert!(root.join("run.log").is_file());
     assert!(root.join("history.csv").is_file());
 }
+
+/// `--threads 100000` started no thread pool in a minute: more threads than cores are cut
+/// to the cores with a warning, and the run finishes with the usual answer; 0 is refused.
+#[test]
+fn more_threads_than_cores_are_cut_to_the_cores() {
+    let dir = test_dir("musclefem-scene", "threads");
+    let scene = example("neo_hookean_cube_stretch.toml");
+    let out = musclefem(
+        &dir,
+        &["run", &scene, "--out", "many", "--threads", "100000"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--threads 100000 is more than the"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(
+        text(&out.stdout).contains("cube.x1.x 1.002568e0 N"),
+        "{}",
+        text(&out.stdout)
+    );
+    let none = musclefem(&dir, &["run", &scene, "--out", "none", "--threads", "0"]);
+    assert!(!none.status.success());
+    assert!(
+        text(&none.stderr).contains("--threads 0"),
+        "{}",
+        text(&none.stderr)
+    );
+    assert!(!dir.join("none").exists());
+}

@@ -151,6 +151,15 @@ pub const STARTUP_STEPS: usize = 20;
 /// Steps between refreshes of the elements' acoustic moduli (stable step).
 pub const MODULUS_REFRESH_INTERVAL: usize = 10;
 
+/// The most steps a run may take (estimated from the first stable step): beyond it the
+/// duration or the mesh is almost surely a mistake (10⁹ steps of even a small model take
+/// days), and the run is refused before it starts.
+pub const MAX_EXPLICIT_STEPS: f64 = 1e9;
+
+/// The fewest steps a mass-scaled run may take: a target step above a tenth of the run
+/// makes the added mass, not the material, carry the response.
+pub const MIN_MASS_SCALED_STEPS: f64 = 10.0;
+
 /// Run the explicit solver on `mesh` with `parts` under `loads`.
 pub fn run_explicit(
     mesh: &Mesh,
@@ -242,6 +251,12 @@ pub fn run_explicit_with(
         added_mass = scale_masses(mesh, &mut runs, &mut mass, target / step_factor);
         (stable_step, critical) = smallest_stable_step(&runs);
     }
+    check_step_budget(
+        settings.end_time,
+        settings
+            .fixed_time_step
+            .unwrap_or(stable_step * step_factor),
+    )?;
     let mut half_step = 0.0;
     let (mut internal_energy, mut external_work, mut viscous_energy) = (0.0, 0.0, 0.0);
     let mut interaction_work = 0.0;
@@ -502,6 +517,37 @@ fn check_settings(settings: &ExplicitSettings) -> Result<(), SolverError> {
             "history interval {} must be positive",
             settings.history_interval
         ));
+    }
+    for (name, step) in [
+        ("mass-scaling target step", settings.mass_scaling_time_step),
+        ("fixed time step", settings.fixed_time_step),
+    ] {
+        let Some(step) = step else { continue };
+        if !(step.is_finite() && step > 0.0) {
+            return bad(format!("{name} {step} s must be positive and finite"));
+        }
+        if step > settings.end_time / MIN_MASS_SCALED_STEPS {
+            return bad(format!(
+                "{name} {step} s is more than a tenth of the run's {} s: the run would \
+                 take fewer than {MIN_MASS_SCALED_STEPS} steps and inertia would swamp the \
+                 response",
+                settings.end_time
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a run whose first stable step `step` [s] would need more than
+/// [`MAX_EXPLICIT_STEPS`] steps to reach `end_time`.
+fn check_step_budget(end_time: f64, step: f64) -> Result<(), SolverError> {
+    let steps = end_time / step;
+    if steps.is_nan() || steps > MAX_EXPLICIT_STEPS {
+        return Err(SolverError::InvalidSettings(format!(
+            "the run of {end_time} s would take about {steps:.3e} steps of {step:.3e} s, \
+             more than the {MAX_EXPLICIT_STEPS:e} allowed: shorten it, coarsen the mesh or \
+             use mass scaling"
+        )));
     }
     Ok(())
 }

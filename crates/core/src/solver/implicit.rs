@@ -81,6 +81,10 @@ enum StepFailure {
     Error(SolverError),
 }
 
+/// The most increments a run may be set to take: beyond it the increment or the duration
+/// is almost surely a mistake, and the run is refused before it starts.
+pub const MAX_INCREMENTS: usize = 10_000_000;
+
 /// Run the implicit solver (quasi-static, or dynamic with [`ImplicitSettings::dynamics`])
 /// on `mesh` with `parts` under `loads`.
 pub fn run_quasi_static(
@@ -327,6 +331,13 @@ fn check_settings(settings: &ImplicitSettings) -> Result<(), SolverError> {
     }
     if settings.increments == 0 {
         return bad("at least one increment is needed".to_string());
+    }
+    if settings.increments > MAX_INCREMENTS {
+        return bad(format!(
+            "{} increments are more than the {MAX_INCREMENTS} a run may take (each is a \
+             history row): use a longer increment",
+            settings.increments
+        ));
     }
     if settings.max_iterations == 0 {
         return bad("at least one Newton iteration is needed".to_string());

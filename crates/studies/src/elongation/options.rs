@@ -27,8 +27,9 @@ pub struct TestOptions {
     #[arg(long, value_enum, default_value = "fixed")]
     pub grips: Grips,
     /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.025 s
-    /// implicit, 1e-5 s explicit).
-    #[arg(long, value_name = "SECONDS")]
+    /// implicit, 1e-5 s explicit). Checked before the run: positive, at most a fifth of
+    /// the test (a negative value is read, then refused with the reason).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_step: Option<f64>,
 }
 

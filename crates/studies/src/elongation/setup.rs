@@ -7,7 +7,7 @@ use anyhow::{Context, Result, bail};
 
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::explicit::ExplicitSettings;
-use musclefem_core::solver::implicit::ImplicitSettings;
+use musclefem_core::solver::implicit::{self, ImplicitSettings};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
@@ -43,6 +43,7 @@ pub fn setup(test: &ElongationTest) -> Result<Setup> {
     if !(test.mesh_size.is_finite() && test.mesh_size > 0.0) {
         bail!("--mesh-size {} mm must be positive", 1e3 * test.mesh_size);
     }
+    check_time_step(test)?;
     let specimen = specimen_mesh(test.shape, test.element, test.mesh_size)?;
     let material = muscle_material(test)?;
     let technology = test.element.technology(material.as_ref())?;
@@ -133,6 +134,41 @@ pub fn implicit_settings(test: &ElongationTest) -> ImplicitSettings {
     let increment = test.time_step.unwrap_or(DEFAULT_IMPLICIT_INCREMENT);
     let increments = (duration / increment).round().max(1.0) as usize;
     ImplicitSettings::new(duration, increments).with_cutting()
+}
+
+/// The fewest increments (implicit) or mass-scaled steps (explicit) an elongation test
+/// may take: the curve is read at 10 % and 20 % strain, so it needs a point at least every
+/// 4 % of the passive pull's 20 % (one 2 s increment printed 63 kPa at 10 % for the
+/// converged 29.5; the work–precision chart's coarsest setting, 0.4 s, takes 5).
+pub const MIN_TEST_STEPS: f64 = 5.0;
+
+/// Refuses a `--time-step` that is not a positive, finite number at most a tenth of the
+/// test's duration, before anything runs (0 or 1e-300 ran forever, −0.1 or 1e9 took one
+/// step and printed a wrong stress).
+pub fn check_time_step(test: &ElongationTest) -> Result<()> {
+    let Some(step) = test.time_step else {
+        return Ok(());
+    };
+    let duration = test.mode.duration();
+    if !(step.is_finite() && step > 0.0) {
+        bail!("--time-step {step} s must be a positive number of seconds");
+    }
+    if step > duration / MIN_TEST_STEPS {
+        bail!(
+            "--time-step {step} s is more than a fifth of the {} test's {duration} s: the \
+             curve needs at least {MIN_TEST_STEPS} steps",
+            test.mode.name()
+        );
+    }
+    if duration / step > implicit::MAX_INCREMENTS as f64 {
+        bail!(
+            "--time-step {step} s would take {:.3e} steps over the {duration} s test, more \
+             than the {} allowed",
+            duration / step,
+            implicit::MAX_INCREMENTS
+        );
+    }
+    Ok(())
 }
 
 /// Explicit settings for `test`: mass scaling to the target step, a curve point every

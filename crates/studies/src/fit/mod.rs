@@ -123,6 +123,7 @@ pub fn fit(args: &FitArgs) -> Result<()> {
     let outputs = Outputs::new(args)?;
 
     let base = args.options.test(args.test, BTreeMap::new());
+    crate::elongation::setup::check_time_step(&base)?;
     let model = ElongationModel {
         base: &base,
         names: &names,

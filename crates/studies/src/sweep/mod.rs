@@ -120,16 +120,25 @@ impl Plan {
         };
         let jobs = match args.jobs {
             Some(0) => bail!("--jobs 0: at least one run must run at a time"),
-            Some(n) => n,
+            Some(n) => {
+                let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+                if n > cores {
+                    eprintln!("warning: --jobs {n} is more than the {cores} cores; using {cores}");
+                }
+                n.min(cores)
+            }
             None => std::thread::available_parallelism().map_or(1, |n| n.get()),
         };
+        let base = args.options.test(mode, BTreeMap::new());
+        // Every run shares the step: refuse it once, not in every row.
+        crate::elongation::setup::check_time_step(&base)?;
         Ok(Plan {
             mode,
             names: axes.iter().map(|a| a.name.clone()).collect(),
             axes,
             design,
             jobs,
-            base: args.options.test(mode, BTreeMap::new()),
+            base,
             table_path: args.out.join(SWEEP_CSV),
             options: args.options.describe(),
         })
