@@ -1,32 +1,33 @@
 //! `musclefem elongate`: the files it writes and its refusal to overwrite a run (the
 //! physics of the elongation tests is verified in the workspace's `tests/elongation.rs`).
 
+mod support;
+
+use support::run::{CHEAP_ELONGATION, musclefem, test_dir, text};
+
 /// `musclefem elongate --mode both`: DIR/passive and DIR/active each with curve.csv (exact
 /// header) and frames with stress and fiber fields, DIR/curve.png, the stresses printed.
 #[test]
 fn the_command_writes_both_runs_and_one_chart() {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("musclefem-elongate-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let output = std::process::Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args([
-            "elongate",
-            "--mesh-size",
-            "4",
-            "--time-step",
-            "0.1",
-            "--frame-interval",
-            "0.5",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
+    let root = test_dir("musclefem-elongate", "both");
+    let args = [
+        "elongate",
+        "--mesh-size",
+        "4",
+        "--time-step",
+        "0.1",
+        "--frame-interval",
+        "0.5",
+        "--out",
+        "both",
+    ];
+    let output = musclefem(&root, &args);
+    let dir = root.join("both");
+    let stdout = text(&output.stdout);
     assert!(
         output.status.success(),
         "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
+        text(&output.stderr)
     );
     assert_eq!(
         stdout.matches("engineering stress at 10 % strain").count(),
@@ -62,11 +63,10 @@ fn the_command_writes_both_runs_and_one_chart() {
         }
     }
     // A second run into the same directory is refused without --force.
-    let again = std::process::Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(["elongate", "--mode", "passive", "--out"])
-        .arg(dir.join("passive"))
-        .output()
-        .unwrap();
+    let again = musclefem(
+        &root,
+        &["elongate", "--mode", "passive", "--out", "both/passive"],
+    );
     assert!(!again.status.success());
 }
 
@@ -74,6 +74,7 @@ fn the_command_writes_both_runs_and_one_chart() {
 /// stress with exit 0: each is refused at once, naming the value, and nothing is written.
 #[test]
 fn a_time_step_that_cannot_give_the_curve_is_refused_before_any_output() {
+    let dir = test_dir("musclefem-elongate", "time-step");
     for (step, expected) in [
         ("0", "must be a positive number"),
         ("-0.1", "must be a positive number"),
@@ -81,39 +82,18 @@ fn a_time_step_that_cannot_give_the_curve_is_refused_before_any_output() {
         ("1e9", "more than a fifth"),
         ("NaN", "must be a positive number"),
     ] {
-        let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
-            "musclefem-elongate-step-{}-{step}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        let output = std::process::Command::new(env!("CARGO_BIN_EXE_musclefem"))
-            .args([
-                "elongate",
-                "--mode",
-                "passive",
-                "--shape",
-                "cylinder",
-                "--grips",
-                "sliding",
-                "--mesh-size",
-                "8.75",
-                "--time-step",
-                step,
-                "--out",
-            ])
-            .arg(&dir)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
+        let mut args = vec!["elongate", "--mode", "passive"];
+        args.extend_from_slice(&CHEAP_ELONGATION[..6]);
+        let out = format!("step{step}");
+        args.extend_from_slice(&["--time-step", step, "--out", &out]);
+        let output = musclefem(&dir, &args);
+        let stderr = text(&output.stderr);
         assert!(!output.status.success(), "--time-step {step} was accepted");
         assert!(
             stderr.contains(&format!("--time-step {}", step.parse::<f64>().unwrap()))
                 && stderr.contains(expected),
             "--time-step {step}: {stderr}"
         );
-        assert!(
-            !dir.join("passive").join("curve.csv").exists(),
-            "--time-step {step} wrote a curve"
-        );
+        assert!(!dir.join(&out).exists(), "--time-step {step} wrote output");
     }
 }
