@@ -1,7 +1,8 @@
 //! End-to-end tests of the `musclefem` binary.
 
-#[path = "support/run.rs"]
-mod run;
+mod support;
+
+use support::run;
 
 use run::{musclefem, test_dir, text};
 

@@ -1,8 +1,9 @@
 //! `musclefem run` on scenes with rigid bodies and interactions: the contact force and
 //! the cohesive traction reach the history and the frames, and the force balance holds.
 
-#[path = "support/run.rs"]
-mod run;
+mod support;
+
+use support::run;
 
 use run::{example, musclefem, test_dir, text};
 

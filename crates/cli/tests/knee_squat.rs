@@ -4,12 +4,11 @@
 //! passive at 45°, 60° and 90° for every muscle, the passive muscles come back unloaded,
 //! the patellar tendon stretches under the pull, and the outputs are all there.
 
-#[path = "support/run.rs"]
 mod support;
 
 use std::collections::HashMap;
 
-use support::{musclefem, test_dir, text};
+use support::run::{musclefem, test_dir, text};
 
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;

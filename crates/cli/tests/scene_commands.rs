@@ -1,7 +1,8 @@
 //! `musclefem check` and `musclefem run` on the examples and on broken scenes.
 
-#[path = "support/run.rs"]
-mod run;
+mod support;
+
+use support::run;
 
 use run::{example, musclefem, test_dir, text};
 

@@ -426,5 +426,4 @@ impl Interaction for CohesiveInterface {
 }
 
 #[cfg(test)]
-#[path = "interface_tests.rs"]
 mod tests;

@@ -104,5 +104,4 @@ pub fn evaluate_smooth(
 }
 
 #[cfg(test)]
-#[path = "smooth_slide_tests.rs"]
 mod tests;

@@ -167,5 +167,4 @@ fn overhang(corners: &[Vector3<f64>; 3], phi: &Vector3<f64>) -> f64 {
 }
 
 #[cfg(test)]
-#[path = "smooth_tests.rs"]
 mod tests;

@@ -456,15 +456,12 @@ fn node_graph<'a>(
     NodeGraph { offsets, targets }
 }
 
-#[path = "sparse_factorizations.rs"]
 mod factorizations;
 
-#[path = "sparse_unsymmetric.rs"]
 mod unsymmetric;
 
 pub use factorizations::FillReducingOrder;
 use factorizations::{Cholesky, Lu};
 
 #[cfg(test)]
-#[path = "sparse_tests.rs"]
 mod tests;

@@ -39,7 +39,6 @@ use super::abaqus_keywords::{Class, classify, nearest};
 use super::build::{Entry, Loc, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
-#[path = "abaqus_data.rs"]
 mod data;
 
 /// Deepest `*INCLUDE` nesting accepted (deeper is taken for a cycle).

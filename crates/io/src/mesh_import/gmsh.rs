@@ -30,7 +30,6 @@ use musclefem_mesh::ElementShape;
 use super::build::{Entry, Loc, Member, RawBlock, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
-#[path = "gmsh_faces.rs"]
 mod faces;
 
 /// Reads a Gmsh 4.1 ASCII file.

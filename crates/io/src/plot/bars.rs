@@ -365,5 +365,4 @@ fn draw_panel<DB: DrawingBackend>(
 }
 
 #[cfg(test)]
-#[path = "bars_tests.rs"]
 mod tests;
