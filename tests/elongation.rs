@@ -13,11 +13,11 @@ use musclefem_core::solver::observer::Snapshot;
 use musclefem_materials::driver::{StretchHistory, run_uniaxial_stress};
 use musclefem_studies::elongation::setup::muscle_material;
 use musclefem_studies::elongation::{
-    CurvePoint, ElementChoice, ElongationRun, ElongationTest, ElongationWatcher, Grips, Mode,
+    Activation, CurvePoint, ElementChoice, ElongationRun, ElongationTest, ElongationWatcher, Grips,
     Shape, Solver, Unwatched, run_elongation,
 };
 
-fn test(mode: Mode, shape: Shape, mesh_size_mm: f64) -> ElongationTest {
+fn test(mode: Activation, shape: Shape, mesh_size_mm: f64) -> ElongationTest {
     ElongationTest {
         shape,
         mesh_size: 1e-3 * mesh_size_mm,
@@ -46,7 +46,7 @@ fn curve_difference(curve: &ElongationRun, reference: &[(f64, f64)]) -> f64 {
 
 #[test]
 fn a_cylinder_with_sliding_grips_follows_the_material_point() {
-    for mode in [Mode::Passive, Mode::Active] {
+    for mode in [Activation::Passive, Activation::Active] {
         // The same stretch history as the pulled end: λ = 1 + u / 50 mm.
         let history: Vec<String> = mode
             .pulled_end_knots()
@@ -109,7 +109,7 @@ impl ElongationWatcher for LastDisplacement {
 fn active_stress_exceeds_passive_and_the_shapes_differ() {
     let mut shapes = Vec::new();
     let mut curves = Vec::new();
-    for mode in [Mode::Passive, Mode::Active] {
+    for mode in [Activation::Passive, Activation::Active] {
         let mut last = LastDisplacement::default();
         let run = run_elongation(&test(mode, Shape::Fusiform, 4.0), &mut last).unwrap();
         shapes.push(last.0);
@@ -164,7 +164,7 @@ fn the_fusiform_curve_converges_with_the_mesh() {
     let sizes = [4.0, 3.0, 2.0];
     let mut stresses = [0.0; 3];
     for (i, size) in sizes.into_iter().enumerate() {
-        let mut passive = test(Mode::Passive, Shape::Fusiform, size);
+        let mut passive = test(Activation::Passive, Shape::Fusiform, size);
         passive.time_step = Some(0.1);
         let run = run(&passive);
         stresses[i] = run.curve.stress_at_strain(0.2).unwrap();
@@ -197,7 +197,7 @@ fn the_fusiform_curve_converges_with_the_mesh() {
 fn explicit_and_implicit_fusiform_curves_agree() {
     // Mass-scaling targets: the soft passive muscle needs the smaller one (at 2e-5 s it
     // rings by ±3 kPa, 4 % of the peak); the active one does not.
-    for (mode, mass_scaling_step) in [(Mode::Passive, 1e-5), (Mode::Active, 2e-5)] {
+    for (mode, mass_scaling_step) in [(Activation::Passive, 1e-5), (Activation::Active, 2e-5)] {
         // The same element in both: the one-point hex8 (the F-bar hex8's 8 points per
         // element make the explicit run 8 times dearer).
         let mut implicit_test = test(mode, Shape::Fusiform, 4.0);

@@ -18,8 +18,8 @@ use musclefem_studies::elongation::options::TestOptions;
 use musclefem_studies::elongation::run::run_on;
 use musclefem_studies::elongation::setup::{check_time_step, setup};
 use musclefem_studies::elongation::{
-    Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
-    ElongationTest, ElongationWatcher, Grips, Mode, Shape, Solver,
+    Activation, Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice,
+    ElongationRun, ElongationTest, ElongationWatcher, Grips, Shape, Solver,
 };
 
 /// Which tests to run.
@@ -105,10 +105,10 @@ fn setting_within(percent: f64, table: &Path) -> Result<(Solver, ElementChoice, 
 }
 
 pub fn elongate(args: &ElongateArgs) -> Result<()> {
-    let modes: &[Mode] = match args.mode {
-        ModeChoice::Passive => &[Mode::Passive],
-        ModeChoice::Active => &[Mode::Active],
-        ModeChoice::Both => &[Mode::Passive, Mode::Active],
+    let modes: &[Activation] = match args.mode {
+        ModeChoice::Passive => &[Activation::Passive],
+        ModeChoice::Active => &[Activation::Active],
+        ModeChoice::Both => &[Activation::Passive, Activation::Active],
     };
     let parameters = crate::commands::parse_params(&args.params)?;
     if parameters.contains_key("n2") || parameters.contains_key("t0") {
@@ -298,7 +298,7 @@ fn progress_bar(duration: f64) -> ProgressBar {
 fn curve_figure(
     shape: Shape,
     (solver, element, mesh_size): (Solver, ElementChoice, f64),
-    runs: &[(Mode, ElongationRun)],
+    runs: &[(Activation, ElongationRun)],
 ) -> Figure {
     let mut panel = Panel::new(
         format!(

@@ -3,6 +3,7 @@
 //! (`crates/cli`) parses arguments, shows progress and prints; the physics of each study
 //! lives here, over the library crates (materials, core, contact, fibers, io).
 //!
+//! - [`activation`]: the one passive/active choice of every study.
 //! - [`bench`]: the work–precision matrix (`musclefem bench`).
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
 //! - [`fit`]: least-squares calibration of Hill parameters to a measured curve (`musclefem fit`).
@@ -11,6 +12,7 @@
 //! - [`solver`]: the one solver choice of every study and command.
 //! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
 
+pub mod activation;
 pub mod bench;
 pub mod elongation;
 pub mod fit;

@@ -5,7 +5,7 @@
 
 use anyhow::{Context, Result, bail};
 
-use crate::elongation::{ElongationTest, Mode, Unwatched, run_elongation};
+use crate::elongation::{Activation, ElongationTest, Unwatched, run_elongation};
 
 use super::Response;
 use super::method::{Method, StepSetting};
@@ -43,7 +43,7 @@ pub fn elongation_test(method: &Method) -> Result<ElongationTest> {
         element: method.element,
         mesh_size: method.mesh_size,
         time_step: Some(time_step),
-        ..ElongationTest::recommended(Mode::Passive)
+        ..ElongationTest::recommended(Activation::Passive)
     })
 }
 

@@ -4,7 +4,7 @@
 //! force / reference mid-belly cross-section area) against engineering strain
 //! (elongation / 50 mm).
 //!
-//! - [`protocol`]: the pulling speed, durations and activation of each [`Mode`], and the
+//! - [`protocol`]: the pulling speed, durations and activation of each [`Activation`], and the
 //!   [`Grips`];
 //! - [`specimen`]: the specimen meshes and their reference length and area;
 //! - [`setup`]: the mesh, the Hill muscle part, the end conditions and solver settings;
@@ -28,7 +28,7 @@ use musclefem_io::scene::small_strain_shear_modulus;
 use musclefem_materials::Material;
 
 pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint};
-pub use protocol::{Grips, Mode};
+pub use protocol::{Activation, Grips};
 pub use run::{ElongationRun, ElongationWatcher, Unwatched, run_elongation};
 pub use specimen::Shape;
 
@@ -97,7 +97,7 @@ impl ElementChoice {
 /// One elongation test.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElongationTest {
-    pub mode: Mode,
+    pub mode: Activation,
     pub solver: Solver,
     pub element: ElementChoice,
     /// Target element edge length [m].
@@ -130,7 +130,7 @@ pub const DEFAULT_SETTING_RATIONALE: &str = "implicit F-bar hex8 at 4 mm, the de
 impl ElongationTest {
     /// The recommended test of `mode`: implicit, F-bar hex8, fusiform, fixed grips, the
     /// default mesh size.
-    pub fn recommended(mode: Mode) -> Self {
+    pub fn recommended(mode: Activation) -> Self {
         ElongationTest {
             mode,
             solver: Solver::Implicit,

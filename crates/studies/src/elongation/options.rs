@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use super::{DEFAULT_MESH_SIZE, ElementChoice, ElongationTest, Grips, Mode, Shape, Solver};
+use super::{Activation, DEFAULT_MESH_SIZE, ElementChoice, ElongationTest, Grips, Shape, Solver};
 
 #[derive(Debug, Clone, clap::Args)]
 pub struct TestOptions {
@@ -35,7 +35,7 @@ pub struct TestOptions {
 
 impl TestOptions {
     /// The test of `mode` with these options and the Hill `parameters` overriding Table 1.
-    pub fn test(&self, mode: Mode, parameters: BTreeMap<String, f64>) -> ElongationTest {
+    pub fn test(&self, mode: Activation, parameters: BTreeMap<String, f64>) -> ElongationTest {
         ElongationTest {
             mode,
             solver: self.solver,

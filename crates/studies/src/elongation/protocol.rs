@@ -24,27 +24,17 @@ pub const PULL_DURATION: f64 = PULL_ELONGATION / PULL_SPEED + 0.5 * SPEED_RAMP;
 /// Isometric hold before the pull in the active test [s].
 pub const ACTIVE_HOLD: f64 = 0.5;
 
-/// Passive (no activation) or active (fully activated during a hold, then pulled).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
-pub enum Mode {
-    Passive,
-    Active,
-}
+/// The elongation tests' activation: passive, or active (fully activated during a
+/// 0.5 s hold at the rest length, then pulled).
+pub use crate::activation::Activation;
 
-impl Mode {
-    /// Lower-case name, as on the command line and in directory names.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Passive => "passive",
-            Mode::Active => "active",
-        }
-    }
-
+/// The elongation protocol of each activation.
+impl Activation {
     /// Time before the pull starts [s].
     pub fn hold(self) -> f64 {
         match self {
-            Mode::Passive => 0.0,
-            Mode::Active => ACTIVE_HOLD,
+            Activation::Passive => 0.0,
+            Activation::Active => ACTIVE_HOLD,
         }
     }
 
@@ -60,7 +50,7 @@ impl Mode {
         Amplitude::new(self.pulled_end_knots()).expect("the protocol's knots increase in time")
     }
 
-    /// The (time [s], displacement [m]) knots of [`Mode::pulled_end`].
+    /// The (time [s], displacement [m]) knots of [`Activation::pulled_end`].
     pub fn pulled_end_knots(self) -> Vec<(f64, f64)> {
         let hold = self.hold();
         let mut knots = vec![(0.0, 0.0)];
@@ -79,8 +69,8 @@ impl Mode {
     /// activation (n₂ = 1) from t₀ = 0 when active; no activation (n₂ = 0) when passive.
     pub fn activation_parameters(self) -> [(&'static str, f64); 2] {
         match self {
-            Mode::Passive => [("n2", 0.0), ("t0", 0.0)],
-            Mode::Active => [("n2", 1.0), ("t0", 0.0)],
+            Activation::Passive => [("n2", 0.0), ("t0", 0.0)],
+            Activation::Active => [("n2", 1.0), ("t0", 0.0)],
         }
     }
 }
@@ -102,16 +92,16 @@ mod tests {
 
     #[test]
     fn the_pulled_end_follows_the_protocol() {
-        let passive = Mode::Passive.pulled_end();
+        let passive = Activation::Passive.pulled_end();
         // After the ramp: 5 mm/s, 0.25 mm behind an instant start.
         assert!((passive.value_at(1.0) - 0.00475).abs() < 1e-15);
         assert!((passive.value_at(1.5) - passive.value_at(0.5) - 0.005).abs() < 1e-15);
-        assert!((passive.value_at(Mode::Passive.duration()) - 0.01).abs() < 1e-15);
+        assert!((passive.value_at(Activation::Passive.duration()) - 0.01).abs() < 1e-15);
         // On the ramp: the parabola at its knots.
         assert!((passive.value_at(0.05) - 0.005 * 0.05 * 0.05 / 0.2).abs() < 1e-15);
-        let active = Mode::Active.pulled_end();
+        let active = Activation::Active.pulled_end();
         assert_eq!(active.value_at(0.5), 0.0);
         assert!((active.value_at(1.5) - 0.00475).abs() < 1e-15);
-        assert!((Mode::Active.duration() - 2.55).abs() < 1e-15);
+        assert!((Activation::Active.duration() - 2.55).abs() < 1e-15);
     }
 }

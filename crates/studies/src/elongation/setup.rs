@@ -11,7 +11,7 @@ use musclefem_core::solver::implicit::{self, ImplicitSettings};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
-use super::protocol::{Grips, Mode};
+use super::protocol::{Activation, Grips};
 use super::specimen::{Shape, SpecimenMesh, specimen_mesh};
 use super::{ElongationTest, Solver};
 
@@ -66,7 +66,7 @@ pub fn setup(test: &ElongationTest) -> Result<Setup> {
 /// Fixed grips hold every other component of both ends; sliding grips only the axial ones,
 /// plus the lateral rigid-body motions: x and y of the origin node nearest the axis, and y
 /// of the origin node farthest along +x (no rotation about the axis).
-fn grips(mesh: &Mesh, mode: Mode, grips: Grips) -> Result<Loads> {
+fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<Loads> {
     let set = |name: &str| -> Result<Vec<u32>> {
         Ok(mesh
             .node_set(name)

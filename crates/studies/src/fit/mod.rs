@@ -31,7 +31,7 @@ use musclefem_materials::{Bound, ParameterSpec};
 use crate::elongation::options::TestOptions;
 use musclefem_core::mesh::generate::SpecimenShape;
 
-use crate::elongation::protocol::{Mode, PULL_ELONGATION};
+use crate::elongation::protocol::{Activation, PULL_ELONGATION};
 use data::{Columns, read_curve};
 use levenberg_marquardt::{Settings, Solution, minimise};
 use model::ElongationModel;
@@ -48,7 +48,7 @@ pub struct FitArgs {
     pub data: PathBuf,
     /// The elongation test the data come from.
     #[arg(long, value_enum, default_value = "passive")]
-    pub test: Mode,
+    pub test: Activation,
     /// The Hill parameters to fit, comma-separated (e.g. c,A); the others keep Table 1.
     #[arg(long, value_name = "NAME,...", value_delimiter = ',', required = true)]
     pub params: Vec<String>,

@@ -35,7 +35,7 @@ use musclefem_io::csv::format_number;
 use musclefem_io::plot::stage_bar_png;
 use musclefem_materials::MaterialLibrary;
 
-use crate::elongation::Mode;
+use crate::elongation::Activation;
 use crate::elongation::options::TestOptions;
 use run::{Outcome, run_sample};
 use table::{Record, SWEEP_CSV};
@@ -96,7 +96,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
 
 /// What a sweep runs: the base test, the varied parameters and the list of runs.
 pub struct Plan {
-    mode: Mode,
+    mode: Activation,
     axes: Vec<Axis>,
     names: Vec<String>,
     /// Parameter values of each run, in run order.
@@ -217,10 +217,10 @@ impl Plan {
 }
 
 /// The elongation mode named by `--base`.
-fn base_mode(base: &str) -> Result<Mode> {
+fn base_mode(base: &str) -> Result<Activation> {
     match base {
-        "passive" => Ok(Mode::Passive),
-        "active" => Ok(Mode::Active),
+        "passive" => Ok(Activation::Passive),
+        "active" => Ok(Activation::Active),
         other if Path::new(other).extension().is_some_and(|e| e == "toml") => bail!(
             "--base {other}: sweeping a scene file is not supported yet; the bases are the \
              elongation tests 'passive' and 'active'"
@@ -317,7 +317,7 @@ const SENSITIVITY_PNG: &str = "sensitivity.png";
 /// finished runs, and the ranking on the terminal.
 fn write_sensitivities(
     args: &SweepArgs,
-    mode: Mode,
+    mode: Activation,
     axes: &[Axis],
     records: &[Record],
 ) -> Result<()> {

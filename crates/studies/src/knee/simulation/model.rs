@@ -40,24 +40,9 @@ pub const PASSIVE_SLACK_FLEXION: f64 = 60.0 * std::f64::consts::PI / 180.0;
 /// "at approximately 35° of knee flexion").
 pub const ACTIVATION_FLEXION: f64 = 35.0 * std::f64::consts::PI / 180.0;
 
-/// Passive or active quadriceps.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Activation {
-    /// No activation: the Hill model's matrix and parallel element only.
-    Passive,
-    /// 50 % activation from 35° of flexion on, held through the extension back to 0°.
-    Active,
-}
-
-impl Activation {
-    /// `passive` or `active` (the CSV's `activation` column).
-    pub fn name(self) -> &'static str {
-        match self {
-            Activation::Passive => "passive",
-            Activation::Active => "active",
-        }
-    }
-}
+/// Passive or active quadriceps (active: 50 % from [`ACTIVATION_FLEXION`] on, held
+/// through the extension back to 0°).
+pub use crate::activation::Activation;
 
 /// The geometry a squat runs on: the muscles' mesh, the bones and their motions. Built
 /// from the default anatomy ([`KneeGeometry::default_knee`]) or read from files.
