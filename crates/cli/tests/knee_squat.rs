@@ -39,7 +39,7 @@ type Vm95Table = HashMap<(String, String, String, String), f64>;
 /// Long (about 20 minutes on 2 cores for both squats side by side, coarse, release):
 /// `cargo test --release -p musclefem --test knee_squat -- --ignored`.
 #[test]
-#[ignore = "long: the whole coarse squat, passive and active (~20 min on 2 cores); it also \
+#[ignore = "long: the whole coarse squat, passive and active (~14 min on 2 cores); it also \
             checks issue #29's criteria, which the model does not all meet yet"]
 fn the_default_squat_converges_without_inversion_and_activation_raises_the_stress() {
     let dir = test_dir("knee_squat", "default");
