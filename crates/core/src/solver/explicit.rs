@@ -522,18 +522,27 @@ fn check_settings(settings: &ExplicitSettings) -> Result<(), SolverError> {
         ("mass-scaling target step", settings.mass_scaling_time_step),
         ("fixed time step", settings.fixed_time_step),
     ] {
-        let Some(step) = step else { continue };
-        if !(step.is_finite() && step > 0.0) {
+        if let Some(step) = step
+            && !(step.is_finite() && step > 0.0)
+        {
             return bad(format!("{name} {step} s must be positive and finite"));
         }
-        if step > settings.end_time / MIN_MASS_SCALED_STEPS {
-            return bad(format!(
-                "{name} {step} s is more than a tenth of the run's {} s: the run would \
-                 take fewer than {MIN_MASS_SCALED_STEPS} steps and inertia would swamp the \
-                 response",
-                settings.end_time
-            ));
-        }
+    }
+    // The step that governs the run: a fixed step overrides the mass-scaling target
+    // (which then only adds mass).
+    let governing = match (settings.fixed_time_step, settings.mass_scaling_time_step) {
+        (Some(fixed), _) => Some(("fixed time step", fixed)),
+        (None, Some(target)) => Some(("mass-scaling target step", target)),
+        (None, None) => None,
+    };
+    if let Some((name, step)) = governing
+        && step > settings.end_time / MIN_MASS_SCALED_STEPS
+    {
+        return bad(format!(
+            "{name} {step} s is more than a tenth of the run's {} s: the run would take \
+             fewer than {MIN_MASS_SCALED_STEPS} steps and inertia would swamp the response",
+            settings.end_time
+        ));
     }
     Ok(())
 }
