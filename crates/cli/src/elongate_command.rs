@@ -47,8 +47,13 @@ pub struct ElongateArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/elongate")]
     pub out: PathBuf,
-    /// Time between frames [s] (0: no frames).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.25)]
+    /// Time between frames [s] (0: no frames; a negative value is refused).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 0.25,
+        allow_negative_numbers = true
+    )]
     pub frame_interval: f64,
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
@@ -110,6 +115,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
         ModeChoice::Active => &[Activation::Active],
         ModeChoice::Both => &[Activation::Passive, Activation::Active],
     };
+    crate::commands::check_frame_interval(args.frame_interval)?;
     let parameters = crate::commands::parse_params(&args.params)?;
     if parameters.contains_key("n2") || parameters.contains_key("t0") {
         bail!("--param n2 / t0: the mode sets the activation (passive n2 = 0, active n2 = 1)");

@@ -106,8 +106,13 @@ pub struct KneeArgs {
     /// implicit, 2e-5 s explicit).
     #[arg(long, value_name = "SECONDS")]
     pub time_step: Option<f64>,
-    /// Time between frames [s] (0: no frames).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.1)]
+    /// Time between frames [s] (0: no frames; a negative value is refused).
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 0.1,
+        allow_negative_numbers = true
+    )]
     pub frame_interval: f64,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/knee")]
@@ -156,6 +161,7 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration {} s must be positive", args.duration);
     }
+    crate::commands::check_frame_interval(args.frame_interval)?;
     if let Some(step) = args.time_step
         && !(step.is_finite() && step > 0.0 && step < args.duration)
     {

@@ -97,3 +97,20 @@ fn a_time_step_that_cannot_give_the_curve_is_refused_before_any_output() {
         assert!(!dir.join(&out).exists(), "--time-step {step} wrote output");
     }
 }
+
+/// A negative `--frame-interval` was accepted silently; it is refused, naming the value,
+/// by `elongate` and `knee` alike, before any output.
+#[test]
+fn a_negative_frame_interval_is_refused() {
+    let dir = test_dir("musclefem-elongate", "frame-interval");
+    for command in ["elongate", "knee"] {
+        let output = musclefem(&dir, &[command, "--frame-interval", "-1", "--out", command]);
+        let stderr = text(&output.stderr);
+        assert!(!output.status.success(), "{command}: accepted");
+        assert!(
+            stderr.contains("--frame-interval -1 s must be 0"),
+            "{command}: {stderr}"
+        );
+        assert!(!dir.join(command).exists(), "{command} wrote output");
+    }
+}
