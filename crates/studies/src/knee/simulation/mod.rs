@@ -55,6 +55,7 @@ pub mod patella;
 pub mod patella_clearance;
 pub mod peak_stress;
 pub mod plausibility;
+mod recorder;
 pub mod resolution;
 pub mod run;
 
