@@ -447,12 +447,22 @@ fn technology(
             ),
         ));
     };
+    element_technology(kind, material)
+        .map_err(|reason| locator.error(entry.material.span(), reason))
+}
+
+/// The technology of `kind` for parts of `material`: the one-point hex8's hourglass
+/// modulus scales with the material's small-strain shear modulus
+/// ([`small_strain_shear_modulus`], evaluated only for it).
+pub fn element_technology(
+    kind: ElementKind,
+    material: &dyn Material,
+) -> Result<Technology, &'static str> {
     let shear_modulus = match kind {
         ElementKind::Hex8OnePoint => small_strain_shear_modulus(material),
         _ => None,
     };
     kind.technology(shear_modulus)
-        .map_err(|reason| locator.error(entry.material.span(), reason))
 }
 
 /// The material tangent ∂P/∂F at F = I, t = 0 (vec(F) column-major: F_ij sits at i + 3 j),

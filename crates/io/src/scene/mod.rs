@@ -16,7 +16,9 @@ use std::path::Path;
 
 use musclefem_materials::MaterialLibrary;
 
-pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, small_strain_shear_modulus};
+pub use build::{
+    Analysis, ELEMENT_NAMES, Model, build_model, element_technology, small_strain_shear_modulus,
+};
 pub use error::{Locator, SceneError};
 pub use format::{SCHEMA_VERSION, SceneFile};
 pub use interactions::InteractionModel;

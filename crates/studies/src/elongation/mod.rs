@@ -24,7 +24,7 @@ use std::collections::BTreeMap;
 use anyhow::Result;
 
 use musclefem_core::element::{ElementKind, Technology};
-use musclefem_io::scene::small_strain_shear_modulus;
+use musclefem_io::scene::element_technology;
 use musclefem_materials::Material;
 
 pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint};
@@ -84,13 +84,7 @@ impl ElementChoice {
     /// The element technology for parts of `material` (the one-point hex8's hourglass
     /// modulus scales with the material's small-strain shear modulus).
     pub fn technology(self, material: &dyn Material) -> Result<Technology> {
-        let shear_modulus = match self.kind() {
-            ElementKind::Hex8OnePoint => small_strain_shear_modulus(material),
-            _ => None,
-        };
-        self.kind()
-            .technology(shear_modulus)
-            .map_err(anyhow::Error::msg)
+        element_technology(self.kind(), material).map_err(anyhow::Error::msg)
     }
 }
 
