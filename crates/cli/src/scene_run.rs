@@ -17,7 +17,7 @@ use musclefem_core::solver::{
     Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
 };
 use musclefem_io::OutputError;
-use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory, RunLog};
+use musclefem_io::output::{ExistingResults, HistoryWriter, RunDirectory, RunLog};
 use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
@@ -135,22 +135,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let mut directory = RunDirectory::create(&out, existing)
         .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
     directory.write_scene(&scene_text)?;
-    let columns = HistoryColumns::new(
-        model.displacement_names.clone(),
-        model
-            .loads
-            .rigid_ties
-            .iter()
-            .map(|t| t.name.clone())
-            .collect(),
-    )
-    .with_interactions(
-        model
-            .interactions
-            .iter()
-            .map(|i| i.name().to_string())
-            .collect(),
-    );
+    let columns = model.history_columns();
     let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
     let interrupted = Arc::new(AtomicBool::new(false));
     {

@@ -160,5 +160,95 @@ fn bad_sweeps_are_refused_with_the_flag_named() {
         assert!(error.contains(expected), "{args:?}: {error}");
     }
     let scene = musclefem(&dir, &["sweep", "--base", "knee.toml", "--vary", "b=1,2"]);
-    assert!(text(&scene.stderr).contains("not supported yet"));
+    assert!(text(&scene.stderr).contains("--scene knee.toml"));
+}
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// Column `name` of a sweep.csv whose cells hold no commas.
+fn column(path: &Path, name: &str) -> Vec<f64> {
+    let table = std::fs::read_to_string(path).unwrap();
+    let mut lines = table.lines();
+    let k = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .position(|c| c == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn a_scene_is_swept_by_its_material_parameter_and_its_history_columns() {
+    // The example block held isometric and activated fully: its reaction is σ_iso × 25 mm²,
+    // σ_iso ≈ 0.99 σ0 (the example's 692.8 kPa at σ0 = 700 kPa), so it scales with σ0.
+    let dir = test_dir("sweep", "scene");
+    let scene = example("hill_block_isometric.toml");
+    let out = musclefem(
+        &dir,
+        &[
+            "sweep",
+            "--scene",
+            &scene,
+            "--vary",
+            "sigma0=6e5,7e5",
+            "--output",
+            "reaction_block.x1.x_n",
+            "--output",
+            "reaction_block.x1.x_n@0.05",
+            "--out",
+            "study",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = dir.join("study/sweep.csv");
+    let header = std::fs::read_to_string(&table).unwrap();
+    assert!(header.starts_with(
+        "run,sigma0,status,wall_time_s,steps,reaction_block.x1.x_n,\
+         reaction_block.x1.x_n_at_0.05s,error\n"
+    ));
+    let end = column(&table, "reaction_block.x1.x_n");
+    let area = 25e-6;
+    for (force, sigma0) in end.iter().zip([6e5, 7e5]) {
+        let ratio = force / area / (0.99 * sigma0);
+        assert!((ratio - 1.0).abs() < 0.01, "σ = {} Pa", force / area);
+    }
+    // At 0.05 s the activation (rate 50/s) is still rising: below the end's.
+    let early = column(&table, "reaction_block.x1.x_n_at_0.05s");
+    assert!(early[0] > 0.5 * end[0] && early[0] < end[0], "{early:?} {end:?}");
+    let sensitivities = std::fs::read_to_string(dir.join("study/sensitivity.csv")).unwrap();
+    let line = sensitivities
+        .lines()
+        .find(|l| l.starts_with("sigma0,reaction_block.x1.x_n,"))
+        .unwrap();
+    let s: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+    assert!((s - 1.0).abs() < 0.01, "{line}");
+
+    for (args, expected) in [
+        (vec!["--vary", "sigm0=1,2"], "no parameter 'sigm0'"),
+        (vec!["--vary", "bone.b=1,2"], "no material 'bone'"),
+        (
+            vec!["--vary", "b=10,15", "--output", "reaction_x_n"],
+            "no history column 'reaction_x_n'",
+        ),
+        (
+            vec!["--vary", "b=10,15", "--time-step", "0.1"],
+            "do not apply to a scene",
+        ),
+    ] {
+        let mut all = vec!["sweep", "--scene", scene.as_str()];
+        all.extend(args.iter().copied());
+        let out = musclefem(&dir, &all);
+        assert!(!out.status.success());
+        let error = text(&out.stderr);
+        assert!(error.contains(expected), "{args:?}: {error}");
+    }
 }

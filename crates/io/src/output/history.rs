@@ -133,6 +133,23 @@ impl HistoryColumns {
         columns.join(",")
     }
 
+    /// The header of the history a run of `analysis` writes.
+    pub fn header(&self, analysis: &Analysis) -> String {
+        match analysis {
+            Analysis::Explicit(_) => self.explicit_header(),
+            Analysis::Implicit(_) => self.implicit_header(),
+        }
+    }
+
+    /// The numbers of a recorded row of either solver, in the order of its header
+    /// ([`header`](Self::header)); errors as [`explicit_row`](Self::explicit_row).
+    pub fn record_row(&self, record: &Record, path: &Path) -> Result<Vec<f64>, OutputError> {
+        match record {
+            Record::Explicit(row) => self.explicit_row(row, path),
+            Record::Implicit(row) => self.implicit_row(row, path),
+        }
+    }
+
     /// Check the names (valid, unique); `path` is the file they are for.
     pub fn check(&self, path: &Path) -> Result<(), OutputError> {
         let mut seen: Vec<&str> = Vec::new();

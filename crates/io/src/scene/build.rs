@@ -23,6 +23,7 @@ use musclefem_materials::{
 };
 
 use super::error::{Locator, SceneError, suggestion};
+use crate::output::HistoryColumns;
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
@@ -53,6 +54,23 @@ pub struct Model {
     pub write_frames: bool,
     /// Contact and cohesion between surfaces, in the order of the scene file.
     pub interactions: Vec<InteractionModel>,
+}
+
+impl Model {
+    /// The names of the columns of this model's `history.csv`: a reaction per prescribed
+    /// displacement, the rigid ties' forces and moments, and the interactions.
+    pub fn history_columns(&self) -> HistoryColumns {
+        HistoryColumns::new(
+            self.displacement_names.clone(),
+            self.loads.rigid_ties.iter().map(|t| t.name.clone()).collect(),
+        )
+        .with_interactions(
+            self.interactions
+                .iter()
+                .map(|i| i.name().to_string())
+                .collect(),
+        )
+    }
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded

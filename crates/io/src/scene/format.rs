@@ -61,6 +61,18 @@ pub struct MaterialEntry {
     pub parameters: Option<Spanned<BTreeMap<String, f64>>>,
 }
 
+impl MaterialEntry {
+    /// Set parameter `key` to `value` (as if the file said so; an error about it names the
+    /// line of the `parameters` table, or of `model` if the file has none).
+    pub fn set_parameter(&mut self, key: &str, value: f64) {
+        let span = self.model.span();
+        self.parameters
+            .get_or_insert_with(|| Spanned::new(span, BTreeMap::new()))
+            .get_mut()
+            .insert(key.to_string(), value);
+    }
+}
+
 /// `[[parts]]`: one deformable body.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]

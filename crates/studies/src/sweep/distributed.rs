@@ -68,7 +68,7 @@ pub fn sweep(args: &SweepArgs, plan: &Plan, universe: &Universe) -> Result<()> {
             let (bytes, _) = world.process_at_rank(other).receive_vec::<u8>();
             let text = String::from_utf8(bytes).context("rows from another rank")?;
             let source = plan.table_path.with_file_name(format!("(rank {other})"));
-            records.extend(table::parse_table(&text, &source, &plan.names)?);
+            records.extend(table::parse_table(&text, &source, &plan.columns)?);
         }
         plan.write_table(&records)?;
         plan.finish(args, &records)
@@ -77,8 +77,8 @@ pub fn sweep(args: &SweepArgs, plan: &Plan, universe: &Universe) -> Result<()> {
         // forever; the error is returned after.
         let result = plan.run_share(&share, Vec::new(), false);
         let rows = result.as_ref().map_or_else(
-            |_| table::header(&plan.names),
-            |r| table::format_table(&plan.names, r),
+            |_| table::header(&plan.columns),
+            |r| table::format_table(&plan.columns, r),
         );
         root.send(rows.as_bytes());
         result.map(|_| ())

@@ -1,9 +1,11 @@
-//! `musclefem sweep`: a parametric study of the elongation tests (seed §2.2, §3.1). Every
-//! combination of the varied Hill parameters (or a Latin-hypercube sample of their ranges)
-//! runs, several at a time, and each run's summary goes to `DIR/sweep.csv`; then the
-//! normalised sensitivity of the stress at 10 % and 20 % strain to each parameter goes to
+//! `musclefem sweep`: a parametric study of the elongation tests (seed §2.2, §3.1) or of
+//! any scene. Every combination of the varied material parameters (or a Latin-hypercube
+//! sample of their ranges) runs, several at a time, and each run's summary goes to
+//! `DIR/sweep.csv`; then the normalised sensitivity of each summary output (the stress at
+//! 10 % and 20 % strain, or the scene's history columns) to each parameter goes to
 //! `DIR/sensitivity.csv` and `DIR/sensitivity.png`.
 //!
+//! - [`study`]: what is varied and measured, [`scene_study`] for a scene;
 //! - [`vary`]: the `--vary` axes;
 //! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs);
 //! - [`run`]: one run and its [`run::Outcome`] (a failure is an outcome, not an abort);
@@ -14,7 +16,9 @@
 pub mod grid;
 pub mod latin_hypercube;
 pub mod run;
+pub mod scene_study;
 pub mod sensitivity;
+pub mod study;
 pub mod table;
 pub mod vary;
 
@@ -33,24 +37,35 @@ use rayon::prelude::*;
 use musclefem_io::PendingFile;
 use musclefem_io::csv::format_number;
 use musclefem_io::plot::stage_bar_png;
-use musclefem_materials::MaterialLibrary;
 
 use crate::elongation::Activation;
 use crate::elongation::options::TestOptions;
-use run::{Outcome, run_sample};
-use table::{Record, SWEEP_CSV};
+use run::Outcome;
+use scene_study::SceneStudy;
+use study::Study;
+use table::{Columns, Record, SWEEP_CSV};
 use vary::Axis;
 
 #[derive(Debug, clap::Args)]
 pub struct SweepArgs {
-    /// The test whose parameters are varied: `passive` or `active` (the elongation tests
-    /// of `musclefem elongate`, with the specimen and solver options below). Scene files
-    /// are not supported yet.
-    #[arg(long, value_name = "TEST")]
-    pub base: String,
-    /// A varied Hill parameter (see `musclefem materials`): NAME=V1,V2,... or
-    /// NAME=LO:HI:N (N evenly spaced values); repeatable. Every combination runs, unless
-    /// --samples is given.
+    /// An elongation test of `musclefem elongate` as the base: `passive` or `active`
+    /// (with the specimen and solver options below); its outputs are the engineering
+    /// stress at 10 % and 20 % strain.
+    #[arg(long, value_name = "TEST", required_unless_present = "scene", conflicts_with = "scene")]
+    pub base: Option<String>,
+    /// A scene file as the base: each run is the scene with the varied parameters of its
+    /// materials changed (the specimen and solver options below do not apply).
+    #[arg(long, value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// A summary output of a scene run: a column of its history.csv at the end of the
+    /// run (COLUMN) or at a time (COLUMN@SECONDS, linear between rows); repeatable
+    /// [default: every reaction column at the end].
+    #[arg(long = "output", value_name = "COLUMN[@TIME]", requires = "scene")]
+    pub outputs: Vec<String>,
+    /// A varied parameter: NAME=V1,V2,... or NAME=LO:HI:N (N evenly spaced values);
+    /// repeatable. NAME is a Hill parameter for an elongation test (see `musclefem
+    /// materials`); for a scene it is a parameter of its one material, or MATERIAL.NAME
+    /// when it has several. Every combination runs, unless --samples is given.
     #[arg(long = "vary", value_name = "NAME=VALUES", required = true)]
     pub vary: Vec<String>,
     /// Run N points of a Latin hypercube over each parameter's range [smallest, largest
@@ -74,12 +89,6 @@ pub struct SweepArgs {
     pub force: bool,
 }
 
-/// The summary outputs whose sensitivities are reported: (column of sweep.csv, name).
-const OUTPUTS: [(&str, &str); 2] = [
-    ("stress_10pct_pa", "stress at 10 % strain"),
-    ("stress_20pct_pa", "stress at 20 % strain"),
-];
-
 pub fn sweep(args: &SweepArgs) -> Result<()> {
     let plan = Plan::new(args)?;
     #[cfg(feature = "mpi")]
@@ -94,25 +103,46 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     plan.finish(args, &records)
 }
 
-/// What a sweep runs: the base test, the varied parameters and the list of runs.
+/// What a sweep runs: the base study, the varied parameters and the list of runs.
 pub struct Plan {
-    mode: Activation,
+    study: Study,
     axes: Vec<Axis>,
     names: Vec<String>,
     /// Parameter values of each run, in run order.
     design: Vec<Vec<f64>>,
     /// Runs at a time (in each process).
     jobs: usize,
-    base: crate::elongation::ElongationTest,
+    columns: Columns,
     table_path: PathBuf,
-    options: String,
 }
 
 impl Plan {
     fn new(args: &SweepArgs) -> Result<Plan> {
-        let mode = base_mode(&args.base)?;
+        let study = match (&args.base, &args.scene) {
+            (_, Some(scene)) => {
+                check_no_test_options(&args.options)?;
+                Study::Scene(SceneStudy::load(scene, &args.outputs)?)
+            }
+            (Some(base), None) if !args.outputs.is_empty() => bail!(
+                "--base {base} --output {}: the elongation tests report the stress at 10 % and \
+                 20 % strain; --output names history columns of a --scene",
+                args.outputs.join(" --output ")
+            ),
+            (Some(base), None) => {
+                let mode = base_mode(base)?;
+                let test = args.options.test(mode, BTreeMap::new());
+                // Every run shares the step: refuse it once, not in every row.
+                crate::elongation::setup::check_time_step(&test)?;
+                Study::Elongation {
+                    mode,
+                    test: Box::new(test),
+                    options: args.options.describe(),
+                }
+            }
+            (None, None) => bail!("name the base: --base passive|active or --scene FILE"),
+        };
         let axes = vary::parse_axes(&args.vary)?;
-        check_parameter_names(&axes)?;
+        study.check_names(&axes)?;
         let design = match args.samples {
             Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
             Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
@@ -129,18 +159,19 @@ impl Plan {
             }
             None => std::thread::available_parallelism().map_or(1, |n| n.get()),
         };
-        let base = args.options.test(mode, BTreeMap::new());
-        // Every run shares the step: refuse it once, not in every row.
-        crate::elongation::setup::check_time_step(&base)?;
+        let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
+        let columns = Columns {
+            parameters: names.clone(),
+            outputs: study.outputs().into_iter().map(|o| o.column).collect(),
+        };
         Ok(Plan {
-            mode,
-            names: axes.iter().map(|a| a.name.clone()).collect(),
+            study,
+            names,
             axes,
             design,
             jobs,
-            base,
+            columns,
             table_path: args.out.join(SWEEP_CSV),
-            options: args.options.describe(),
         })
     }
 
@@ -150,7 +181,7 @@ impl Plan {
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("creating the output directory {}", dir.display()))?;
         }
-        previous_records(&self.table_path, &self.names, &self.design, force)
+        previous_records(&self.table_path, &self.columns, &self.design, force)
     }
 
     /// The runs not in `done` (run numbers), in run order.
@@ -162,10 +193,8 @@ impl Plan {
 
     fn announce(&self, done: usize, pending: usize, processes: &str) {
         println!(
-            "{} elongation ({}): {} runs, {done} already in {}, {pending} to run{processes}, {} \
-             at a time",
-            self.mode.name(),
-            self.options,
+            "{}: {} runs, {done} already in {}, {pending} to run{processes}, {} at a time",
+            self.study.title(),
             self.design.len(),
             self.table_path.display(),
             self.jobs
@@ -185,7 +214,7 @@ impl Plan {
             runs.par_iter()
                 .with_max_len(1)
                 .try_for_each(|&run| -> Result<()> {
-                    let outcome = run_sample(&self.base, &self.names, &self.design[run]);
+                    let outcome = self.study.run(&self.names, &self.design[run]);
                     let mut records = records.lock().map_err(|_| anyhow!("a run panicked"))?;
                     records.push(Record {
                         run,
@@ -204,7 +233,7 @@ impl Plan {
     }
 
     fn write_table(&self, records: &[Record]) -> Result<()> {
-        let text = table::format_table(&self.names, records);
+        let text = table::format_table(&self.columns, records);
         PendingFile::stage_bytes(&self.table_path, text.as_bytes())?.commit()?;
         Ok(())
     }
@@ -212,8 +241,26 @@ impl Plan {
     /// The summary on the terminal and the sensitivities.
     fn finish(&self, args: &SweepArgs, records: &[Record]) -> Result<()> {
         report(records, &self.table_path);
-        write_sensitivities(args, self.mode, &self.axes, records)
+        write_sensitivities(args, &self.study, &self.axes, records)
     }
+}
+
+/// The specimen and solver options shape an elongation test: with a scene, whose file
+/// says all that, they are refused rather than ignored.
+fn check_no_test_options(options: &TestOptions) -> Result<()> {
+    #[derive(clap::Parser)]
+    struct Defaults {
+        #[command(flatten)]
+        options: TestOptions,
+    }
+    let defaults = <Defaults as clap::Parser>::parse_from(["sweep"]).options;
+    if options.describe() != defaults.describe() || options.time_step.is_some() {
+        bail!(
+            "--scene: the elongation test's options (--solver, --element, --mesh-size, --shape, \
+             --grips, --time-step) do not apply to a scene; set them in the scene file"
+        );
+    }
+    Ok(())
 }
 
 /// The elongation mode named by `--base`.
@@ -222,41 +269,18 @@ fn base_mode(base: &str) -> Result<Activation> {
         "passive" => Ok(Activation::Passive),
         "active" => Ok(Activation::Active),
         other if Path::new(other).extension().is_some_and(|e| e == "toml") => bail!(
-            "--base {other}: sweeping a scene file is not supported yet; the bases are the \
+            "--base {other}: a scene file is given with --scene {other}; the bases are the \
              elongation tests 'passive' and 'active'"
         ),
         other => bail!("--base '{other}': expected 'passive' or 'active' (the elongation tests)"),
     }
 }
 
-/// Every varied name must be a Hill parameter, and not one the mode sets.
-fn check_parameter_names(axes: &[Axis]) -> Result<()> {
-    let hill = MaterialLibrary::with_builtins().info("hill")?;
-    for axis in axes {
-        if axis.name == "n2" || axis.name == "t0" {
-            bail!(
-                "--vary {}: the mode sets the activation (passive n2 = 0, active n2 = 1 from t0 = 0)",
-                axis.name
-            );
-        }
-        if !hill.parameters.iter().any(|p| p.name == axis.name) {
-            let known: Vec<&str> = hill.parameters.iter().map(|p| p.name.as_ref()).collect();
-            bail!(
-                "--vary {}: the Hill muscle has no parameter '{}' (it has {})",
-                axis.name,
-                axis.name,
-                known.join(", ")
-            );
-        }
-    }
-    Ok(())
-}
-
 /// The rows of a previous run of this sweep (none with `force`, which removes its files).
 /// Each row must hold the parameter values this design gives its run.
 fn previous_records(
     path: &Path,
-    names: &[String],
+    columns: &Columns,
     design: &[Vec<f64>],
     force: bool,
 ) -> Result<Vec<Record>> {
@@ -275,7 +299,7 @@ fn previous_records(
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
         Err(e) => return Err(e).with_context(|| format!("reading {}", path.display())),
     };
-    let records = table::parse_table(&text, path, names)?;
+    let records = table::parse_table(&text, path, columns)?;
     for record in &records {
         if design.get(record.run) != Some(&record.values) {
             bail!(
@@ -310,6 +334,10 @@ fn report(records: &[Record], table_path: &Path) {
     }
 }
 
+/// Outputs whose magnitude stays below this fraction of the largest output's get no
+/// sensitivity (see `write_sensitivities`).
+const NEGLIGIBLE_OUTPUT: f64 = 1e-4;
+
 const SENSITIVITY_CSV: &str = "sensitivity.csv";
 const SENSITIVITY_PNG: &str = "sensitivity.png";
 
@@ -317,24 +345,47 @@ const SENSITIVITY_PNG: &str = "sensitivity.png";
 /// finished runs, and the ranking on the terminal.
 fn write_sensitivities(
     args: &SweepArgs,
-    mode: Activation,
+    study: &Study,
     axes: &[Axis],
     records: &[Record],
 ) -> Result<()> {
     let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
     let mut outputs = Vec::new();
-    for (k, (column, output)) in OUTPUTS.iter().enumerate() {
+    let largest = |k: usize| {
+        records
+            .iter()
+            .filter_map(|r| match &r.outcome {
+                Outcome::Finished { outputs, .. } => outputs[k],
+                Outcome::Failed { .. } => None,
+            })
+            .fold(0.0, |m: f64, y| m.max(y.abs()))
+    };
+    let study_outputs = study.outputs();
+    let scale = (0..study_outputs.len()).map(largest).fold(0.0, f64::max);
+    for (k, output) in study_outputs.into_iter().enumerate() {
+        // A reaction on a symmetry plane is zero up to round-off: its relative changes are
+        // noise, not a sensitivity.
+        if largest(k) <= NEGLIGIBLE_OUTPUT * scale {
+            println!(
+                "  {}: at most {:.3e} in every run, below {NEGLIGIBLE_OUTPUT:e} of the largest \
+                 output ({scale:.3e}): no sensitivity reported",
+                output.description,
+                largest(k)
+            );
+            continue;
+        }
         let runs: Vec<(Vec<f64>, f64)> = records
             .iter()
             .filter_map(|r| match &r.outcome {
-                Outcome::Finished { stresses, .. } => stresses[k].map(|y| (r.values.clone(), y)),
+                Outcome::Finished { outputs, .. } => outputs[k].map(|y| (r.values.clone(), y)),
                 Outcome::Failed { .. } => None,
             })
             .collect();
         match sensitivity::normalised_sensitivities(&runs) {
-            Some(s) => outputs.push((*column, *output, s)),
+            Some(s) => outputs.push((output.column, output.description, s)),
             None => println!(
-                "  {output}: {} finished runs cannot determine the sensitivities of {} parameters",
+                "  {}: {} finished runs cannot determine the sensitivities of {} parameters",
+                output.description,
                 runs.len(),
                 names.len()
             ),
@@ -358,10 +409,10 @@ fn write_sensitivities(
         }
     }
     let finished = records.iter().filter(|r| r.outcome.is_finished()).count();
-    let title = format!("{} elongation, {finished} finished runs", mode.name());
+    let title = format!("{}, {finished} finished runs", study.title());
     let series: Vec<(&str, Vec<Option<f64>>)> = outputs
         .iter()
-        .map(|(_, name, s)| (*name, s.clone()))
+        .map(|(_, name, s)| (name.as_str(), s.clone()))
         .collect();
     let chart = sensitivity::sensitivity_chart(&title, &names, &series);
     let csv_path = args.out.join(SENSITIVITY_CSV);

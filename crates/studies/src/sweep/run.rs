@@ -1,7 +1,7 @@
-//! One run of a sweep: the base elongation test with the run's parameter values, its wall
-//! time, and its summary outputs (the engineering stress at [`SUMMARY_STRAINS`]). A failed
-//! run, including a panic inside the solver, becomes an [`Outcome::Failed`] with its error
-//! instead of stopping the sweep.
+//! One run of a sweep: the base (an elongation test or a scene) with the run's parameter
+//! values, its wall time, and its summary outputs (for the elongation tests the
+//! engineering stress at [`SUMMARY_STRAINS`]). A failed run, including a panic inside the
+//! solver, becomes an [`Outcome::Failed`] with its error instead of stopping the sweep.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
@@ -19,8 +19,8 @@ pub enum Outcome {
         wall_time: f64,
         /// Solver steps or increments.
         steps: usize,
-        /// Engineering stress at each of [`SUMMARY_STRAINS`] [Pa] (`None`: not reached).
-        stresses: [Option<f64>; 2],
+        /// The study's summary outputs, in its order (`None`: not reached).
+        outputs: Vec<Option<f64>>,
     },
     Failed {
         wall_time: f64,
@@ -41,20 +41,36 @@ impl Outcome {
     }
 }
 
-/// Run `base` with `names[i] = values[i]` added to its parameters.
-pub fn run_sample(base: &ElongationTest, names: &[String], values: &[f64]) -> Outcome {
+/// Run `base` with `names[i] = values[i]` added to its parameters: the engineering
+/// stress at each of [`SUMMARY_STRAINS`] [Pa].
+pub fn run_elongation_sample(
+    base: &ElongationTest,
+    names: &[String],
+    values: &[f64],
+) -> anyhow::Result<(usize, Vec<Option<f64>>)> {
     let mut test = base.clone();
     for (name, &value) in names.iter().zip(values) {
         test.parameters.insert(name.clone(), value);
     }
+    let run = run_elongation(&test, &mut Unwatched)?;
+    let stresses = SUMMARY_STRAINS
+        .iter()
+        .map(|&strain| run.curve.stress_at_strain(strain))
+        .collect();
+    Ok((run.steps, stresses))
+}
+
+/// Time `sample` (steps and outputs of one run) and turn its error or panic into an
+/// [`Outcome::Failed`].
+pub fn timed(sample: impl FnOnce() -> anyhow::Result<(usize, Vec<Option<f64>>)>) -> Outcome {
     let started = Instant::now();
-    let result = catch_unwind(AssertUnwindSafe(|| run_elongation(&test, &mut Unwatched)));
+    let result = catch_unwind(AssertUnwindSafe(sample));
     let wall_time = started.elapsed().as_secs_f64();
     match result {
-        Ok(Ok(run)) => Outcome::Finished {
+        Ok(Ok((steps, outputs))) => Outcome::Finished {
             wall_time,
-            steps: run.steps,
-            stresses: SUMMARY_STRAINS.map(|strain| run.curve.stress_at_strain(strain)),
+            steps,
+            outputs,
         },
         Ok(Err(error)) => Outcome::Failed {
             wall_time,

@@ -2,9 +2,10 @@
 //! that an interrupted sweep keeps every finished row and a rerun resumes from them.
 //!
 //! Columns: `run`, the varied parameters (full-precision values), `status` (`ok` or
-//! `failed`), `wall_time_s`, `steps`, `stress_10pct_pa` and `stress_20pct_pa` (engineering
-//! stress at 10 % and 20 % strain; empty if not reached or failed), and `error` (quoted;
-//! empty for `ok`).
+//! `failed`), `wall_time_s`, `steps`, the study's outputs (for the elongation tests
+//! `stress_10pct_pa` and `stress_20pct_pa`, the engineering stress at 10 % and 20 %
+//! strain; for a scene the history columns asked for; empty if not reached or failed),
+//! and `error` (quoted; empty for `ok`).
 
 use std::path::Path;
 
@@ -17,15 +18,19 @@ use super::run::Outcome;
 /// Name of the table in the sweep's output directory.
 pub const SWEEP_CSV: &str = "sweep.csv";
 
-/// Columns after the parameters.
-const TRAILING_COLUMNS: [&str; 6] = [
-    "status",
-    "wall_time_s",
-    "steps",
-    "stress_10pct_pa",
-    "stress_20pct_pa",
-    "error",
-];
+/// The columns of a sweep's table: the varied parameters and the study's outputs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Columns {
+    pub parameters: Vec<String>,
+    pub outputs: Vec<String>,
+}
+
+impl Columns {
+    /// Cells in a row: run, parameters, status, wall time, steps, outputs, error.
+    fn count(&self) -> usize {
+        self.parameters.len() + self.outputs.len() + 5
+    }
+}
 
 /// One row: the run's number (from 0, in the order the design lists the runs), its
 /// parameter values and its outcome.
@@ -36,20 +41,22 @@ pub struct Record {
     pub outcome: Outcome,
 }
 
-/// The header line for the varied parameters `names`.
-pub fn header(names: &[String]) -> String {
+/// The header line.
+pub fn header(columns: &Columns) -> String {
     std::iter::once("run")
-        .chain(names.iter().map(String::as_str))
-        .chain(TRAILING_COLUMNS)
+        .chain(columns.parameters.iter().map(String::as_str))
+        .chain(["status", "wall_time_s", "steps"])
+        .chain(columns.outputs.iter().map(String::as_str))
+        .chain(["error"])
         .collect::<Vec<_>>()
         .join(",")
 }
 
 /// The whole table, rows sorted by run.
-pub fn format_table(names: &[String], records: &[Record]) -> String {
+pub fn format_table(columns: &Columns, records: &[Record]) -> String {
     let mut sorted: Vec<&Record> = records.iter().collect();
     sorted.sort_by_key(|r| r.run);
-    let mut text = header(names);
+    let mut text = header(columns);
     text.push('\n');
     let optional = |x: Option<f64>| x.map_or_else(String::new, format_number);
     for record in sorted {
@@ -59,23 +66,17 @@ pub fn format_table(names: &[String], records: &[Record]) -> String {
             Outcome::Finished {
                 wall_time,
                 steps,
-                stresses,
-            } => cells.extend([
-                "ok".to_string(),
-                format!("{wall_time:.3}"),
-                steps.to_string(),
-                optional(stresses[0]),
-                optional(stresses[1]),
-                String::new(),
-            ]),
-            Outcome::Failed { wall_time, error } => cells.extend([
-                "failed".to_string(),
-                format!("{wall_time:.3}"),
-                String::new(),
-                String::new(),
-                String::new(),
-                quote(error),
-            ]),
+                outputs,
+            } => {
+                cells.extend(["ok".to_string(), format!("{wall_time:.3}"), steps.to_string()]);
+                cells.extend(outputs.iter().map(|&x| optional(x)));
+                cells.push(String::new());
+            }
+            Outcome::Failed { wall_time, error } => {
+                cells.extend(["failed".to_string(), format!("{wall_time:.3}"), String::new()]);
+                cells.extend(columns.outputs.iter().map(|_| String::new()));
+                cells.push(quote(error));
+            }
         }
         text.push_str(&cells.join(","));
         text.push('\n');
@@ -85,9 +86,9 @@ pub fn format_table(names: &[String], records: &[Record]) -> String {
 
 /// Read the rows of a previous run of the same sweep from `path` (`text` its contents).
 /// A different header means a different sweep: an error naming the file.
-pub fn parse_table(text: &str, path: &Path, names: &[String]) -> Result<Vec<Record>> {
+pub fn parse_table(text: &str, path: &Path, columns: &Columns) -> Result<Vec<Record>> {
     let mut lines = text.lines().enumerate();
-    let expected = header(names);
+    let expected = header(columns);
     match lines.next() {
         Some((_, line)) if line.trim_end() == expected => {}
         Some((_, line)) => bail!(
@@ -103,25 +104,20 @@ pub fn parse_table(text: &str, path: &Path, names: &[String]) -> Result<Vec<Reco
         if line.trim().is_empty() {
             continue;
         }
-        let record = parse_row(line, names.len())
+        let record = parse_row(line, columns)
             .with_context(|| format!("{} line {}", path.display(), index + 1))?;
         records.push(record);
     }
     Ok(records)
 }
 
-fn parse_row(line: &str, parameters: usize) -> Result<Record> {
+fn parse_row(line: &str, columns: &Columns) -> Result<Record> {
     // The error column comes last and may hold commas: split off the others only.
-    let cells: Vec<&str> = line
-        .splitn(parameters + TRAILING_COLUMNS.len() + 1, ',')
-        .collect();
-    if cells.len() != parameters + TRAILING_COLUMNS.len() + 1 {
-        bail!(
-            "{} cells, expected {}",
-            cells.len(),
-            parameters + TRAILING_COLUMNS.len() + 1
-        );
+    let cells: Vec<&str> = line.splitn(columns.count(), ',').collect();
+    if cells.len() != columns.count() {
+        bail!("{} cells, expected {}", cells.len(), columns.count());
     }
+    let parameters = columns.parameters.len();
     let number = |i: usize| -> Result<f64> {
         cells[i]
             .parse::<f64>()
@@ -146,11 +142,13 @@ fn parse_row(line: &str, parameters: usize) -> Result<Record> {
             steps: cells[at + 2]
                 .parse()
                 .with_context(|| format!("steps '{}' is not a whole number", cells[at + 2]))?,
-            stresses: [optional(at + 3)?, optional(at + 4)?],
+            outputs: (0..columns.outputs.len())
+                .map(|k| optional(at + 3 + k))
+                .collect::<Result<_>>()?,
         },
         "failed" => Outcome::Failed {
             wall_time,
-            error: unquote(cells[at + 5]),
+            error: unquote(cells[columns.count() - 1]),
         },
         other => bail!("status '{other}' is neither 'ok' nor 'failed'"),
     };
@@ -181,7 +179,10 @@ mod tests {
 
     #[test]
     fn rows_read_back_exactly_with_errors_holding_commas_and_quotes() {
-        let names = vec!["sigma0".to_string(), "D".to_string()];
+        let columns = Columns {
+            parameters: vec!["sigma0".to_string(), "D".to_string()],
+            outputs: vec!["stress_10pct_pa".to_string(), "stress_20pct_pa".to_string()],
+        };
         let records = vec![
             Record {
                 run: 1,
@@ -197,15 +198,15 @@ mod tests {
                 outcome: Outcome::Finished {
                     wall_time: 1.5,
                     steps: 82,
-                    stresses: [Some(29_480.123456789), None],
+                    outputs: vec![Some(29_480.123456789), None],
                 },
             },
         ];
-        let text = format_table(&names, &records);
+        let text = format_table(&columns, &records);
         assert!(text.starts_with(
             "run,sigma0,D,status,wall_time_s,steps,stress_10pct_pa,stress_20pct_pa,error\n0,"
         ));
-        let read = parse_table(&text, Path::new("sweep.csv"), &names).unwrap();
+        let read = parse_table(&text, Path::new("sweep.csv"), &columns).unwrap();
         assert_eq!(read[0], records[1]);
         assert_eq!(read[1].values, records[0].values);
         assert_eq!(
@@ -219,7 +220,11 @@ mod tests {
 
     #[test]
     fn another_sweeps_table_is_refused_by_name() {
-        let error = parse_table("run,b,status\n", Path::new("out/sweep.csv"), &["c".into()])
+        let columns = Columns {
+            parameters: vec!["c".into()],
+            outputs: vec!["reaction_a_n".into()],
+        };
+        let error = parse_table("run,b,status\n", Path::new("out/sweep.csv"), &columns)
             .unwrap_err()
             .to_string();
         assert!(error.contains("out/sweep.csv"), "{error}");
