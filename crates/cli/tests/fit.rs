@@ -147,3 +147,110 @@ fn bad_fits_are_refused_by_name() {
         "earlier"
     );
 }
+
+/// Nominal stress P₁₁ [Pa] of the compressible neo-Hookean solid (W = μ/2 (Ī₁ − 3) +
+/// (J − 1)²/D) in uniaxial stress at stretch λ: the lateral stretch t makes σ₂₂ = 0,
+/// μ J^(−5/3) (λ² − t²)/3 = 2 (J − 1)/D with J = λ t² (bisection), and then
+/// σ₁₁ = μ J^(−5/3) (λ² − t²), P₁₁ = σ₁₁ t². Written here from the law, not by the program.
+fn neo_hookean_uniaxial_nominal_stress(mu: f64, d: f64, stretch: f64) -> f64 {
+    let lateral_balance = |t: f64| {
+        let j = stretch * t * t;
+        mu * j.powf(-5.0 / 3.0) * (stretch * stretch - t * t) / 3.0 - 2.0 * (j - 1.0) / d
+    };
+    let (mut low, mut high) = (0.5, 1.0);
+    for _ in 0..200 {
+        let middle = 0.5 * (low + high);
+        if lateral_balance(middle) > 0.0 {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    let t = 0.5 * (low + high);
+    let j = stretch * t * t;
+    mu * j.powf(-5.0 / 3.0) * (stretch * stretch - t * t) * t * t
+}
+
+#[test]
+fn a_scene_fit_recovers_the_shear_modulus_from_the_closed_form_uniaxial_curve() {
+    // The example cube (1 cm, μ = 10 kPa, D = 2e-5 /Pa) pulled to λ = 1.5 in 1 s; the
+    // "measurement" is the closed-form reaction of a cube with μ = 12 kPa at 0.1 s steps.
+    let dir = test_dir("fit", "scene");
+    let truth = 1.2e4;
+    let mut csv = String::from("time_s,force_n\n");
+    for k in 1..=10 {
+        let time = 0.1 * k as f64;
+        let stretch = 1.0 + 0.5 * time;
+        let force = neo_hookean_uniaxial_nominal_stress(truth, 2e-5, stretch) * 1e-4;
+        csv.push_str(&format!("{time},{force}\n"));
+    }
+    std::fs::write(dir.join("measured.csv"), csv).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/neo_hookean_cube_stretch.toml")
+        .display()
+        .to_string();
+    let out = musclefem(
+        &dir,
+        &[
+            "fit",
+            "--scene",
+            &scene,
+            "--y",
+            "reaction_cube.x1.x_n",
+            "--stress-column",
+            "force_n",
+            "--data",
+            "measured.csv",
+            "--params",
+            "mu",
+            "--out",
+            "fitted",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let fit = fitted(&dir.join("fitted/fit.csv"));
+    let [start, mu, low, high] = fit["mu"];
+    assert_eq!(start, 1e4, "the start is the scene's value");
+    assert!((mu / truth - 1.0).abs() < 1e-3, "mu = {mu}");
+    assert!(low <= mu && mu <= high);
+    let curve = std::fs::read_to_string(dir.join("fitted/fit_curve.csv")).unwrap();
+    assert!(
+        curve.starts_with("time_s,measured_reaction_cube.x1.x_n,fitted_reaction_cube.x1.x_n\n")
+    );
+    assert_eq!(curve.lines().count(), 11, "{curve}");
+    let summary = std::fs::read_to_string(dir.join("fitted/fit.txt")).unwrap();
+    assert!(
+        summary.contains("RMS residual") && summary.contains(" N ("),
+        "{summary}"
+    );
+
+    for (args, expected) in [
+        (vec!["--params", "mu"], "--y"),
+        (
+            vec!["--params", "sigma0", "--y", "reaction_cube.x1.x_n"],
+            "no parameter 'sigma0'",
+        ),
+        (
+            vec!["--params", "mu", "--y", "force"],
+            "no history column 'force'",
+        ),
+        (
+            vec![
+                "--params",
+                "mu",
+                "--y",
+                "reaction_cube.x1.x_n",
+                "--shape",
+                "cylinder",
+            ],
+            "do not apply to a scene",
+        ),
+    ] {
+        let mut all = vec!["fit", "--scene", scene.as_str(), "--data", "measured.csv"];
+        all.extend(args.iter().copied());
+        let out = musclefem(&dir, &all);
+        assert!(!out.status.success(), "{args:?}");
+        let error = text(&out.stderr);
+        assert!(error.contains(expected), "{args:?}: {error}");
+    }
+}

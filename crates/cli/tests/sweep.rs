@@ -223,7 +223,10 @@ fn a_scene_is_swept_by_its_material_parameter_and_its_history_columns() {
     }
     // At 0.05 s the activation (rate 50/s) is still rising: below the end's.
     let early = column(&table, "reaction_block.x1.x_n_at_0.05s");
-    assert!(early[0] > 0.5 * end[0] && early[0] < end[0], "{early:?} {end:?}");
+    assert!(
+        early[0] > 0.5 * end[0] && early[0] < end[0],
+        "{early:?} {end:?}"
+    );
     let sensitivities = std::fs::read_to_string(dir.join("study/sensitivity.csv")).unwrap();
     let line = sensitivities
         .lines()

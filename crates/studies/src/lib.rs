@@ -6,11 +6,13 @@
 //! - [`activation`]: the one passive/active choice of every study.
 //! - [`bench`]: the work–precision matrix (`musclefem bench`).
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
-//! - [`fit`]: least-squares calibration of Hill parameters to a measured curve (`musclefem fit`).
+//! - [`fit`]: least-squares calibration of material parameters to a measured curve, through
+//!   the elongation tests or a scene (`musclefem fit`).
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`scene_study`]: a scene file as the base of a sweep or a fit.
 //! - [`solver`]: the one solver choice of every study and command.
-//! - [`sweep`]: parametric studies of the elongation tests (`musclefem sweep`).
+//! - [`sweep`]: parametric studies of the elongation tests or of a scene (`musclefem sweep`).
 
 pub mod activation;
 pub mod bench;
@@ -18,6 +20,7 @@ pub mod elongation;
 pub mod fit;
 pub mod inertia;
 pub mod knee;
+pub mod scene_study;
 pub mod solver;
 pub mod sweep;
 

@@ -23,11 +23,11 @@ use musclefem_materials::{
 };
 
 use super::error::{Locator, SceneError, suggestion};
-use crate::output::HistoryColumns;
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
 use super::solver_choice::{AutoSolver, choose_solver};
+use crate::output::HistoryColumns;
 
 /// Element technologies by scene name ([`ElementKind::NAMES`]).
 pub const ELEMENT_NAMES: [&str; 6] = ElementKind::NAMES;
@@ -62,7 +62,11 @@ impl Model {
     pub fn history_columns(&self) -> HistoryColumns {
         HistoryColumns::new(
             self.displacement_names.clone(),
-            self.loads.rigid_ties.iter().map(|t| t.name.clone()).collect(),
+            self.loads
+                .rigid_ties
+                .iter()
+                .map(|t| t.name.clone())
+                .collect(),
         )
         .with_interactions(
             self.interactions

@@ -49,6 +49,17 @@ impl TestOptions {
         }
     }
 
+    /// Whether every option has its default (none was given on the command line).
+    pub fn are_defaults(&self) -> bool {
+        #[derive(clap::Parser)]
+        struct Defaults {
+            #[command(flatten)]
+            options: TestOptions,
+        }
+        let defaults = <Defaults as clap::Parser>::parse_from(["defaults"]).options;
+        self.describe() == defaults.describe() && self.time_step.is_none()
+    }
+
     /// One line for logs and chart titles, e.g. "fusiform, hex8-fbar, 4 mm, fixed grips,
     /// implicit".
     pub fn describe(&self) -> String {

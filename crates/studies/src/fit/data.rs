@@ -28,15 +28,35 @@ pub struct MeasuredCurve {
     pub strain: Vec<f64>,
     /// Engineering stress [Pa].
     pub stress: Vec<f64>,
-    /// Points outside (0, `max_strain`].
+    /// Points outside the range read.
     pub left_out: usize,
 }
 
-/// Read `path`, keeping the points with strain in (0, `max_strain`].
-pub fn read_curve(path: &Path, columns: &Columns, max_strain: f64) -> Result<MeasuredCurve> {
+/// The abscissae of the points a fit keeps: low < x ≤ high, or low ≤ x ≤ high.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    pub low: f64,
+    pub high: f64,
+    pub low_inclusive: bool,
+}
+
+impl Range {
+    /// Whether `x` is kept (the high end with a relative slack of 1e-12).
+    pub fn contains(&self, x: f64) -> bool {
+        let above = if self.low_inclusive {
+            x >= self.low
+        } else {
+            x > self.low
+        };
+        above && x <= self.high + 1e-12 * self.high.abs()
+    }
+}
+
+/// Read `path`, keeping the points whose strain (abscissa) is in `range`.
+pub fn read_curve(path: &Path, columns: &Columns, range: Range) -> Result<MeasuredCurve> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("reading --data {}", path.display()))?;
-    parse_curve(&text, path, columns, max_strain)
+    parse_curve(&text, path, columns, range)
 }
 
 /// [`read_curve`] on the file's text.
@@ -44,7 +64,7 @@ pub fn parse_curve(
     text: &str,
     path: &Path,
     columns: &Columns,
-    max_strain: f64,
+    range: Range,
 ) -> Result<MeasuredCurve> {
     let mut lines = text
         .lines()
@@ -85,7 +105,7 @@ pub fn parse_curve(
         };
         let strain = columns.strain_scale * cell(strain_at)?;
         let stress = columns.stress_scale * cell(stress_at)?;
-        if strain > 0.0 && strain <= max_strain * (1.0 + 1e-12) {
+        if range.contains(strain) {
             points.push((strain, stress));
         } else {
             left_out += 1;
@@ -107,6 +127,12 @@ fn unquote(cell: &str) -> String {
 mod tests {
     use super::*;
 
+    const STRAIN_TO_20_PERCENT: Range = Range {
+        low: 0.0,
+        high: 0.2,
+        low_inclusive: false,
+    };
+
     fn percent() -> Columns {
         Columns {
             strain: "Strain".into(),
@@ -119,7 +145,8 @@ mod tests {
     #[test]
     fn columns_by_name_scaled_sorted_and_out_of_range_points_left_out() {
         let text = "\"Strain\",\"other\",\"ta\"\n12.5,9,2\n-3,9,0\n\n5,9,1\n25,9,4\n0,9,3\n";
-        let curve = parse_curve(text, Path::new("d.csv"), &percent(), 0.2).unwrap();
+        let curve =
+            parse_curve(text, Path::new("d.csv"), &percent(), STRAIN_TO_20_PERCENT).unwrap();
         assert_eq!(curve.strain, vec![0.05, 0.125]);
         assert_eq!(curve.stress, vec![7000.0, 14000.0]);
         assert_eq!(curve.left_out, 3);
@@ -127,16 +154,21 @@ mod tests {
 
     #[test]
     fn errors_name_the_file_line_and_column() {
-        let missing = parse_curve("x,y\n1,2\n", Path::new("d.csv"), &percent(), 0.2)
-            .unwrap_err()
-            .to_string();
+        let missing = parse_curve(
+            "x,y\n1,2\n",
+            Path::new("d.csv"),
+            &percent(),
+            STRAIN_TO_20_PERCENT,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(missing.contains("d.csv") && missing.contains("no column 'Strain'"));
         assert!(missing.contains("--strain-column"), "{missing}");
         let bad = parse_curve(
             "Strain,ta\n1,2\n3,abc\n",
             Path::new("d.csv"),
             &percent(),
-            0.2,
+            STRAIN_TO_20_PERCENT,
         )
         .unwrap_err()
         .to_string();

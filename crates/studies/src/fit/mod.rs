@@ -1,12 +1,14 @@
-//! `musclefem fit`: least-squares calibration of Hill parameters to a measured engineering
-//! stress–strain curve through the elongation test (seed §2.2: the paper calibrated D, b,
-//! c, d, k_c and k_e by hand-run parametric studies). Writes `fit.csv` (fitted values,
-//! standard errors and 95 % confidence intervals from the Jacobian), `fit_curve.csv`
-//! (measured and fitted stress at the measured strains), `fit.png` (data against the
-//! start and fitted curves) and `fit.txt` (the residual and how the solver stopped).
+//! `musclefem fit`: least-squares calibration of material parameters to a measured curve:
+//! the engineering stress–strain curve of the elongation test (Hill parameters; seed
+//! §2.2: the paper calibrated D, b, c, d, k_c and k_e by hand-run parametric studies), or
+//! one history column of a scene against another (`--scene FILE --x COLUMN --y COLUMN`,
+//! the parameters of the scene's materials). Writes `fit.csv` (fitted values, standard
+//! errors and 95 % confidence intervals from the Jacobian), `fit_curve.csv` (measured and
+//! fitted values at the measured abscissae), `fit.png` (data against the start and fitted
+//! curves) and `fit.txt` (the residual and how the solver stopped).
 //!
 //! - [`data`]: reading the measured curve;
-//! - [`model`]: the elongation test as a function of the fitted parameters;
+//! - [`model`]: the elongation test or the scene as a function of the fitted parameters;
 //! - [`levenberg_marquardt`]: the bounded least-squares solver.
 
 pub mod data;
@@ -32,9 +34,10 @@ use crate::elongation::options::TestOptions;
 use musclefem_core::mesh::generate::SpecimenShape;
 
 use crate::elongation::protocol::{Activation, PULL_ELONGATION};
-use data::{Columns, read_curve};
+use crate::scene_study::SceneStudy;
+use data::{Columns, Range, read_curve};
 use levenberg_marquardt::{Settings, Solution, minimise};
-use model::ElongationModel;
+use model::{ElongationModel, FitModel, SceneModel};
 
 /// Two-sided 95 % quantile of the normal distribution: the confidence intervals are the
 /// asymptotic ones, fitted value ± 1.96 standard errors.
@@ -47,28 +50,50 @@ pub struct FitArgs {
     #[arg(long, value_name = "CURVE.csv")]
     pub data: PathBuf,
     /// The elongation test the data come from.
-    #[arg(long, value_enum, default_value = "passive")]
+    #[arg(long, value_enum, default_value = "passive", conflicts_with = "scene")]
     pub test: Activation,
-    /// The Hill parameters to fit, comma-separated (e.g. c,A); the others keep Table 1.
+    /// A scene instead of an elongation test: the fit runs it with trial values of the
+    /// parameters of its materials and compares its history column --y against --x with
+    /// the data (the specimen and solver options below do not apply).
+    #[arg(long, value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// With --scene: the history column of the abscissa (it must increase along the run).
+    #[arg(
+        long,
+        value_name = "COLUMN",
+        default_value = "time_s",
+        requires = "scene"
+    )]
+    pub x: String,
+    /// With --scene: the history column fitted to the data, e.g. reaction_block.x1.x_n.
+    #[arg(long, value_name = "COLUMN", requires = "scene")]
+    pub y: Option<String>,
+    /// The parameters to fit, comma-separated (e.g. c,A): Hill parameters for an
+    /// elongation test (the others keep Table 1); for a scene, parameters of its one
+    /// material or MATERIAL.NAME (the others keep the scene's values).
     #[arg(long, value_name = "NAME,...", value_delimiter = ',', required = true)]
     pub params: Vec<String>,
-    /// Start value of a fitted parameter [default: Table 1]; repeatable.
+    /// Start value of a fitted parameter [default: the scene's value, else Table 1 or the
+    /// model's default]; repeatable.
     #[arg(long = "start", value_name = "NAME=VALUE")]
     pub starts: Vec<String>,
     /// Bounds of a fitted parameter [default: its valid range]; repeatable.
     #[arg(long = "bound", value_name = "NAME=LO:HI")]
     pub bounds: Vec<String>,
-    /// Header of the strain column.
-    #[arg(long, value_name = "NAME", default_value = "engineering_strain")]
-    pub strain_column: String,
-    /// Header of the stress column.
-    #[arg(long, value_name = "NAME", default_value = "engineering_stress_pa")]
-    pub stress_column: String,
-    /// Engineering strain [1] = strain column × this (0.01 for percent).
+    /// Header of the data's strain column [default: engineering_strain; with --scene the
+    /// --x name].
+    #[arg(long, value_name = "NAME")]
+    pub strain_column: Option<String>,
+    /// Header of the data's stress column [default: engineering_stress_pa; with --scene the
+    /// --y name].
+    #[arg(long, value_name = "NAME")]
+    pub stress_column: Option<String>,
+    /// Engineering strain [1] (with --scene: the --x column's unit) = strain column × this
+    /// (0.01 for percent).
     #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
     pub strain_scale: f64,
-    /// Engineering stress [Pa] = stress column × this (e.g. 7000 for percent of a
-    /// 700 kPa maximum isometric stress).
+    /// Engineering stress [Pa] (with --scene: the --y column's unit) = stress column × this
+    /// (e.g. 7000 for percent of a 700 kPa maximum isometric stress).
     #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
     pub stress_scale: f64,
     #[command(flatten)]
@@ -89,8 +114,31 @@ struct Unknown {
     upper: f64,
 }
 
+/// What the fit runs and how its curve is named and drawn.
+enum Base {
+    Elongation(Box<crate::elongation::ElongationTest>),
+    Scene(SceneStudy),
+}
+
 pub fn fit(args: &FitArgs) -> Result<()> {
-    let unknowns = unknowns(args)?;
+    let base = match &args.scene {
+        Some(path) => {
+            crate::sweep::check_no_test_options(&args.options)?;
+            let study = SceneStudy::load(path)?;
+            let y = args.y.as_deref().context(
+                "--scene: name the history column to fit with --y, e.g. --y reaction_block.x1.x_n",
+            )?;
+            study.check_column(&args.x, "--x")?;
+            study.check_column(y, "--y")?;
+            Base::Scene(study)
+        }
+        None => {
+            let test = args.options.test(args.test, BTreeMap::new());
+            crate::elongation::setup::check_time_step(&test)?;
+            Base::Elongation(Box::new(test))
+        }
+    };
+    let unknowns = unknowns(args, &base)?;
     let names: Vec<String> = unknowns.iter().map(|u| u.name.clone()).collect();
     for (flag, scale) in [
         ("--strain-scale", args.strain_scale),
@@ -100,50 +148,77 @@ pub fn fit(args: &FitArgs) -> Result<()> {
             bail!("{flag} {scale}: must be a finite, non-zero factor");
         }
     }
+    let y_column = args.y.clone().unwrap_or_default();
+    let (default_x, default_y) = match &base {
+        Base::Elongation(_) => ("engineering_strain", "engineering_stress_pa"),
+        Base::Scene(_) => (args.x.as_str(), y_column.as_str()),
+    };
     let columns = Columns {
-        strain: args.strain_column.clone(),
-        stress: args.stress_column.clone(),
+        strain: args.strain_column.clone().unwrap_or(default_x.to_string()),
+        stress: args.stress_column.clone().unwrap_or(default_y.to_string()),
         strain_scale: args.strain_scale,
         stress_scale: args.stress_scale,
     };
-    // Both specimens are 50 mm long: the pull ends at 20 % strain.
-    let max_strain = PULL_ELONGATION / SpecimenShape::paper_fusiform().length();
-    let measured = read_curve(&args.data, &columns, max_strain)?;
+    let model = match &base {
+        Base::Elongation(test) => FitModel::Elongation(ElongationModel {
+            base: test,
+            names: &names,
+        }),
+        Base::Scene(study) => FitModel::Scene(SceneModel {
+            study,
+            names: &names,
+            x: &args.x,
+            y: &y_column,
+        }),
+    };
+    let start: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
+    let (view, range) = match &base {
+        // Both specimens are 50 mm long: the pull ends at 20 % strain.
+        Base::Elongation(_) => (
+            View::elongation(args.test, &args.options),
+            Range {
+                low: 0.0,
+                high: PULL_ELONGATION / SpecimenShape::paper_fusiform().length(),
+                low_inclusive: false,
+            },
+        ),
+        // The data within the start run's abscissae.
+        Base::Scene(study) => {
+            let curve = model.curve(&start).context("the start values' run")?;
+            let first = curve.first().map_or(0.0, |p| p.0);
+            let last = curve.last().map_or(0.0, |p| p.0);
+            let range = Range {
+                low: first,
+                high: last,
+                low_inclusive: true,
+            };
+            (View::scene(study, &args.x, &y_column), range)
+        }
+    };
+    let measured = read_curve(&args.data, &columns, range)?;
+    let within = view.range_text(range);
     if measured.strain.len() <= unknowns.len() {
         bail!(
-            "{}: {} points within the test's 0 < strain ≤ {:.0} % ({} left out), not more than \
-             the {} fitted parameters",
+            "{}: {} points within {within} ({} left out), not more than the {} fitted parameters",
             args.data.display(),
             measured.strain.len(),
-            100.0 * max_strain,
             measured.left_out,
             unknowns.len()
         );
     }
     let outputs = Outputs::new(args)?;
-
-    let base = args.options.test(args.test, BTreeMap::new());
-    crate::elongation::setup::check_time_step(&base)?;
-    let model = ElongationModel {
-        base: &base,
-        names: &names,
-    };
     println!(
-        "fitting {} to {} points of {} ({} outside 0 < strain ≤ {:.0} % left out), {} elongation \
-         ({})",
+        "fitting {} to {} points of {} ({} outside {within} left out), {}",
         names.join(", "),
         measured.strain.len(),
         args.data.display(),
         measured.left_out,
-        100.0 * max_strain,
-        args.test.name(),
-        args.options.describe()
+        view.what,
     );
     let data = DVector::from_vec(measured.stress.clone());
     let residuals = |x: &[f64]| -> Result<DVector<f64>> {
-        Ok(DVector::from_vec(model.stresses(x, &measured.strain)?) - &data)
+        Ok(DVector::from_vec(model.predict(x, &measured.strain)?) - &data)
     };
-    let start: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
     let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
     let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
     let bar = spinner();
@@ -157,8 +232,9 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         &Settings::default(),
         &mut |iteration, cost| {
             bar.set_message(format!(
-                "iteration {iteration}: RMS residual {:.4} kPa",
-                1e-3 * (2.0 * cost / points).sqrt()
+                "iteration {iteration}: RMS residual {:.4e} {}",
+                (2.0 * cost / points).sqrt(),
+                view.y_unit
             ));
         },
     )?;
@@ -171,16 +247,15 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         unknowns: &unknowns,
         solution: &solution,
         measured_stress: &measured.stress,
+        unit: view.y_unit,
+        quantity: &view.y_quantity,
     };
     let summary = format!(
-        "data = {}\npoints = {} (left out: {} outside 0 < strain ≤ {:.0} %)\ntest = {} elongation ({})\n{}\
-         time = {:.1} s\n",
+        "data = {}\npoints = {} (left out: {} outside {within})\n{}\n{}time = {:.1} s\n",
         args.data.display(),
         measured.strain.len(),
         measured.left_out,
-        100.0 * max_strain,
-        args.test.name(),
-        args.options.describe(),
+        view.summary_line,
         report.text(),
         elapsed.as_secs_f64()
     );
@@ -192,14 +267,14 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         .map(|(y, r)| y + r)
         .collect();
     let curve_csv = format_table(
-        "engineering_strain,measured_stress_pa,fitted_stress_pa",
+        &view.curve_header,
         (0..measured.strain.len())
             .map(|i| [measured.strain[i], measured.stress[i], fitted_stress[i]]),
     );
     let mut panel = Panel::new(
         format!(
-            "{} elongation: {}",
-            args.test.name(),
+            "{}: {}",
+            view.title,
             names
                 .iter()
                 .zip(&solution.x)
@@ -207,8 +282,8 @@ pub fn fit(args: &FitArgs) -> Result<()> {
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-        "engineering strain [%]",
-        "engineering stress [kPa]",
+        &view.x_label,
+        &view.y_label,
     )
     .with_legend(LegendPosition::UpperLeft)
     .with_series(
@@ -218,7 +293,7 @@ pub fn fit(args: &FitArgs) -> Result<()> {
                 .strain
                 .iter()
                 .zip(&measured.stress)
-                .map(|(e, s)| (100.0 * e, 1e-3 * s)),
+                .map(|(e, s)| (view.x_scale * e, view.y_scale * s)),
         )
         .with_style(SeriesStyle::Dots),
     );
@@ -227,41 +302,156 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         panel = panel.with_series(Series::new(
             label,
             curve
-                .stretching()
                 .iter()
-                .map(|p| (100.0 * p.strain, 1e-3 * p.stress)),
+                .map(|&(x, y)| (view.x_scale * x, view.y_scale * y)),
         ));
     }
     let figure = Figure::new("musclefem fit").with_panel(panel);
     outputs.write(report.csv(), curve_csv, summary, &figure)
 }
 
-/// The fitted parameters with their starts and bounds, checked against the Hill
-/// material's parameter table.
-fn unknowns(args: &FitArgs) -> Result<Vec<Unknown>> {
+/// How a fit's curve is described, tabulated and drawn.
+struct View {
+    /// The terminal's description of the base, e.g. "passive elongation (fusiform, …)".
+    what: String,
+    /// fit.txt's line on the base.
+    summary_line: String,
+    /// "engineering strain" or the --x column, for the range of the data kept.
+    x_name: String,
+    /// The range's scale and unit on the terminal: (100, "%") for strain.
+    x_range_scale: f64,
+    x_range_unit: &'static str,
+    curve_header: String,
+    title: String,
+    x_label: String,
+    y_label: String,
+    /// Plotted value = value [SI] × scale.
+    x_scale: f64,
+    y_scale: f64,
+    /// The unit of y and of the residual [SI].
+    y_unit: &'static str,
+    /// "stress" or the --y column, in fit.txt.
+    y_quantity: String,
+}
+
+impl View {
+    fn elongation(test: Activation, options: &TestOptions) -> Self {
+        View {
+            what: format!("{} elongation ({})", test.name(), options.describe()),
+            summary_line: format!("test = {} elongation ({})", test.name(), options.describe()),
+            x_name: "strain".into(),
+            x_range_scale: 100.0,
+            x_range_unit: " %",
+            curve_header: "engineering_strain,measured_stress_pa,fitted_stress_pa".into(),
+            title: format!("{} elongation", test.name()),
+            x_label: "engineering strain [%]".into(),
+            y_label: "engineering stress [kPa]".into(),
+            x_scale: 100.0,
+            y_scale: 1e-3,
+            y_unit: "Pa",
+            y_quantity: "stress".into(),
+        }
+    }
+
+    fn scene(study: &SceneStudy, x: &str, y: &str) -> Self {
+        let name = study.path().display().to_string();
+        View {
+            what: format!("scene {name} ({y} against {x})"),
+            summary_line: format!("scene = {name}\nx = {x}\ny = {y}"),
+            x_name: x.to_string(),
+            x_range_scale: 1.0,
+            x_range_unit: "",
+            curve_header: format!("{x},measured_{y},fitted_{y}"),
+            title: format!("scene {name}"),
+            x_label: x.to_string(),
+            y_label: y.to_string(),
+            x_scale: 1.0,
+            y_scale: 1.0,
+            y_unit: unit_of(y),
+            y_quantity: y.to_string(),
+        }
+    }
+
+    /// "0 < strain ≤ 20 %" or "0.1 ≤ time_s ≤ 1".
+    fn range_text(&self, range: Range) -> String {
+        let below = if range.low_inclusive { "≤" } else { "<" };
+        if self.x_range_unit == " %" {
+            format!(
+                "{:.0} {below} {} ≤ {:.0} %",
+                self.x_range_scale * range.low,
+                self.x_name,
+                self.x_range_scale * range.high
+            )
+        } else {
+            format!(
+                "{} {below} {} ≤ {}{}",
+                self.x_range_scale * range.low,
+                self.x_name,
+                self.x_range_scale * range.high,
+                self.x_range_unit
+            )
+        }
+    }
+}
+
+/// The SI unit a history column's name ends with (see `musclefem_io::output::history`).
+fn unit_of(column: &str) -> &'static str {
+    [
+        ("_n_m", "N m"),
+        ("_n", "N"),
+        ("_j", "J"),
+        ("_m2", "m²"),
+        ("_s", "s"),
+        ("_pa", "Pa"),
+    ]
+    .iter()
+    .find(|(suffix, _)| column.ends_with(suffix))
+    .map_or("", |(_, unit)| unit)
+}
+
+/// The fitted parameters with their starts and bounds, checked against the parameter
+/// table of the Hill material (elongation) or of the scene's material.
+fn unknowns(args: &FitArgs, base: &Base) -> Result<Vec<Unknown>> {
     let hill = MaterialLibrary::with_builtins().info("hill")?;
+    // The table entry of a fitted name and the start it has unless --start says otherwise.
+    let lookup = |name: &str| -> Result<(ParameterSpec, Option<f64>)> {
+        match base {
+            Base::Elongation(_) => {
+                if name == "n2" || name == "t0" {
+                    bail!(
+                        "--params {name}: the test sets the activation (passive n2 = 0, active n2 = 1)"
+                    );
+                }
+                let Some(spec) = hill.parameters.iter().find(|p| p.name == name) else {
+                    let known: Vec<&str> =
+                        hill.parameters.iter().map(|p| p.name.as_ref()).collect();
+                    bail!(
+                        "--params {name}: the Hill muscle has no parameter '{name}' (it has {})",
+                        known.join(", ")
+                    );
+                };
+                Ok((spec.clone(), spec.default))
+            }
+            Base::Scene(study) => {
+                let (spec, given) = study.parameter(name).context("--params")?;
+                let start = given.or(spec.default);
+                Ok((spec, start))
+            }
+        }
+    };
     let mut starts = name_values(&args.starts, "--start")?;
     let mut bounds = name_values(&args.bounds, "--bound")?;
     let mut unknowns: Vec<Unknown> = Vec::new();
     for name in &args.params {
         let name = name.trim();
-        if name == "n2" || name == "t0" {
-            bail!("--params {name}: the test sets the activation (passive n2 = 0, active n2 = 1)");
-        }
-        let Some(spec) = hill.parameters.iter().find(|p| p.name == name) else {
-            let known: Vec<&str> = hill.parameters.iter().map(|p| p.name.as_ref()).collect();
-            bail!(
-                "--params {name}: the Hill muscle has no parameter '{name}' (it has {})",
-                known.join(", ")
-            );
-        };
+        let (spec, default_start) = lookup(name)?;
+        let spec = &spec;
         if unknowns.iter().any(|u| u.name == name) {
             bail!("--params: '{name}' is given more than once");
         }
         let start = match starts.remove(name) {
             Some(text) => parse_number(&text, "--start", name)?,
-            None => spec
-                .default
+            None => default_start
                 .with_context(|| format!("--params {name}: give --start {name}=VALUE"))?,
         };
         let (lower, upper) = match bounds.remove(name) {
@@ -352,6 +542,10 @@ struct Report<'a> {
     unknowns: &'a [Unknown],
     solution: &'a Solution,
     measured_stress: &'a [f64],
+    /// The unit of the fitted values (of the residual).
+    unit: &'a str,
+    /// What they are, e.g. "stress".
+    quantity: &'a str,
 }
 
 impl Report<'_> {
@@ -402,9 +596,11 @@ impl Report<'_> {
             .copied()
             .fold(0.0, |a: f64, y| a.max(y.abs()));
         text.push_str(&format!(
-            "RMS residual = {rms:.4e} Pa ({:.3} % of the largest measured stress), R² = {r2:.5}\n\
+            "RMS residual = {rms:.4e} {} ({:.3} % of the largest measured {}), R² = {r2:.5}\n\
              iterations = {}, runs = {}, stop = {:?}\n",
+            self.unit,
             100.0 * rms / largest,
+            self.quantity,
             self.solution.iterations,
             self.solution.evaluations,
             self.solution.stop

@@ -5,7 +5,7 @@
 //! 10 % and 20 % strain, or the scene's history columns) to each parameter goes to
 //! `DIR/sensitivity.csv` and `DIR/sensitivity.png`.
 //!
-//! - [`study`]: what is varied and measured, [`scene_study`] for a scene;
+//! - [`study`]: what is varied and measured (a scene through [`crate::scene_study`]);
 //! - [`vary`]: the `--vary` axes;
 //! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs);
 //! - [`run`]: one run and its [`run::Outcome`] (a failure is an outcome, not an abort);
@@ -16,7 +16,6 @@
 pub mod grid;
 pub mod latin_hypercube;
 pub mod run;
-pub mod scene_study;
 pub mod sensitivity;
 pub mod study;
 pub mod table;
@@ -40,8 +39,8 @@ use musclefem_io::plot::stage_bar_png;
 
 use crate::elongation::Activation;
 use crate::elongation::options::TestOptions;
+use crate::scene_study::SceneStudy;
 use run::Outcome;
-use scene_study::SceneStudy;
 use study::Study;
 use table::{Columns, Record, SWEEP_CSV};
 use vary::Axis;
@@ -51,7 +50,12 @@ pub struct SweepArgs {
     /// An elongation test of `musclefem elongate` as the base: `passive` or `active`
     /// (with the specimen and solver options below); its outputs are the engineering
     /// stress at 10 % and 20 % strain.
-    #[arg(long, value_name = "TEST", required_unless_present = "scene", conflicts_with = "scene")]
+    #[arg(
+        long,
+        value_name = "TEST",
+        required_unless_present = "scene",
+        conflicts_with = "scene"
+    )]
     pub base: Option<String>,
     /// A scene file as the base: each run is the scene with the varied parameters of its
     /// materials changed (the specimen and solver options below do not apply).
@@ -121,7 +125,7 @@ impl Plan {
         let study = match (&args.base, &args.scene) {
             (_, Some(scene)) => {
                 check_no_test_options(&args.options)?;
-                Study::Scene(SceneStudy::load(scene, &args.outputs)?)
+                Study::Scene(SceneStudy::load(scene)?.with_outputs(&args.outputs)?)
             }
             (Some(base), None) if !args.outputs.is_empty() => bail!(
                 "--base {base} --output {}: the elongation tests report the stress at 10 % and \
@@ -247,14 +251,8 @@ impl Plan {
 
 /// The specimen and solver options shape an elongation test: with a scene, whose file
 /// says all that, they are refused rather than ignored.
-fn check_no_test_options(options: &TestOptions) -> Result<()> {
-    #[derive(clap::Parser)]
-    struct Defaults {
-        #[command(flatten)]
-        options: TestOptions,
-    }
-    let defaults = <Defaults as clap::Parser>::parse_from(["sweep"]).options;
-    if options.describe() != defaults.describe() || options.time_step.is_some() {
+pub(crate) fn check_no_test_options(options: &TestOptions) -> Result<()> {
+    if !options.are_defaults() {
         bail!(
             "--scene: the elongation test's options (--solver, --element, --mesh-size, --shape, \
              --grips, --time-step) do not apply to a scene; set them in the scene file"

@@ -2,14 +2,14 @@
 //! the Hill parameters of its specimen, the stress at 10 % and 20 % strain) or a scene
 //! file (`--scene FILE`, its materials' parameters, columns of its history).
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 
 use musclefem_materials::MaterialLibrary;
 
 use super::run::{Outcome, run_elongation_sample, timed};
-use super::scene_study::{HistoryOutput, SceneStudy};
 use super::vary::Axis;
 use crate::elongation::{Activation, ElongationTest};
+use crate::scene_study::{HistoryOutput, SceneStudy};
 
 /// The base of a sweep.
 pub enum Study {
@@ -70,7 +70,9 @@ impl Study {
     pub fn check_names(&self, axes: &[Axis]) -> Result<()> {
         match self {
             Study::Elongation { .. } => check_hill_names(axes),
-            Study::Scene(scene) => scene.check_names(axes),
+            Study::Scene(scene) => scene
+                .check_names(axes.iter().map(|a| a.name.as_str()))
+                .context("--vary"),
         }
     }
 

@@ -68,12 +68,20 @@ pub fn format_table(columns: &Columns, records: &[Record]) -> String {
                 steps,
                 outputs,
             } => {
-                cells.extend(["ok".to_string(), format!("{wall_time:.3}"), steps.to_string()]);
+                cells.extend([
+                    "ok".to_string(),
+                    format!("{wall_time:.3}"),
+                    steps.to_string(),
+                ]);
                 cells.extend(outputs.iter().map(|&x| optional(x)));
                 cells.push(String::new());
             }
             Outcome::Failed { wall_time, error } => {
-                cells.extend(["failed".to_string(), format!("{wall_time:.3}"), String::new()]);
+                cells.extend([
+                    "failed".to_string(),
+                    format!("{wall_time:.3}"),
+                    String::new(),
+                ]);
                 cells.extend(columns.outputs.iter().map(|_| String::new()));
                 cells.push(quote(error));
             }

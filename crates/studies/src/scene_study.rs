@@ -1,14 +1,16 @@
-//! A scene file as the base of a sweep (`musclefem sweep --scene FILE`): each run is the
-//! scene with some of its material parameters changed, run in this process without
-//! output files, and summarised by columns of the history it would have written.
+//! A scene file as the base of a study (`musclefem sweep --scene FILE`, `musclefem fit
+//! --scene FILE`): each run is the scene with some of its material parameters changed,
+//! run in this process without output files, and read through the history it would
+//! have written.
 //!
 //! - A varied parameter is `KEY` when the scene has one material, `MATERIAL.KEY`
 //!   otherwise (`MATERIAL` the scene's local name of the material, `KEY` a parameter of
 //!   its model as `musclefem materials` lists it).
-//! - An output ([`HistoryOutput`]) is a column of the scene's `history.csv`, read at the
-//!   end of the run (`COLUMN`) or at a time between two recorded rows, linearly
+//! - A sweep's output ([`HistoryOutput`]) is a column of the scene's `history.csv`, read
+//!   at the end of the run (`COLUMN`) or at a time between two recorded rows, linearly
 //!   (`COLUMN@TIME`, TIME in seconds). Without `--output`, every reaction column at the
 //!   end.
+//! - A fit reads one history column against another ([`SceneHistory::column`]).
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -17,9 +19,7 @@ use anyhow::{Context, Result, bail};
 
 use musclefem_core::solver::{Observer, Problem, Record, Snapshot, run};
 use musclefem_io::scene::{Locator, SceneFile, build_model, read_scene_file};
-use musclefem_materials::MaterialLibrary;
-
-use super::vary::Axis;
+use musclefem_materials::{MaterialLibrary, ParameterSpec};
 
 /// A column of the scene's history, at the end of the run or at a time.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,74 +80,89 @@ impl HistoryOutput {
     }
 }
 
-/// The scene a sweep varies, its outputs and the parameters it may vary.
+/// The scene a study varies, and the outputs a sweep reads from its runs.
 pub struct SceneStudy {
     path: PathBuf,
     scene: SceneFile,
     locator: Locator,
+    /// The header of the scene's history, split.
+    columns: Vec<String>,
+    end_time: f64,
     outputs: Vec<HistoryOutput>,
 }
 
 impl SceneStudy {
-    /// Read and check the scene at `path` (as `musclefem check` does) and the requested
-    /// `outputs` (`--output` tokens; none: every reaction column at the end).
-    pub fn load(path: &Path, outputs: &[String]) -> Result<Self> {
+    /// Read and check the scene at `path` (as `musclefem check` does), with every reaction
+    /// column at the end as its outputs (none if it has no reaction).
+    pub fn load(path: &Path) -> Result<Self> {
         let (scene, locator) = read_scene_file(path)?;
         let model = build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())?;
         let header = model.history_columns().header(&model.analysis);
-        let columns: Vec<&str> = header.split(',').collect();
-        let outputs: Vec<HistoryOutput> = if outputs.is_empty() {
-            columns
-                .iter()
-                .filter(|c| c.starts_with("reaction_"))
-                .map(|c| HistoryOutput {
-                    column: c.to_string(),
-                    at: None,
-                })
-                .collect()
-        } else {
-            outputs
-                .iter()
-                .map(|t| HistoryOutput::parse(t))
-                .collect::<Result<_>>()?
-        };
-        if outputs.is_empty() {
-            bail!(
-                "{}: the scene has no reaction to report; name a history column with --output \
-                 (its columns: {})",
-                path.display(),
-                columns.join(", ")
-            );
-        }
-        for output in &outputs {
-            if !columns.contains(&output.column.as_str()) {
-                bail!(
-                    "--output {}: {} writes no history column '{}' (its columns: {})",
-                    output.name(),
-                    path.display(),
-                    output.column,
-                    columns.join(", ")
-                );
-            }
-            if let Some(at) = output.at {
-                let end = model.analysis.end_time();
-                if at > end {
-                    bail!(
-                        "--output {}: the scene ends at {end} s, before {at} s",
-                        output.column
-                    );
-                }
-            }
-        }
+        let columns: Vec<String> = header.split(',').map(str::to_string).collect();
+        let outputs = columns
+            .iter()
+            .filter(|c| c.starts_with("reaction_"))
+            .map(|c| HistoryOutput {
+                column: c.clone(),
+                at: None,
+            })
+            .collect();
         Ok(Self {
             path: path.to_path_buf(),
             scene,
             locator,
+            columns,
+            end_time: model.analysis.end_time(),
             outputs,
         })
     }
 
-    /// The outputs, in the order of their columns in `sweep.csv`.
+    /// The study with the outputs `tokens` (`--output` values; none: the default of
+    /// [`load`](Self::load)), each checked against the history's columns and the run's end.
+    pub fn with_outputs(mut self, tokens: &[String]) -> Result<Self> {
+        if !tokens.is_empty() {
+            self.outputs = tokens
+                .iter()
+                .map(|t| HistoryOutput::parse(t))
+                .collect::<Result<_>>()?;
+        }
+        if self.outputs.is_empty() {
+            bail!(
+                "{}: the scene has no reaction to report; name a history column with --output \
+                 (its columns: {})",
+                self.path.display(),
+                self.columns.join(", ")
+            );
+        }
+        for output in &self.outputs {
+            self.check_column(&output.column, "--output")?;
+            if let Some(at) = output.at {
+                if at > self.end_time {
+                    bail!(
+                        "--output {}: the scene ends at {} s, before {at} s",
+                        output.column,
+                        self.end_time
+                    );
+                }
+            }
+        }
+        Ok(self)
+    }
+
+    /// An error unless the scene's history has the column `name` (`flag` names the option
+    /// that asked for it).
+    pub fn check_column(&self, name: &str, flag: &str) -> Result<()> {
+        if !self.columns.iter().any(|c| c == name) {
+            bail!(
+                "{flag} {name}: {} writes no history column '{name}' (its columns: {})",
+                self.path.display(),
+                self.columns.join(", ")
+            );
+        }
+        Ok(())
+    }
+
+    /// The sweep's outputs, in the order of their columns in `sweep.csv`.
     pub fn outputs(&self) -> &[HistoryOutput] {
         &self.outputs
     }
@@ -157,63 +172,80 @@ impl SceneStudy {
         &self.path
     }
 
-    /// Every varied name must name one parameter of one of the scene's materials.
-    pub fn check_names(&self, axes: &[Axis]) -> Result<()> {
-        for axis in axes {
-            self.resolve(&axis.name)?;
+    /// When the scene's step ends [s].
+    pub fn end_time(&self) -> f64 {
+        self.end_time
+    }
+
+    /// Every name must name one parameter of one of the scene's materials.
+    pub fn check_names<'a>(&self, names: impl IntoIterator<Item = &'a str>) -> Result<()> {
+        for name in names {
+            self.parameter(name)?;
         }
         Ok(())
     }
 
-    /// (index of the material entry, parameter key) of a varied name.
-    fn resolve(&self, name: &str) -> Result<(usize, String)> {
-        let materials = &self.scene.materials;
-        let local_names: Vec<&str> = materials.iter().map(|m| m.name.get_ref().as_str()).collect();
-        let (index, key) = match name.split_once('.') {
-            Some((material, key)) => {
-                let index = local_names
-                    .iter()
-                    .position(|&n| n == material)
-                    .with_context(|| {
-                        format!(
-                            "--vary {name}: {} has no material '{material}' (it has {})",
-                            self.path.display(),
-                            local_names.join(", ")
-                        )
-                    })?;
-                (index, key)
-            }
-            None if materials.len() == 1 => (0, name),
-            None => bail!(
-                "--vary {name}: {} has {} materials ({}); name the one to vary as \
-                 MATERIAL.{name}",
-                self.path.display(),
-                materials.len(),
-                local_names.join(", ")
-            ),
-        };
-        let entry = &materials[index];
+    /// The parameter a name stands for (see the module documentation): its table entry,
+    /// and the value the scene gives it (`None`: the model's default).
+    pub fn parameter(&self, name: &str) -> Result<(ParameterSpec, Option<f64>)> {
+        let (index, key) = self.resolve(name)?;
+        let entry = &self.scene.materials[index];
         let mut library = MaterialLibrary::with_builtins();
         if let Some(plugin) = &entry.plugin {
             let directory = self.path.parent().unwrap_or(Path::new("."));
             library.load_plugin(&directory.join(plugin.get_ref()))?;
         }
         let info = library.info(entry.model.get_ref())?;
-        if !info.parameters.iter().any(|p| p.name == key) {
+        let Some(spec) = info.parameters.into_iter().find(|p| p.name == key) else {
+            let info = library.info(entry.model.get_ref())?;
             let known: Vec<&str> = info.parameters.iter().map(|p| p.name.as_ref()).collect();
             bail!(
-                "--vary {name}: material '{}' ({}) has no parameter '{key}' (it has {})",
+                "{name}: material '{}' ({}) has no parameter '{key}' (it has {})",
                 entry.name.get_ref(),
                 info.name,
                 known.join(", ")
             );
-        }
-        Ok((index, key.to_string()))
+        };
+        let given = entry
+            .parameters
+            .as_ref()
+            .and_then(|p| p.get_ref().get(&key).copied());
+        Ok((spec, given))
     }
 
-    /// The scene with `names[i] = values[i]`, run to its end: the run's steps and the
-    /// value of each output.
-    pub fn run(&self, names: &[String], values: &[f64]) -> Result<(usize, Vec<Option<f64>>)> {
+    /// (index of the material entry, parameter key) of a name.
+    fn resolve(&self, name: &str) -> Result<(usize, String)> {
+        let materials = &self.scene.materials;
+        let local_names: Vec<&str> = materials
+            .iter()
+            .map(|m| m.name.get_ref().as_str())
+            .collect();
+        match name.split_once('.') {
+            Some((material, key)) => {
+                let index = local_names
+                    .iter()
+                    .position(|&n| n == material)
+                    .with_context(|| {
+                        format!(
+                            "{name}: {} has no material '{material}' (it has {})",
+                            self.path.display(),
+                            local_names.join(", ")
+                        )
+                    })?;
+                Ok((index, key.to_string()))
+            }
+            None if materials.len() == 1 => Ok((0, name.to_string())),
+            None => bail!(
+                "{name}: {} has {} materials ({}); name the one meant as MATERIAL.{name}",
+                self.path.display(),
+                materials.len(),
+                local_names.join(", ")
+            ),
+        }
+    }
+
+    /// The scene with `names[i] = values[i]`, run to its end: its history.
+    pub fn history(&self, names: &[String], values: &[f64]) -> Result<SceneHistory> {
         let mut scene = self.scene.clone();
         for (name, &value) in names.iter().zip(values) {
             let (index, key) = self.resolve(name)?;
@@ -221,7 +253,6 @@ impl SceneStudy {
         }
         let model = build_model(&scene, &self.locator, &mut MaterialLibrary::with_builtins())?;
         let columns = model.history_columns();
-        let header = columns.header(&model.analysis);
         let mut history = History {
             columns: &columns,
             path: &self.path,
@@ -239,20 +270,48 @@ impl SceneStudy {
         if let Some(error) = history.error {
             return Err(error.into());
         }
-        let column = |name: &str| -> Vec<f64> {
-            let k = header
+        Ok(SceneHistory {
+            header: columns
+                .header(&model.analysis)
                 .split(',')
-                .position(|c| c == name)
-                .expect("outputs are checked against the header at load");
-            history.rows.iter().map(|row| row[k]).collect()
-        };
-        let times = column("time_s");
+                .map(str::to_string)
+                .collect(),
+            rows: history.rows,
+            steps: outcome.steps(),
+        })
+    }
+
+    /// The scene with `names[i] = values[i]`, run to its end: the run's steps and the
+    /// value of each output.
+    pub fn run(&self, names: &[String], values: &[f64]) -> Result<(usize, Vec<Option<f64>>)> {
+        let history = self.history(names, values)?;
+        let times = history.column("time_s")?;
         let outputs = self
             .outputs
             .iter()
-            .map(|o| o.value(&times, &column(&o.column)))
-            .collect();
-        Ok((outcome.steps(), outputs))
+            .map(|o| Ok(o.value(&times, &history.column(&o.column)?)))
+            .collect::<Result<_>>()?;
+        Ok((history.steps, outputs))
+    }
+}
+
+/// The history of one run of a scene.
+pub struct SceneHistory {
+    pub header: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+    /// Solver steps or increments.
+    pub steps: usize,
+}
+
+impl SceneHistory {
+    /// The values of column `name`, row by row.
+    pub fn column(&self, name: &str) -> Result<Vec<f64>> {
+        let k = self
+            .header
+            .iter()
+            .position(|c| c == name)
+            .with_context(|| format!("the history has no column '{name}'"))?;
+        Ok(self.rows.iter().map(|row| row[k]).collect())
     }
 }
 
@@ -301,11 +360,15 @@ mod tests {
         assert_eq!(mid.name(), "reaction_a_n_at_0.15s");
         approx::assert_relative_eq!(mid.value(&times, &values).unwrap(), 20.0);
         assert_eq!(
-            HistoryOutput::parse("r@0.1").unwrap().value(&times, &values),
+            HistoryOutput::parse("r@0.1")
+                .unwrap()
+                .value(&times, &values),
             Some(10.0)
         );
         assert_eq!(
-            HistoryOutput::parse("r@0.3").unwrap().value(&times, &values),
+            HistoryOutput::parse("r@0.3")
+                .unwrap()
+                .value(&times, &values),
             None
         );
         for (token, expected) in [("@1", "empty"), ("r@-1", "≥ 0"), ("r@x", "seconds")] {
@@ -317,30 +380,33 @@ mod tests {
     #[test]
     fn names_and_columns_are_checked_against_the_scene() {
         let path = example("hill_block_isometric.toml");
-        let study = SceneStudy::load(&path, &[]).unwrap();
+        let study = SceneStudy::load(&path).unwrap();
         // Every reaction at the end by default: the four held faces.
         let names: Vec<String> = study.outputs().iter().map(HistoryOutput::name).collect();
         assert_eq!(names.len(), 4, "{names:?}");
         assert!(names.iter().all(|n| n.starts_with("reaction_block.")));
-        let axis = |name: &str| Axis {
-            name: name.into(),
-            values: vec![1.0],
-        };
-        study.check_names(&[axis("sigma0"), axis("muscle.b")]).unwrap();
+        study.check_names(["sigma0", "muscle.b"]).unwrap();
+        let (spec, given) = study.parameter("n2").unwrap();
+        assert_eq!((spec.name.as_ref(), given), ("n2", Some(1.0)));
+        assert_eq!(study.parameter("b").unwrap().1, None);
         for (name, expected) in [
             ("sigm0", "no parameter 'sigm0'"),
             ("bone.b", "no material 'bone'"),
         ] {
-            let error = study.check_names(&[axis(name)]).unwrap_err().to_string();
+            let error = study.check_names([name]).unwrap_err().to_string();
             assert!(error.contains(expected), "{error}");
         }
-        let error = SceneStudy::load(&path, &["reaction_nothing_n".into()])
+        let error = SceneStudy::load(&path)
+            .unwrap()
+            .with_outputs(&["reaction_nothing_n".into()])
             .err()
             .unwrap()
             .to_string();
         assert!(error.contains("no history column"), "{error}");
         assert!(error.contains("reaction_block.x1.x_n"), "{error}");
-        let late = SceneStudy::load(&path, &["reaction_block.x1.x_n@1".into()])
+        let late = SceneStudy::load(&path)
+            .unwrap()
+            .with_outputs(&["reaction_block.x1.x_n@1".into()])
             .err()
             .unwrap()
             .to_string();
@@ -352,11 +418,10 @@ mod tests {
         // The block of the example held isometric, activated fully: its reaction on x1 is
         // σ_iso × A, σ_iso ≈ σ0 f_L(λ_f) with the fiber a little shorter than optimal as
         // the series element stretches (the example's 692.8 kPa at σ0 = 700 kPa).
-        let study = SceneStudy::load(
-            &example("hill_block_isometric.toml"),
-            &["reaction_block.x1.x_n".into()],
-        )
-        .unwrap();
+        let study = SceneStudy::load(&example("hill_block_isometric.toml"))
+            .unwrap()
+            .with_outputs(&["reaction_block.x1.x_n".into()])
+            .unwrap();
         let area = 5e-3 * 5e-3;
         let names = ["sigma0".to_string()];
         let (_, at_700) = study.run(&names, &[7e5]).unwrap();
