@@ -136,14 +136,14 @@ impl SceneStudy {
         }
         for output in &self.outputs {
             self.check_column(&output.column, "--output")?;
-            if let Some(at) = output.at {
-                if at > self.end_time {
-                    bail!(
-                        "--output {}: the scene ends at {} s, before {at} s",
-                        output.column,
-                        self.end_time
-                    );
-                }
+            if let Some(at) = output.at
+                && at > self.end_time
+            {
+                bail!(
+                    "--output {}: the scene ends at {} s, before {at} s",
+                    output.column,
+                    self.end_time
+                );
             }
         }
         Ok(self)

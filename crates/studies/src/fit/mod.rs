@@ -117,7 +117,7 @@ struct Unknown {
 /// What the fit runs and how its curve is named and drawn.
 enum Base {
     Elongation(Box<crate::elongation::ElongationTest>),
-    Scene(SceneStudy),
+    Scene(Box<SceneStudy>),
 }
 
 pub fn fit(args: &FitArgs) -> Result<()> {
@@ -130,7 +130,7 @@ pub fn fit(args: &FitArgs) -> Result<()> {
             )?;
             study.check_column(&args.x, "--x")?;
             study.check_column(y, "--y")?;
-            Base::Scene(study)
+            Base::Scene(Box::new(study))
         }
         None => {
             let test = args.options.test(args.test, BTreeMap::new());

@@ -125,7 +125,9 @@ impl Plan {
         let study = match (&args.base, &args.scene) {
             (_, Some(scene)) => {
                 check_no_test_options(&args.options)?;
-                Study::Scene(SceneStudy::load(scene)?.with_outputs(&args.outputs)?)
+                Study::Scene(Box::new(
+                    SceneStudy::load(scene)?.with_outputs(&args.outputs)?,
+                ))
             }
             (Some(base), None) if !args.outputs.is_empty() => bail!(
                 "--base {base} --output {}: the elongation tests report the stress at 10 % and \

@@ -21,7 +21,7 @@ pub enum Study {
         options: String,
     },
     /// A scene file.
-    Scene(SceneStudy),
+    Scene(Box<SceneStudy>),
 }
 
 /// One summary output of every run: its column in `sweep.csv` and what it is.
