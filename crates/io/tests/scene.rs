@@ -251,6 +251,99 @@ fn malformed_scenes_name_the_line_and_the_cause() {
     }
 }
 
+/// Settings that passed `check` and failed only in `run` (or not at all), each refused
+/// now by the scene's build with its line (issue: reliability, case 3 and 4).
+#[test]
+fn settings_run_would_refuse_are_refused_when_the_scene_is_built() {
+    let cases = [
+        (
+            "safety factor 0",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { safety_factor = 0.0 }",
+            "s.toml:29:",
+            "safety_factor = 0 must be in (0, 1]",
+        ),
+        (
+            "safety factor NaN",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { safety_factor = nan }",
+            "s.toml:29:",
+            "safety_factor = NaN",
+        ),
+        (
+            "safety factor 5",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { safety_factor = 5.0 }",
+            "s.toml:29:",
+            "safety_factor = 5 must be in (0, 1]",
+        ),
+        (
+            "mass scaling step ≤ 0",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { mass_scaling_time_step = 0.0 }",
+            "s.toml:29:",
+            "must be a positive time",
+        ),
+        (
+            "negative energy tolerance",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { energy_tolerance = -1.0 }",
+            "s.toml:29:",
+            "energy_tolerance = -1 must be a positive fraction",
+        ),
+        (
+            "residual tolerance 0",
+            "duration = 1.0",
+            "duration = 1.0\nimplicit = { residual_tolerance = 0.0 }",
+            "s.toml:29:",
+            "residual_tolerance = 0 must be in (0, 1)",
+        ),
+        (
+            "amplitude twice",
+            "[[amplitudes]]",
+            "[[amplitudes]]\nname = \"ramp\"\npoints = [[0.0, 0.0]]\n\n[[amplitudes]]",
+            "s.toml:20:",
+            "amplitude 'ramp' is defined twice",
+        ),
+        (
+            "three-value knot",
+            "points = [[0.0, 0.0], [1.0, 1.0]]",
+            "points = [[0.0, 0.0], [1.0, 1.0, 2.0]]",
+            "s.toml:17:",
+            "knot 2 has 3 values",
+        ),
+        (
+            "NaN knot",
+            "points = [[0.0, 0.0], [1.0, 1.0]]",
+            "points = [[0.0, nan], [1.0, 1.0]]",
+            "s.toml:17:",
+            "amplitude 'ramp': knot (0.0, NaN) is not finite",
+        ),
+        (
+            "component twice",
+            "components = [\"x\"]",
+            "components = [\"x\", \"x\"]",
+            "s.toml:22:",
+            "component \"x\" is given twice",
+        ),
+        (
+            "a box larger than any machine",
+            "divisions = [2, 2, 2]",
+            "divisions = [1000, 1000, 1000]",
+            "s.toml:13:",
+            "1000000000 elements need at least 2048.0 GB",
+        ),
+    ];
+    for (what, from, to, location, fragment) in cases {
+        assert!(VALID.contains(from), "{what}: the edit does not apply");
+        let message = error_of(&VALID.replacen(from, to, 1));
+        assert!(
+            message.starts_with(location) && message.contains(fragment),
+            "{what}: got \"{message}\", expected {location} … {fragment}"
+        );
+    }
+}
+
 #[test]
 fn a_missing_plugin_and_a_missing_file_are_named() {
     let with_plugin = VALID.replace(

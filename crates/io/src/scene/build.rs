@@ -176,16 +176,26 @@ pub fn build_model(
     // Amplitudes.
     let mut amplitudes: BTreeMap<String, &AmplitudeEntry> = BTreeMap::new();
     for entry in &scene.amplitudes {
-        Amplitude::new(
-            entry
-                .points
-                .get_ref()
-                .iter()
-                .map(|p| (p[0], p[1]))
-                .collect(),
-        )
-        .map_err(|e| at(entry.points.span(), format!("amplitude: {e}")))?;
-        amplitudes.insert(entry.name.get_ref().clone(), entry);
+        let name = entry.name.get_ref();
+        let points = entry.points.get_ref();
+        if let Some(k) = points.iter().position(|p| p.len() != 2) {
+            return Err(at(
+                entry.points.span(),
+                format!(
+                    "amplitude '{name}': knot {} has {} values; a knot is [time, value]",
+                    k + 1,
+                    points[k].len()
+                ),
+            ));
+        }
+        Amplitude::new(points.iter().map(|p| (p[0], p[1])).collect())
+            .map_err(|e| at(entry.points.span(), format!("amplitude '{name}': {}", e.0)))?;
+        if amplitudes.insert(name.clone(), entry).is_some() {
+            return Err(at(
+                entry.name.span(),
+                format!("amplitude '{name}' is defined twice"),
+            ));
+        }
     }
     let scaled = |name: &Option<Spanned<String>>, value: f64| -> Result<Amplitude, SceneError> {
         let knots = match name {
@@ -209,7 +219,7 @@ pub fn build_model(
                     .collect()
             }
         };
-        Amplitude::new(knots).map_err(|e| locator.whole(format!("amplitude: {e}")))
+        Amplitude::new(knots).map_err(|e| locator.whole(e.to_string()))
     };
     let node_set =
         |part: &Spanned<String>, set: &Spanned<String>| -> Result<Vec<u32>, SceneError> {
@@ -255,7 +265,14 @@ pub fn build_model(
                 "no components given".to_string(),
             ));
         }
-        for component in entry.components.get_ref() {
+        let components = entry.components.get_ref();
+        if let Some(k) = (1..components.len()).find(|&k| components[..k].contains(&components[k])) {
+            return Err(at(
+                entry.components.span(),
+                format!("component \"{}\" is given twice", components[k]),
+            ));
+        }
+        for component in components {
             let dof = component_index(component)
                 .ok_or_else(|| at(entry.components.span(), bad_component(component)))?;
             loads.displacements.push(PrescribedDisplacement {
@@ -360,6 +377,46 @@ pub fn build_model(
             ));
         }
     };
+    // Every setting the file gives is checked, whichever solver runs (`run --solver` may
+    // switch it): `check` refuses what `run` would.
+    let in_range = |value: &Option<Spanned<f64>>,
+                    key: &str,
+                    what: &str,
+                    accepts: fn(f64) -> bool|
+     -> Result<(), SceneError> {
+        match value {
+            Some(v) if !accepts(*v.get_ref()) => Err(at(
+                v.span(),
+                format!("{key} = {} must be {what}", v.get_ref()),
+            )),
+            _ => Ok(()),
+        }
+    };
+    let explicit = &step.explicit;
+    in_range(
+        &explicit.safety_factor,
+        "safety_factor",
+        "in (0, 1] (a fraction of the stable time step)",
+        |x| x > 0.0 && x <= 1.0,
+    )?;
+    in_range(
+        &explicit.mass_scaling_time_step,
+        "mass_scaling_time_step",
+        "a positive time [s]",
+        |x| x.is_finite() && x > 0.0,
+    )?;
+    in_range(
+        &explicit.energy_tolerance,
+        "energy_tolerance",
+        "a positive fraction of the largest energy",
+        |x| x.is_finite() && x > 0.0,
+    )?;
+    in_range(
+        &step.implicit.residual_tolerance,
+        "residual_tolerance",
+        "in (0, 1) (relative to the first residual)",
+        |x| x > 0.0 && x < 1.0,
+    )?;
     let analysis = match solver {
         AutoSolver::Explicit => {
             let mut settings = ExplicitSettings::new(duration);

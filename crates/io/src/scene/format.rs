@@ -149,7 +149,8 @@ impl OneOrMany {
 pub struct AmplitudeEntry {
     pub name: Spanned<String>,
     /// (time [s], value) knots with increasing times.
-    pub points: Spanned<Vec<[f64; 2]>>,
+    /// (Read as lists so that a knot of another length is refused with its line.)
+    pub points: Spanned<Vec<Vec<f64>>>,
 }
 
 /// `[[displacements]]`: components of a node set follow value × amplitude(t) [m].

@@ -8,6 +8,7 @@ mod error;
 mod format;
 mod interactions;
 mod locking;
+pub mod memory;
 mod parse;
 mod part_mesh;
 mod solver_choice;

@@ -14,6 +14,7 @@ use musclefem_core::mesh::{ElementRef, ElementShape, Face, Mesh};
 
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{FiberEntry, OneOrMany, PartEntry};
+use super::memory;
 use crate::fiber_csv::read_fibers_csv;
 use crate::mesh_import::read_mesh;
 use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
@@ -184,6 +185,21 @@ fn generate_box(
         ));
     };
     let (size_value, divisions_value) = (*size.get_ref(), *divisions.get_ref());
+    let tets = matches!(
+        entry.element.get_ref().as_str(),
+        "tet4" | "tet4-nodal-average" | "tet10"
+    );
+    let elements = divisions_value
+        .iter()
+        .fold(if tets { 6u64 } else { 1 }, |n, &d| {
+            n.saturating_mul(d as u64)
+        });
+    if let Some(reason) = memory::too_large(elements, memory::available_bytes()) {
+        return Err(locator.error(
+            divisions.span(),
+            format!("divisions {divisions_value:?}: {reason}"),
+        ));
+    }
     let generated = match entry.element.get_ref().as_str() {
         "tet4" | "tet4-nodal-average" => box_of_tets(size_value, divisions_value, TetOrder::Linear),
         "tet10" => box_of_tets(size_value, divisions_value, TetOrder::Quadratic),

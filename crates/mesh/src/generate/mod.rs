@@ -81,7 +81,7 @@ const KUHN_PERMUTATIONS: [[usize; 3]; 6] = [
 /// Errors if a size is not finite and positive, a division is zero, or the ids would not
 /// fit in `u32`.
 pub fn box_of_hexes(size: [f64; 3], divisions: [usize; 3]) -> Result<Mesh, MeshError> {
-    let lattice = Lattice::new("box_of_hexes", size, divisions, 1)?;
+    let lattice = Lattice::new("box_of_hexes", size, divisions, 1, 1)?;
     let mut connectivity = Vec::with_capacity(lattice.cell_count() * 8);
     for [i, j, k] in lattice.cells() {
         for [a, b, c] in ElementShape::Hex8.reference_nodes() {
@@ -111,7 +111,7 @@ pub fn box_of_tets(
         TetOrder::Linear => 1,
         TetOrder::Quadratic => 8,
     };
-    let lattice = Lattice::new("box_of_tets", size, divisions, nodes_per_lattice_node)?;
+    let lattice = Lattice::new("box_of_tets", size, divisions, nodes_per_lattice_node, 6)?;
     let mut corners = Vec::with_capacity(lattice.cell_count() * 24);
     for cell in lattice.cells() {
         for permutation in KUHN_PERMUTATIONS {
@@ -178,12 +178,14 @@ struct Lattice {
 
 impl Lattice {
     /// Checks the arguments of `generator`; `nodes_per_lattice_node` bounds the final
-    /// node count (edge nodes included) for the u32 check.
+    /// node count (edge nodes included) and `elements_per_cell` the element count for the
+    /// u32 check.
     fn new(
         generator: &'static str,
         size: [f64; 3],
         n: [usize; 3],
         nodes_per_lattice_node: usize,
+        elements_per_cell: usize,
     ) -> Result<Self, MeshError> {
         let invalid = |reason: String| MeshError::InvalidArgument { generator, reason };
         if !size.iter().all(|s| s.is_finite() && *s > 0.0) {
@@ -201,11 +203,15 @@ impl Lattice {
         let cells = lattice
             .n
             .iter()
-            .try_fold(6usize, |acc, &d| acc.checked_mul(d));
+            .try_fold(elements_per_cell, |acc, &d| acc.checked_mul(d));
         let fits = |count: Option<usize>| count.is_some_and(|c| c <= u32::MAX as usize);
         if !fits(nodes) || !fits(cells) {
+            let count = |c: Option<usize>| c.map_or("over 2^64".to_string(), |c| c.to_string());
             return Err(invalid(format!(
-                "divisions {n:?} give more than 2^32 nodes or elements"
+                "divisions {n:?} give {} nodes and {} elements, more than the 2^32 ids a mesh \
+                 can number",
+                count(nodes),
+                count(cells)
             )));
         }
         Ok(lattice)
