@@ -255,3 +255,53 @@ fn a_scene_is_swept_by_its_material_parameter_and_its_history_columns() {
         assert!(error.contains(expected), "{args:?}: {error}");
     }
 }
+
+#[test]
+fn a_sweep_resumes_only_from_rows_of_the_same_base() {
+    let dir = test_dir("sweep", "base");
+    // One value: no sensitivities, and no chart to fail.
+    let first = sweep(&dir, &["--vary", "b=15", "--out", "study"]);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    assert!(text(&first.stdout).contains("no parameter takes two values"));
+    assert!(!dir.join("study/sensitivity.png").exists());
+    let base = std::fs::read_to_string(dir.join("study/sweep_base.txt")).unwrap();
+    assert!(base.contains("passive elongation") && base.contains("time step = 0.2 s"));
+    // The same sweep resumes; another time step does not reuse its rows.
+    let again = sweep(&dir, &["--vary", "b=15", "--out", "study"]);
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert!(text(&again.stdout).contains("1 already in"));
+    let mut args = vec!["sweep", "--base", "passive"];
+    args.extend_from_slice(&CHEAP_ELONGATION[..6]);
+    args.extend_from_slice(&["--time-step", "0.1", "--vary", "b=15", "--out", "study"]);
+    let other = musclefem(&dir, &args);
+    assert!(!other.status.success());
+    let error = text(&other.stderr);
+    assert!(
+        error.contains("another base") && error.contains("time step = 0.1 s"),
+        "{error}"
+    );
+
+    // A scene edited between two sweeps into one directory.
+    let scene = dir.join("block.toml");
+    let text_of = std::fs::read_to_string(example("hill_block_isometric.toml")).unwrap();
+    std::fs::write(&scene, &text_of).unwrap();
+    let scene_sweep = |dir: &Path| {
+        musclefem(
+            dir,
+            &[
+                "sweep",
+                "--scene",
+                "block.toml",
+                "--vary",
+                "sigma0=7e5",
+                "--out",
+                "scene",
+            ],
+        )
+    };
+    assert!(scene_sweep(&dir).status.success());
+    std::fs::write(&scene, text_of.replace("duration = 0.15", "duration = 0.1")).unwrap();
+    let edited = scene_sweep(&dir);
+    assert!(!edited.status.success());
+    assert!(text(&edited.stderr).contains("another base"));
+}

@@ -181,13 +181,34 @@ impl Plan {
         })
     }
 
-    /// Create the output directory and read the rows of a previous run of this sweep.
+    /// Create the output directory and read the rows of a previous run of this sweep;
+    /// then record this sweep's base in `sweep_base.txt`.
     fn previous_records(&self, force: bool) -> Result<Vec<Record>> {
         if let Some(dir) = self.table_path.parent() {
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("creating the output directory {}", dir.display()))?;
         }
-        previous_records(&self.table_path, &self.columns, &self.design, force)
+        let base = self.study.fingerprint()?;
+        let records = previous_records(&self.table_path, &self.columns, &self.design, force)?;
+        let base_path = self.table_path.with_file_name(SWEEP_BASE);
+        if !records.is_empty() {
+            let previous = std::fs::read_to_string(&base_path).unwrap_or_default();
+            if previous != base {
+                bail!(
+                    "{}: its rows were made from another base ({}) than this sweep's ({}); use \
+                     another --out, or --force to start afresh",
+                    self.table_path.display(),
+                    if previous.is_empty() {
+                        format!("{} is missing", base_path.display())
+                    } else {
+                        previous.trim().to_string()
+                    },
+                    base.trim()
+                );
+            }
+        }
+        PendingFile::stage_bytes(&base_path, base.as_bytes())?.commit()?;
+        Ok(records)
     }
 
     /// The runs not in `done` (run numbers), in run order.
@@ -285,7 +306,7 @@ fn previous_records(
     force: bool,
 ) -> Result<Vec<Record>> {
     if force {
-        for file in [SWEEP_CSV, SENSITIVITY_CSV, SENSITIVITY_PNG] {
+        for file in [SWEEP_CSV, SWEEP_BASE, SENSITIVITY_CSV, SENSITIVITY_PNG] {
             let stale = path.with_file_name(file);
             if stale.exists() {
                 std::fs::remove_file(&stale)
@@ -339,6 +360,9 @@ fn report(records: &[Record], table_path: &Path) {
 const NEGLIGIBLE_OUTPUT: f64 = 1e-4;
 
 const SENSITIVITY_CSV: &str = "sensitivity.csv";
+/// What the rows of `sweep.csv` were made from ([`Study::fingerprint`]): a resumed sweep
+/// must have the same.
+const SWEEP_BASE: &str = "sweep_base.txt";
 const SENSITIVITY_PNG: &str = "sensitivity.png";
 
 /// `sensitivity.csv` (parameter, output, sensitivity) and `sensitivity.png` from the
@@ -350,6 +374,14 @@ fn write_sensitivities(
     records: &[Record],
 ) -> Result<()> {
     let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
+    if axes.iter().all(|a| a.values.len() < 2) {
+        println!("  no parameter takes two values: no sensitivities");
+        return Ok(());
+    }
+    // In run order, so that the regression's sums (and sensitivity.csv) do not depend on
+    // which run finished first.
+    let mut records: Vec<&Record> = records.iter().collect();
+    records.sort_by_key(|r| r.run);
     let mut outputs = Vec::new();
     let largest = |k: usize| {
         records

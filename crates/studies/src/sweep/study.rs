@@ -66,6 +66,30 @@ impl Study {
         }
     }
 
+    /// What the runs are made from, as one line per item: the base and its settings (for
+    /// a scene its file's size and FNV-1a hash). Rows made from another base are not
+    /// resumed.
+    pub fn fingerprint(&self) -> Result<String> {
+        Ok(match self {
+            Study::Elongation { test, .. } => format!(
+                "{}\ntime step = {}\n",
+                self.title(),
+                test.time_step
+                    .map_or("default".to_string(), |t| format!("{t} s"))
+            ),
+            Study::Scene(scene) => {
+                let bytes = std::fs::read(scene.path())
+                    .with_context(|| format!("reading {}", scene.path().display()))?;
+                format!(
+                    "{}\n{} bytes, FNV-1a {:016x}\n",
+                    self.title(),
+                    bytes.len(),
+                    fnv1a(&bytes)
+                )
+            }
+        })
+    }
+
     /// Every varied name must be a parameter the base lets a sweep set.
     pub fn check_names(&self, axes: &[Axis]) -> Result<()> {
         match self {
@@ -83,6 +107,13 @@ impl Study {
             Study::Scene(scene) => timed(|| scene.run(names, values)),
         }
     }
+}
+
+/// The 64-bit FNV-1a hash of `bytes`.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |hash, &b| {
+        (hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 fn describe(output: &HistoryOutput) -> String {
