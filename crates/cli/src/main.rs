@@ -192,6 +192,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(error) if error.downcast_ref::<commands::Interrupted>().is_some() => {
+            eprintln!("interrupted: {error}");
+            ExitCode::from(130)
+        }
         Err(error) => {
             // `{:#}` prints the whole chain: what was being done, then each cause.
             eprintln!("error: {error:#}");

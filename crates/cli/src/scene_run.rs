@@ -21,6 +21,7 @@ use musclefem_io::output::{ExistingResults, HistoryWriter, RunDirectory, RunLog}
 use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
 use musclefem_materials::MaterialLibrary;
 
+use crate::commands::Interrupted;
 use crate::{CheckArgs, RunArgs};
 use musclefem_studies::bench::scene::{SceneProblem, scene_name};
 use musclefem_studies::solver::Solver;
@@ -184,10 +185,21 @@ pub fn run(args: &RunArgs) -> Result<()> {
         history.finish()?;
     }
     drop(watcher);
+    // How the run ended, for whoever reads the directory later.
+    let end = match (&outcome, &write_error, &fields_error) {
+        (_, Some(error), _) => format!("failed writing the outputs: {error}"),
+        (_, _, Some(error)) => format!("failed evaluating a frame's element fields: {error}"),
+        (Ok(()), None, None) => format!("complete ({steps} steps)"),
+        (Err(SolverError::Interrupted { time }), ..) => {
+            format!("interrupted at t = {time:e} s (Ctrl-C)")
+        }
+        (Err(error), ..) => format!("failed: {error}"),
+    };
     let log = RunLog::new(format!(
-        "scene = {}\nsolver = {:?}\n",
+        "scene = {}\nsolver = {:?}\nend = {}\n",
         args.scene.display(),
-        model.analysis
+        model.analysis,
+        end.replace('\n', "; ")
     ))
     .timing("setup", setup)
     .timing("solve", solve);
@@ -216,15 +228,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
             }
             Ok(())
         }
-        Err(SolverError::Interrupted { time }) => {
-            println!(
-                "stopped at t = {time:.6e} s on request; {} frames and the history up to \
-                 there are in {}",
-                directory.frames().len(),
-                out.display()
-            );
-            Ok(())
-        }
+        Err(SolverError::Interrupted { time }) => Err(Interrupted(format!(
+            "stopped at t = {time:.6e} s on request; {} frames and the history up to there \
+             are in {} (run.log says so)",
+            directory.frames().len(),
+            out.display()
+        ))
+        .into()),
         Err(error) => bail!(
             "{}: {error}\n(the frames and history up to the failure are in {})",
             args.scene.display(),

@@ -154,8 +154,9 @@ fn hill_frames_carry_activation_and_state_variables() {
     }
 }
 
-/// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 0, a message saying where it
-/// stopped, and a result.pvd that lists only complete frames.
+/// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 130 (128 + SIGINT), a
+/// message saying where it stopped, a run.log that says so, and a result.pvd that lists
+/// only complete frames.
 #[cfg(unix)]
 #[test]
 fn ctrl_c_stops_a_run_cleanly() {
@@ -205,10 +206,10 @@ fn ctrl_c_stops_a_run_cleanly() {
         }
         std::thread::sleep(Duration::from_millis(50));
     };
-    let mut stdout = String::new();
-    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut stdout).unwrap();
-    assert!(status.success(), "{status:?}\n{stdout}");
-    assert!(stdout.contains("stopped at t = "), "{stdout}");
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}\n{rest}");
+    assert!(rest.contains("interrupted: stopped at t = "), "{rest}");
     let root = dir.join("result");
     let frames = read_pvd(&root.join("result.pvd")).unwrap();
     assert!(frames.len() >= 3);
@@ -221,7 +222,8 @@ fn ctrl_c_stops_a_run_cleanly() {
             frame.file
         );
     }
-    assert!(root.join("run.log").is_file());
+    let log = std::fs::read_to_string(root.join("run.log")).unwrap();
+    assert!(log.contains("end = interrupted at t = "), "{log}");
     assert!(root.join("history.csv").is_file());
 }
 
@@ -236,6 +238,8 @@ fn more_threads_than_cores_are_cut_to_the_cores() {
         &["run", &scene, "--out", "many", "--threads", "100000"],
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
+    let log = std::fs::read_to_string(dir.join("many/run.log")).unwrap();
+    assert!(log.contains("end = complete (10 steps)"), "{log}");
     assert!(
         text(&out.stderr).contains("--threads 100000 is more than the"),
         "{}",
