@@ -12,6 +12,7 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem_core::solver::explicit::ExplicitSettings;
+use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
 use musclefem_core::solver::{
     Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
@@ -31,6 +32,13 @@ mod tolerance;
 /// Print what the scene holds, or fail naming the file, line and key.
 pub fn check(args: &CheckArgs) -> Result<()> {
     let model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    refuse_free_motion(
+        &model.mesh,
+        &model.loads,
+        &model.analysis,
+        model.interactions.len(),
+    )
+    .with_context(|| format!("{}", args.scene.display()))?;
     println!("{}: ok", args.scene.display());
     print!("{}", describe(&model));
     Ok(())
@@ -122,6 +130,14 @@ pub fn run(args: &RunArgs) -> Result<()> {
         model.analysis = analysis;
         model.solver_rationale = Some(why);
     }
+    // A body no condition holds is refused before anything is written.
+    refuse_free_motion(
+        &model.mesh,
+        &model.loads,
+        &model.analysis,
+        model.interactions.len(),
+    )
+    .with_context(|| format!("{}", args.scene.display()))?;
     let scene_text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;
     let out = args.out.clone().unwrap_or_else(|| {

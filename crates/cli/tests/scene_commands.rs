@@ -259,3 +259,33 @@ fn more_threads_than_cores_are_cut_to_the_cores() {
     );
     assert!(!dir.join("none").exists());
 }
+
+/// A body pulled by a force with no displacement condition, quasi-static implicit: its
+/// stiffness is singular, and the solver once "converged" to 2.5e12 m. `check` and `run`
+/// refuse it naming the free motions, and nothing is written.
+#[test]
+fn a_body_no_condition_holds_is_refused_before_any_output() {
+    let dir = test_dir("musclefem-scene", "free");
+    let text_of = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml")).unwrap();
+    let start = text_of.find("[[displacements]]").unwrap();
+    let end = text_of.find("[step]").unwrap();
+    let scene = format!(
+        "{}[[forces]]\npart = \"cube\"\nnodes = \"x1\"\ncomponent = \"x\"\nvalue = 0.01\n\
+         amplitude = \"ramp\"\n\n{}",
+        &text_of[..start],
+        &text_of[end..]
+    );
+    std::fs::write(dir.join("free.toml"), scene).unwrap();
+    for command in [
+        &["check", "free.toml"][..],
+        &["run", "free.toml", "--out", "result"],
+    ] {
+        let out = musclefem(&dir, command);
+        assert!(!out.status.success(), "{command:?}");
+        let error = text(&out.stderr);
+        assert!(error.contains("can move as a rigid body"), "{error}");
+        assert!(error.contains("translation along (1, 0, 0)"), "{error}");
+        assert!(error.contains("rotation about (0, 0, 1)"), "{error}");
+    }
+    assert!(!dir.join("result").exists(), "nothing is written");
+}

@@ -18,6 +18,7 @@ mod chunk;
 pub mod element_fields;
 pub mod explicit;
 mod explicit_parts;
+pub mod free_motion;
 mod hex8_one_point_chunk;
 pub mod implicit;
 mod implicit_chunk;
@@ -95,6 +96,17 @@ pub enum SolverError {
     Diverged { time: f64, node: usize },
     #[error("implicit settings: {0}")]
     InvalidImplicitSettings(String),
+    #[error(
+        "the piece of block '{block}' ({nodes} nodes) can move as a rigid body: {motions}. \
+         A quasi-static run has no inertia to hold it (its stiffness is singular); add \
+         displacement conditions that hold these motions, or run with inertia \
+         (implicit dynamic = true, or explicit)"
+    )]
+    FreeRigidMotion {
+        block: String,
+        nodes: usize,
+        motions: String,
+    },
     #[error(
         "part on block {block}: technology {technology:?} has no consistent tangent yet, so \
          the implicit solver cannot use it (use Hex8Full, Hex8OnePoint, Tet4 or Tet10, or the \

@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 
 use super::SolverError;
 use super::explicit::{ExplicitResult, ExplicitSettings, run_explicit_with};
+use super::free_motion::refuse_free_motion;
 use super::implicit::{ImplicitResult, ImplicitSettings, run_implicit_with};
 use super::interaction::Interaction;
 use super::loads::Loads;
@@ -97,13 +98,16 @@ pub fn run(
             settings,
             observer,
         )?),
-        Analysis::Implicit(settings) => Outcome::Implicit(run_implicit_with(
-            mesh,
-            parts,
-            loads,
-            interactions,
-            settings,
-            observer,
-        )?),
+        Analysis::Implicit(settings) => {
+            refuse_free_motion(mesh, loads, analysis, interactions.len())?;
+            Outcome::Implicit(run_implicit_with(
+                mesh,
+                parts,
+                loads,
+                interactions,
+                settings,
+                observer,
+            )?)
+        }
     })
 }
