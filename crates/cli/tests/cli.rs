@@ -297,3 +297,49 @@ fn default_job_writes_the_demo_outputs() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(entries(&dir.join("elsewhere")).len(), 4);
 }
+
+/// A step that does not resolve the history is refused, not written: one 1 ms step from
+/// λ = 1 to 0.5 of the active Hill muscle wrote −592 MPa and J = 0.56 (with half the step
+/// its series element fails); a resolved history passes and gives the isometric stress.
+#[test]
+fn point_refuses_a_step_that_does_not_resolve_the_history() {
+    let dir = test_dir("musclefem-cli", "point-step");
+    let error = fails(
+        &dir,
+        &[
+            "point",
+            "--material",
+            "hill",
+            "--param",
+            "n2=1",
+            "--stretch",
+            "0:1,0.001:0.5",
+            "--out",
+            "coarse.csv",
+        ],
+    );
+    assert!(
+        error.contains("does not resolve the stretch history"),
+        "{error}"
+    );
+    assert!(error.contains("--dt"), "{error}");
+    assert!(!dir.join("coarse.csv").exists());
+    // A held stretch at 1 ms steps: the isometric stress of Table 1 (σ0 f_L = 692.8 kPa).
+    let out = musclefem(
+        &dir,
+        &[
+            "point",
+            "--material",
+            "hill",
+            "--param",
+            "n2=1",
+            "--stretch",
+            "0:1,0.15:1",
+            "--out",
+            "held.csv",
+        ],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let last = read_csv(&dir.join("held.csv")).pop().unwrap();
+    assert!((last[2] - 692.8e3).abs() < 0.001 * 692.8e3, "{last:?}");
+}
