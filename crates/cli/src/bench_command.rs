@@ -46,11 +46,18 @@ pub struct BenchArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
+    /// Replace the results of an earlier run in the output place.
+    #[arg(long)]
+    pub force: bool,
 }
 
 mod scene;
 
 pub fn bench(args: &BenchArgs) -> Result<()> {
+    crate::commands::refuse_existing(
+        &["work_precision.csv", "work_precision.png", "bench.log"].map(|f| args.out.join(f)),
+        args.force,
+    )?;
     if let Some(scene_path) = &args.scene {
         return scene::bench_scene(scene_path, &args.out);
     }

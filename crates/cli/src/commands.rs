@@ -288,6 +288,11 @@ pub fn point(args: &PointArgs) -> Result<()> {
             args.out.display()
         );
     }
+    let mut outputs = vec![args.out.clone()];
+    if !args.no_plot {
+        outputs.push(png_path(&args.out));
+    }
+    refuse_existing(&outputs, args.force)?;
     let library = library_with_plugins(&args.plugins)?;
     let run = run_point(&library, &args.material, &params, &args.stretch, args.dt)?;
     create_parent(&args.out)?;
@@ -333,6 +338,11 @@ const DEMO_CASES: [DemoCase; 2] = [
 
 /// `musclefem demo` and `musclefem` alone.
 pub fn demo(args: &DemoArgs) -> Result<()> {
+    let outputs: Vec<PathBuf> = DEMO_CASES
+        .iter()
+        .flat_map(|case| ["csv", "png"].map(|e| args.out.join(format!("{}.{e}", case.stem))))
+        .collect();
+    refuse_existing(&outputs, args.force)?;
     let library = MaterialLibrary::with_builtins();
     println!(
         "musclefem demo: material point of the '{DEMO_MATERIAL}' muscle in uniaxial stress \
@@ -435,3 +445,19 @@ impl std::fmt::Display for Interrupted {
 }
 
 impl std::error::Error for Interrupted {}
+
+/// The one overwrite policy of the commands that write: an earlier result is replaced only
+/// with `--force`. Checked before any work, so a long run does not end in a refusal.
+pub fn refuse_existing(paths: &[PathBuf], force: bool) -> Result<()> {
+    if force {
+        return Ok(());
+    }
+    if let Some(existing) = paths.iter().find(|p| p.exists()) {
+        bail!(
+            "{} exists: an earlier result is there (use --force to replace it, or another \
+             --out)",
+            existing.display()
+        );
+    }
+    Ok(())
+}

@@ -41,9 +41,16 @@ pub struct FibersArgs {
     /// Relative residual of the flow solve [1].
     #[arg(long, value_name = "TOL", default_value_t = 1e-10)]
     pub tolerance: f64,
+    /// Replace the results of an earlier run in the output place.
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn fibers(args: &FibersArgs) -> Result<()> {
+    crate::commands::refuse_existing(
+        &["fibers.csv", "fibers.vtu", "fibers.png"].map(|f| args.out.join(f)),
+        args.force,
+    )?;
     let imported = read_mesh(&args.mesh)?;
     let mut mesh = imported.mesh;
     let boundary = FlowBoundary::from_names(&mesh, &args.inlet, &args.outlet)

@@ -163,6 +163,9 @@ pub struct PointArgs {
     /// Do not write the PNG chart.
     #[arg(long)]
     pub no_plot: bool,
+    /// Replace the results of an earlier run in the output place.
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Debug, Args)]
@@ -170,6 +173,9 @@ pub struct DemoArgs {
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/demo")]
     pub out: PathBuf,
+    /// Replace the results of an earlier run in the output place.
+    #[arg(long)]
+    pub force: bool,
 }
 
 fn main() -> ExitCode {
@@ -188,6 +194,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(args)) => bench_command::bench(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
+            force: false,
         }),
     };
     match result {

@@ -261,7 +261,7 @@ fn missing_plugin_is_named() {
     assert!(stderr.contains("no-such-plugin.so"), "{stderr}");
 }
 
-/// `musclefem` alone (the README's first command) runs the demo into out/demo.
+/// `musclefem` alone runs the demo into out/demo; a second run needs --force.
 #[test]
 fn default_job_writes_the_demo_outputs() {
     let dir = test_dir("musclefem-cli", "demo");
@@ -296,6 +296,32 @@ fn default_job_writes_the_demo_outputs() {
     let out = musclefem(&dir, &["demo", "--out", "elsewhere"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(entries(&dir.join("elsewhere")).len(), 4);
+
+    // The one overwrite policy: a second run into the same place is refused before any
+    // work, and replaces the results with --force.
+    let before = std::fs::read(demo.join("active.csv")).unwrap();
+    let again = fails(&dir, &[]);
+    assert!(
+        again.contains("exists") && again.contains("--force"),
+        "{again}"
+    );
+    let point = [
+        "point",
+        "--material",
+        "hill",
+        "--stretch",
+        "0:1,0.1:1.1",
+        "--out",
+        "p.csv",
+    ];
+    assert!(musclefem(&dir, &point).status.success());
+    let twice = fails(&dir, &point);
+    assert!(twice.contains("p.csv exists"), "{twice}");
+    let forced = musclefem(&dir, &[&point[..], &["--force"]].concat());
+    assert!(forced.status.success(), "{}", text(&forced.stderr));
+    let replaced = musclefem(&dir, &["demo", "--force"]);
+    assert!(replaced.status.success(), "{}", text(&replaced.stderr));
+    assert_eq!(std::fs::read(demo.join("active.csv")).unwrap(), before);
 }
 
 /// A step that does not resolve the history is refused, not written: one 1 ms step from
