@@ -32,16 +32,22 @@ mod tolerance;
 /// Print what the scene holds, or fail naming the file, line and key.
 pub fn check(args: &CheckArgs) -> Result<()> {
     let model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    refuse_free_body(&model, &args.scene)?;
+    println!("{}: ok", args.scene.display());
+    print!("{}", describe(&model));
+    Ok(())
+}
+
+/// An error naming the scene if a body of a quasi-static model can move freely (see
+/// `musclefem_core::solver::free_motion`).
+fn refuse_free_body(model: &Model, scene: &std::path::Path) -> Result<()> {
     refuse_free_motion(
         &model.mesh,
         &model.loads,
         &model.analysis,
         model.interactions.len(),
     )
-    .with_context(|| format!("{}", args.scene.display()))?;
-    println!("{}: ok", args.scene.display());
-    print!("{}", describe(&model));
-    Ok(())
+    .with_context(|| format!("{}", scene.display()))
 }
 
 /// A few lines on the model: parts, loads, analysis.
@@ -131,13 +137,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         model.solver_rationale = Some(why);
     }
     // A body no condition holds is refused before anything is written.
-    refuse_free_motion(
-        &model.mesh,
-        &model.loads,
-        &model.analysis,
-        model.interactions.len(),
-    )
-    .with_context(|| format!("{}", args.scene.display()))?;
+    refuse_free_body(&model, &args.scene)?;
     let scene_text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read {}", args.scene.display()))?;
     let out = args.out.clone().unwrap_or_else(|| {

@@ -330,20 +330,20 @@ fn default_job_writes_the_demo_outputs() {
 #[test]
 fn point_refuses_a_step_that_does_not_resolve_the_history() {
     let dir = test_dir("musclefem-cli", "point-step");
-    let error = fails(
-        &dir,
-        &[
+    let active_point = |stretch: &'static str, out: &'static str| {
+        [
             "point",
             "--material",
             "hill",
             "--param",
             "n2=1",
             "--stretch",
-            "0:1,0.001:0.5",
+            stretch,
             "--out",
-            "coarse.csv",
-        ],
-    );
+            out,
+        ]
+    };
+    let error = fails(&dir, &active_point("0:1,0.001:0.5", "coarse.csv"));
     assert!(
         error.contains("does not resolve the stretch history"),
         "{error}"
@@ -351,20 +351,7 @@ fn point_refuses_a_step_that_does_not_resolve_the_history() {
     assert!(error.contains("--dt"), "{error}");
     assert!(!dir.join("coarse.csv").exists());
     // A held stretch at 1 ms steps: the isometric stress of Table 1 (σ0 f_L = 692.8 kPa).
-    let out = musclefem(
-        &dir,
-        &[
-            "point",
-            "--material",
-            "hill",
-            "--param",
-            "n2=1",
-            "--stretch",
-            "0:1,0.15:1",
-            "--out",
-            "held.csv",
-        ],
-    );
+    let out = musclefem(&dir, &active_point("0:1,0.15:1", "held.csv"));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let last = read_csv(&dir.join("held.csv")).pop().unwrap();
     assert!((last[2] - 692.8e3).abs() < 0.001 * 692.8e3, "{last:?}");

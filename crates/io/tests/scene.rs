@@ -104,6 +104,19 @@ solver = "implicit"
 duration = 1.0
 "#;
 
+/// Each case (what, text replaced in [`VALID`], its replacement, the error's location,
+/// a fragment of its message) is refused with that location and message.
+fn assert_edits_are_refused(cases: &[(&str, &str, &str, &str, &str)]) {
+    for &(what, from, to, location, fragment) in cases {
+        assert!(VALID.contains(from), "{what}: the edit does not apply");
+        let message = error_of(&VALID.replacen(from, to, 1));
+        assert!(
+            message.starts_with(location) && message.contains(fragment),
+            "{what}: got \"{message}\", expected {location} … {fragment}"
+        );
+    }
+}
+
 /// Build `text` (named s.toml) and return the error message.
 fn error_of(text: &str) -> String {
     let path = Path::new("s.toml");
@@ -241,14 +254,7 @@ fn malformed_scenes_name_the_line_and_the_cause() {
             "must be quoted",
         ),
     ];
-    for (what, from, to, location, fragment) in cases {
-        assert!(VALID.contains(from), "{what}: the edit does not apply");
-        let message = error_of(&VALID.replacen(from, to, 1));
-        assert!(
-            message.starts_with(location) && message.contains(fragment),
-            "{what}: got \"{message}\", expected {location} … {fragment}"
-        );
-    }
+    assert_edits_are_refused(&cases);
 }
 
 /// Settings that passed `check` and failed only in `run` (or not at all), each refused
@@ -334,14 +340,7 @@ fn settings_run_would_refuse_are_refused_when_the_scene_is_built() {
             "1000000000 elements need at least 2048.0 GB",
         ),
     ];
-    for (what, from, to, location, fragment) in cases {
-        assert!(VALID.contains(from), "{what}: the edit does not apply");
-        let message = error_of(&VALID.replacen(from, to, 1));
-        assert!(
-            message.starts_with(location) && message.contains(fragment),
-            "{what}: got \"{message}\", expected {location} … {fragment}"
-        );
-    }
+    assert_edits_are_refused(&cases);
 }
 
 #[test]
