@@ -5,8 +5,12 @@
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail};
+
+use crate::commands::Interrupted;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -138,6 +142,16 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
     {
         println!("{DEFAULT_SETTING_RATIONALE}");
     }
+    // Ctrl-C stops the running test after its last point; a second one kills the process.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    {
+        let flag = interrupted.clone();
+        let _ = ctrlc::set_handler(move || {
+            if flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+    }
     let mut runs = Vec::new();
     for &mode in modes {
         let test = ElongationTest {
@@ -158,7 +172,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
         } else {
             args.out.join(mode.name())
         };
-        let run = run_one(&test, &directory, args)?;
+        let run = run_one(&test, &directory, args, &interrupted)?;
         runs.push((mode, run));
     }
     let chart = args.out.join("curve.png");
@@ -170,7 +184,12 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
 
 /// Run one test into `directory`: frames, curve.csv, run.log (and curve.png for a single
 /// mode), and print its summary.
-fn run_one(test: &ElongationTest, directory: &Path, args: &ElongateArgs) -> Result<ElongationRun> {
+fn run_one(
+    test: &ElongationTest,
+    directory: &Path,
+    args: &ElongateArgs,
+    interrupted: &Arc<AtomicBool>,
+) -> Result<ElongationRun> {
     let existing = if args.force {
         ExistingResults::Replace
     } else {
@@ -197,18 +216,50 @@ fn run_one(test: &ElongationTest, directory: &Path, args: &ElongateArgs) -> Resu
         mesh: &setup.specimen.mesh,
         error: None,
         bar: progress_bar(test.mode.duration()),
+        interrupted: interrupted.clone(),
+        points: Vec::new(),
     };
     let result = run_on(test, &setup, &mut watcher);
     watcher.bar.finish_and_clear();
     if let Some(error) = watcher.error.take() {
         return Err(error).context("writing a frame failed");
     }
+    if interrupted.load(Ordering::SeqCst) {
+        // The curve up to the last point, and a log that says where the test stopped.
+        let time = watcher.points.last().map_or(0.0, |p| p.time);
+        let mut points = std::mem::take(&mut watcher.points);
+        if points.first().is_none_or(|p| p.time > 0.0) {
+            // As a finished run's curve: the implicit solver records converged increments
+            // only, and the test starts stress-free.
+            points.insert(
+                0,
+                CurvePoint {
+                    time: 0.0,
+                    strain: 0.0,
+                    force: 0.0,
+                    stress: 0.0,
+                },
+            );
+        }
+        let curve = Curve { points };
+        curve.stage_csv(&directory.join("curve.csv"))?.commit()?;
+        let log = RunLog::new(format!(
+            "test = {label}\nend = interrupted at t = {time:e} s (Ctrl-C)\n"
+        ));
+        output.write_run_log(&log)?;
+        return Err(Interrupted(format!(
+            "stopped at t = {time:.6e} s on request; the curve up to there is in {} (run.log \
+             says so)",
+            directory.join("curve.csv").display()
+        ))
+        .into());
+    }
     let run = result?;
     run.curve
         .stage_csv(&directory.join("curve.csv"))?
         .commit()?;
     let log = RunLog::new(format!(
-        "test = {label}\nelements = {}\nnodes = {}\nsteps = {}\n",
+        "test = {label}\nelements = {}\nnodes = {}\nsteps = {}\nend = complete\n",
         run.elements, run.nodes, run.steps
     ))
     .timing("solve", run.solve_time);
@@ -254,11 +305,19 @@ struct FrameWriter<'a> {
     mesh: &'a musclefem_core::mesh::Mesh,
     error: Option<anyhow::Error>,
     bar: ProgressBar,
+    /// Set by Ctrl-C: stop after the current point.
+    interrupted: Arc<AtomicBool>,
+    /// The curve so far (written whole if the test is interrupted).
+    points: Vec<CurvePoint>,
 }
 
 impl ElongationWatcher for FrameWriter<'_> {
     fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()> {
         self.bar.set_position((1e3 * point.time) as u64);
+        self.points.push(*point);
+        if self.interrupted.load(Ordering::SeqCst) {
+            return ControlFlow::Break(());
+        }
         let at_end = point.time >= self.end_time - 1e-9;
         if self.interval <= 0.0 || (point.time < self.next - 1e-12 && !at_end) {
             return ControlFlow::Continue(());
@@ -284,6 +343,9 @@ impl ElongationWatcher for FrameWriter<'_> {
 
     fn progress(&mut self, time: f64) -> ControlFlow<()> {
         self.bar.set_position((1e3 * time) as u64);
+        if self.interrupted.load(Ordering::SeqCst) {
+            return ControlFlow::Break(());
+        }
         ControlFlow::Continue(())
     }
 }

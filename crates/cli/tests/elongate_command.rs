@@ -114,3 +114,72 @@ fn a_negative_frame_interval_is_refused() {
         assert!(!dir.join(command).exists(), "{command} wrote output");
     }
 }
+
+/// Ctrl-C (SIGINT) during `elongate` stops the test after its last point: exit status
+/// 130, the curve up to there in curve.csv, and a run.log that says where it stopped
+/// (before, the process died with the curve lost).
+#[cfg(unix)]
+#[test]
+fn ctrl_c_keeps_the_curve_up_to_where_the_test_stopped() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+    let dir = test_dir("elongate", "interrupt");
+    // The explicit active test mass-scaled to 2e-6 s only: some 750 000 steps, tens of
+    // seconds of solving.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args([
+            "elongate",
+            "--mode",
+            "active",
+            "--solver",
+            "explicit",
+            "--shape",
+            "cylinder",
+            "--grips",
+            "sliding",
+            "--mesh-size",
+            "8.75",
+            "--frame-interval",
+            "0.05",
+            "--out",
+            "stopped",
+        ])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for a couple of frames, then interrupt.
+    let frames = dir.join("stopped/frames");
+    let started = Instant::now();
+    while std::fs::read_dir(&frames).map_or(0, |d| d.count()) < 2 {
+        assert!(started.elapsed() < Duration::from_secs(120), "no frames");
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the test finished ({status:?}) before it could be interrupted");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted: stopped at t = "), "{stderr}");
+    let curve = std::fs::read_to_string(dir.join("stopped/curve.csv")).unwrap();
+    let rows: Vec<&str> = curve.lines().skip(1).collect();
+    assert!(rows.len() >= 2, "{curve}");
+    let last_time: f64 = rows
+        .last()
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(last_time > 0.0 && last_time < 1.0, "{last_time}");
+    let log = std::fs::read_to_string(dir.join("stopped/run.log")).unwrap();
+    assert!(log.contains("end = interrupted at t = "), "{log}");
+}
