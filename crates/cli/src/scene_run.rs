@@ -164,6 +164,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
             }
         });
     }
+    // A log from the start: a run killed before its end leaves one that says so.
+    directory.write_run_log(&RunLog::new(format!(
+        "scene = {}\nsolver = {:?}\nend = running (a run that ended rewrites this line; this \
+         one was stopped without being able to)\n",
+        args.scene.display(),
+        model.analysis
+    )))?;
     print!("{}", describe(&model));
     let duration = model.analysis.end_time();
     let setup = started.elapsed();

@@ -289,3 +289,39 @@ fn a_body_no_condition_holds_is_refused_before_any_output() {
     }
     assert!(!dir.join("result").exists(), "nothing is written");
 }
+
+/// A run killed outright (SIGKILL: no handler runs) still leaves its history from the
+/// first row on and a run.log that says it did not end (before, a run killed within its
+/// first 50 rows left neither).
+#[cfg(unix)]
+#[test]
+fn a_killed_run_leaves_its_first_rows_and_a_log_saying_so() {
+    let dir = test_dir("musclefem-scene", "killed");
+    let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
+        .unwrap()
+        .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
+        .replace("duration = 1.0", "duration = 1000.0")
+        .replace("output_interval = 0.1", "output_interval = 0.01")
+        .replace("solver = \"implicit\"", "solver = \"explicit\"");
+    std::fs::write(dir.join("long.toml"), scene).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(["run", "long.toml", "--out", "result"])
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let history = dir.join("result/history.csv");
+    let started = Instant::now();
+    while !history.exists() {
+        assert!(started.elapsed() < Duration::from_secs(120), "no history");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let rows = std::fs::read_to_string(&history).unwrap();
+    assert!(rows.lines().count() >= 2, "{rows}");
+    assert!(rows.lines().count() < 50, "killed within its first 50 rows");
+    let log = std::fs::read_to_string(dir.join("result/run.log")).unwrap();
+    assert!(log.contains("end = running"), "{log}");
+}

@@ -33,8 +33,9 @@
 //! with [`crate::csv::read_table`].
 //!
 //! [`HistoryWriter`] keeps the rows of a running solve and rewrites the whole file
-//! atomically every `flush_every` rows and at [`HistoryWriter::finish`]: an interrupted
-//! run leaves a complete CSV of the rows up to the last flush.
+//! atomically at the first row, every `flush_every` rows after the last rewrite and at
+//! [`HistoryWriter::finish`]: an interrupted or killed run leaves a complete CSV of the
+//! rows up to the last rewrite.
 
 use std::path::{Path, PathBuf};
 
@@ -295,7 +296,7 @@ pub fn write_explicit_history(
     columns: &HistoryColumns,
     rows: &[HistoryRow],
 ) -> Result<(), OutputError> {
-    let mut writer = HistoryWriter::explicit(path, columns)?;
+    let mut writer = HistoryWriter::explicit(path, columns)?.all_at_once();
     for row in rows {
         writer.push_explicit(row)?;
     }
@@ -308,7 +309,7 @@ pub fn write_implicit_history(
     columns: &HistoryColumns,
     rows: &[ImplicitHistoryRow],
 ) -> Result<(), OutputError> {
-    let mut writer = HistoryWriter::implicit(path, columns)?;
+    let mut writer = HistoryWriter::implicit(path, columns)?.all_at_once();
     for row in rows {
         writer.push_implicit(row)?;
     }
@@ -327,6 +328,9 @@ pub struct HistoryWriter {
     rows: Vec<Vec<f64>>,
     flush_every: usize,
     unflushed: usize,
+    /// Rewrite the file at the first row (streaming writers; not the one-call ones, which
+    /// write all or nothing).
+    flush_first_row: bool,
 }
 
 impl HistoryWriter {
@@ -342,6 +346,7 @@ impl HistoryWriter {
             rows: Vec::new(),
             flush_every: Self::DEFAULT_FLUSH_EVERY,
             unflushed: 0,
+            flush_first_row: true,
         }
     }
 
@@ -359,6 +364,13 @@ impl HistoryWriter {
         let mut writer = Self::new(path, &columns.implicit_header());
         writer.columns = Some(columns.clone());
         Ok(writer)
+    }
+
+    /// Write the file only at [`finish`](Self::finish): all rows or none.
+    fn all_at_once(mut self) -> Self {
+        self.flush_every = usize::MAX;
+        self.flush_first_row = false;
+        self
     }
 
     /// Rewrite the file every `rows` rows (at least 1).
@@ -383,7 +395,7 @@ impl HistoryWriter {
     }
 
     /// Append a row (as many numbers as header columns); rewrites the file when
-    /// `flush_every` rows have come since the last rewrite.
+    /// `flush_every` rows have come since the last rewrite, and at the first row.
     pub fn push(&mut self, row: Vec<f64>) -> Result<(), OutputError> {
         let columns = self.header.split(',').count();
         if row.len() != columns {
@@ -397,7 +409,8 @@ impl HistoryWriter {
         }
         self.rows.push(row);
         self.unflushed += 1;
-        if self.unflushed >= self.flush_every {
+        // The first row at once: a run killed early still leaves its history.
+        if self.unflushed >= self.flush_every || (self.flush_first_row && self.rows.len() == 1) {
             self.flush()?;
         }
         Ok(())
