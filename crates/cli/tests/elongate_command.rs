@@ -126,24 +126,19 @@ fn ctrl_c_keeps_the_curve_up_to_where_the_test_stopped() {
     let dir = test_dir("elongate", "interrupt");
     // The explicit active test mass-scaled to 2e-6 s only: some 750 000 steps, tens of
     // seconds of solving.
+    // The cheap model's shape, grips and mesh, with the step below.
+    let mut args = vec!["elongate", "--mode", "active", "--solver", "explicit"];
+    args.extend_from_slice(&CHEAP_ELONGATION[..6]);
+    args.extend_from_slice(&[
+        "--time-step",
+        "2e-6",
+        "--frame-interval",
+        "0.05",
+        "--out",
+        "stopped",
+    ]);
     let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args([
-            "elongate",
-            "--mode",
-            "active",
-            "--solver",
-            "explicit",
-            "--shape",
-            "cylinder",
-            "--grips",
-            "sliding",
-            "--mesh-size",
-            "8.75",
-            "--frame-interval",
-            "0.05",
-            "--out",
-            "stopped",
-        ])
+        .args(&args)
         .current_dir(&dir)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())

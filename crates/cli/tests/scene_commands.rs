@@ -154,14 +154,10 @@ fn hill_frames_carry_activation_and_state_variables() {
     }
 }
 
-/// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 130 (128 + SIGINT), a
-/// message saying where it stopped, a run.log that says so, and a result.pvd that lists
-/// only complete frames.
+/// `run long.toml --out result` in `dir` on the neo-Hookean example made long (1000 s
+/// explicit on a finer mesh), started and left running.
 #[cfg(unix)]
-#[test]
-fn ctrl_c_stops_a_run_cleanly() {
-    let dir = test_dir("musclefem-scene", "interrupt");
-    // The neo-Hookean example made long: 1000 s explicit on a finer mesh.
+fn start_a_long_run(dir: &std::path::Path, stdout: Stdio, stderr: Stdio) -> std::process::Child {
     let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
         .unwrap()
         .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
@@ -169,13 +165,23 @@ fn ctrl_c_stops_a_run_cleanly() {
         .replace("output_interval = 0.1", "output_interval = 0.01")
         .replace("solver = \"implicit\"", "solver = \"explicit\"");
     std::fs::write(dir.join("long.toml"), scene).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+    Command::new(env!("CARGO_BIN_EXE_musclefem"))
         .args(["run", "long.toml", "--out", "result"])
-        .current_dir(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
+        .current_dir(dir)
+        .stdout(stdout)
+        .stderr(stderr)
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 130 (128 + SIGINT), a
+/// message saying where it stopped, a run.log that says so, and a result.pvd that lists
+/// only complete frames.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_run_cleanly() {
+    let dir = test_dir("musclefem-scene", "interrupt");
+    let mut child = start_a_long_run(&dir, Stdio::piped(), Stdio::piped());
     // The first plain progress line (t = 0) says the solver is running.
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
     let mut line = String::new();
@@ -297,20 +303,7 @@ fn a_body_no_condition_holds_is_refused_before_any_output() {
 #[test]
 fn a_killed_run_leaves_its_first_rows_and_a_log_saying_so() {
     let dir = test_dir("musclefem-scene", "killed");
-    let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
-        .unwrap()
-        .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
-        .replace("duration = 1.0", "duration = 1000.0")
-        .replace("output_interval = 0.1", "output_interval = 0.01")
-        .replace("solver = \"implicit\"", "solver = \"explicit\"");
-    std::fs::write(dir.join("long.toml"), scene).unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(["run", "long.toml", "--out", "result"])
-        .current_dir(&dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = start_a_long_run(&dir, Stdio::null(), Stdio::null());
     let history = dir.join("result/history.csv");
     let started = Instant::now();
     while !history.exists() {
