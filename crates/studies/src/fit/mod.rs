@@ -9,11 +9,14 @@
 //!
 //! - [`data`]: reading the measured curve;
 //! - [`model`]: the elongation test or the scene as a function of the fitted parameters;
+//! - `view`, `report`: how the curve is named and drawn, and the fitted numbers;
 //! - [`levenberg_marquardt`]: the bounded least-squares solver.
 
 pub mod data;
 pub mod levenberg_marquardt;
 pub mod model;
+mod report;
+mod view;
 
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
@@ -36,8 +39,10 @@ use musclefem_core::mesh::generate::SpecimenShape;
 use crate::elongation::protocol::{Activation, PULL_ELONGATION};
 use crate::scene_study::SceneStudy;
 use data::{Columns, Range, read_curve};
-use levenberg_marquardt::{Settings, Solution, minimise};
+use levenberg_marquardt::{Settings, minimise};
 use model::{ElongationModel, FitModel, SceneModel};
+use report::Report;
+use view::View;
 
 /// Two-sided 95 % quantile of the normal distribution: the confidence intervals are the
 /// asymptotic ones, fitted value ± 1.96 standard errors.
@@ -310,105 +315,6 @@ pub fn fit(args: &FitArgs) -> Result<()> {
     outputs.write(report.csv(), curve_csv, summary, &figure)
 }
 
-/// How a fit's curve is described, tabulated and drawn.
-struct View {
-    /// The terminal's description of the base, e.g. "passive elongation (fusiform, …)".
-    what: String,
-    /// fit.txt's line on the base.
-    summary_line: String,
-    /// "engineering strain" or the --x column, for the range of the data kept.
-    x_name: String,
-    /// The range's scale and unit on the terminal: (100, "%") for strain.
-    x_range_scale: f64,
-    x_range_unit: &'static str,
-    curve_header: String,
-    title: String,
-    x_label: String,
-    y_label: String,
-    /// Plotted value = value [SI] × scale.
-    x_scale: f64,
-    y_scale: f64,
-    /// The unit of y and of the residual [SI].
-    y_unit: &'static str,
-    /// "stress" or the --y column, in fit.txt.
-    y_quantity: String,
-}
-
-impl View {
-    fn elongation(test: Activation, options: &TestOptions) -> Self {
-        View {
-            what: format!("{} elongation ({})", test.name(), options.describe()),
-            summary_line: format!("test = {} elongation ({})", test.name(), options.describe()),
-            x_name: "strain".into(),
-            x_range_scale: 100.0,
-            x_range_unit: " %",
-            curve_header: "engineering_strain,measured_stress_pa,fitted_stress_pa".into(),
-            title: format!("{} elongation", test.name()),
-            x_label: "engineering strain [%]".into(),
-            y_label: "engineering stress [kPa]".into(),
-            x_scale: 100.0,
-            y_scale: 1e-3,
-            y_unit: "Pa",
-            y_quantity: "stress".into(),
-        }
-    }
-
-    fn scene(study: &SceneStudy, x: &str, y: &str) -> Self {
-        let name = study.path().display().to_string();
-        View {
-            what: format!("scene {name} ({y} against {x})"),
-            summary_line: format!("scene = {name}\nx = {x}\ny = {y}"),
-            x_name: x.to_string(),
-            x_range_scale: 1.0,
-            x_range_unit: "",
-            curve_header: format!("{x},measured_{y},fitted_{y}"),
-            title: format!("scene {name}"),
-            x_label: x.to_string(),
-            y_label: y.to_string(),
-            x_scale: 1.0,
-            y_scale: 1.0,
-            y_unit: unit_of(y),
-            y_quantity: y.to_string(),
-        }
-    }
-
-    /// "0 < strain ≤ 20 %" or "0.1 ≤ time_s ≤ 1".
-    fn range_text(&self, range: Range) -> String {
-        let below = if range.low_inclusive { "≤" } else { "<" };
-        if self.x_range_unit == " %" {
-            format!(
-                "{:.0} {below} {} ≤ {:.0} %",
-                self.x_range_scale * range.low,
-                self.x_name,
-                self.x_range_scale * range.high
-            )
-        } else {
-            format!(
-                "{} {below} {} ≤ {}{}",
-                self.x_range_scale * range.low,
-                self.x_name,
-                self.x_range_scale * range.high,
-                self.x_range_unit
-            )
-        }
-    }
-}
-
-/// The SI unit a history column's name ends with (see `musclefem_io::output::history`).
-fn unit_of(column: &str) -> &'static str {
-    [
-        ("_n_m", "N m"),
-        ("_n", "N"),
-        ("_j", "J"),
-        ("_m2", "m²"),
-        ("_s", "s"),
-        ("_pa", "Pa"),
-    ]
-    .iter()
-    .find(|(suffix, _)| column.ends_with(suffix))
-    .map_or("", |(_, unit)| unit)
-}
-
 /// The fitted parameters with their starts and bounds, checked against the parameter
 /// table of the Hill material (elongation) or of the scene's material.
 fn unknowns(args: &FitArgs, base: &Base) -> Result<Vec<Unknown>> {
@@ -535,101 +441,6 @@ fn valid_range(spec: &ParameterSpec, start: f64) -> (f64, f64) {
         Bound::Exclusive(u) => u - inset,
     };
     (lower, upper)
-}
-
-/// The fit's numbers for the terminal, fit.txt and fit.csv.
-struct Report<'a> {
-    unknowns: &'a [Unknown],
-    solution: &'a Solution,
-    measured_stress: &'a [f64],
-    /// The unit of the fitted values (of the residual).
-    unit: &'a str,
-    /// What they are, e.g. "stress".
-    quantity: &'a str,
-}
-
-impl Report<'_> {
-    /// RMS residual [Pa] and coefficient of determination R² = 1 − Σr² / Σ(y − ȳ)².
-    fn residual(&self) -> (f64, f64) {
-        let m = self.measured_stress.len() as f64;
-        let squares = self.solution.residuals.norm_squared();
-        let mean = self.measured_stress.iter().sum::<f64>() / m;
-        let spread: f64 = self
-            .measured_stress
-            .iter()
-            .map(|y| (y - mean).powi(2))
-            .sum();
-        ((squares / m).sqrt(), 1.0 - squares / spread)
-    }
-
-    /// Whether fitted parameter `j` ended on one of its bounds.
-    fn at_bound(&self, j: usize) -> bool {
-        let x = self.solution.x[j];
-        x == self.unknowns[j].lower || x == self.unknowns[j].upper
-    }
-
-    /// Standard errors of the parameters not on a bound.
-    fn standard_errors(&self) -> Option<Vec<Option<f64>>> {
-        let fixed: Vec<bool> = (0..self.unknowns.len()).map(|j| self.at_bound(j)).collect();
-        self.solution.standard_errors(&fixed)
-    }
-
-    fn text(&self) -> String {
-        let (rms, r2) = self.residual();
-        let errors = self.standard_errors();
-        let mut text = String::new();
-        for (j, unknown) in self.unknowns.iter().enumerate() {
-            let x = self.solution.x[j];
-            let interval = match errors.as_ref().map(|e| e[j]) {
-                Some(Some(e)) => format!("95 % CI [{}, {}]", x - Z_95 * e, x + Z_95 * e),
-                Some(None) => "at its bound: no confidence interval".to_string(),
-                None => "no confidence interval (the parameters are not identifiable together: JᵀJ singular)".to_string(),
-            };
-            text.push_str(&format!(
-                "{} = {x} (start {}), {interval}\n",
-                unknown.name, unknown.start
-            ));
-        }
-        let largest = self
-            .measured_stress
-            .iter()
-            .copied()
-            .fold(0.0, |a: f64, y| a.max(y.abs()));
-        text.push_str(&format!(
-            "RMS residual = {rms:.4e} {} ({:.3} % of the largest measured {}), R² = {r2:.5}\n\
-             iterations = {}, runs = {}, stop = {:?}\n",
-            self.unit,
-            100.0 * rms / largest,
-            self.quantity,
-            self.solution.iterations,
-            self.solution.evaluations,
-            self.solution.stop
-        ));
-        text
-    }
-
-    /// fit.csv: parameter,start,fitted,standard_error,ci95_low,ci95_high,at_bound.
-    fn csv(&self) -> String {
-        let errors = self.standard_errors();
-        let mut text =
-            String::from("parameter,start,fitted,standard_error,ci95_low,ci95_high,at_bound\n");
-        for (j, unknown) in self.unknowns.iter().enumerate() {
-            let x = self.solution.x[j];
-            let error = errors.as_ref().and_then(|e| e[j]);
-            let cell = |v: Option<f64>| v.map_or_else(String::new, format_number);
-            text.push_str(&format!(
-                "{},{},{},{},{},{},{}\n",
-                unknown.name,
-                format_number(unknown.start),
-                format_number(x),
-                cell(error),
-                cell(error.map(|e| x - Z_95 * e)),
-                cell(error.map(|e| x + Z_95 * e)),
-                self.at_bound(j)
-            ));
-        }
-        text
-    }
 }
 
 /// The output files, checked before the fit starts (so a long fit does not end in a
