@@ -196,8 +196,7 @@ impl SceneStudy {
             library.load_plugin(&directory.join(plugin.get_ref()))?;
         }
         let info = library.info(entry.model.get_ref())?;
-        let Some(spec) = info.parameters.into_iter().find(|p| p.name == key) else {
-            let info = library.info(entry.model.get_ref())?;
+        let Some(spec) = info.parameters.iter().find(|p| p.name == key).cloned() else {
             let known: Vec<&str> = info.parameters.iter().map(|p| p.name.as_ref()).collect();
             bail!(
                 "{name}: material '{}' ({}) has no parameter '{key}' (it has {})",
