@@ -82,17 +82,13 @@ pub fn free_rigid_motions(mesh: &Mesh, loads: &Loads) -> Vec<FreeMotion> {
             held[n as usize] = 0b111;
         }
     }
-    let mut roots: Vec<usize> = (0..count)
-        .filter(|&n| used[n])
-        .map(|n| piece.root(n))
-        .collect();
-    roots.sort_unstable();
-    roots.dedup();
+    // The nodes of each piece, in one pass (pieces in the order of their smallest node).
+    let mut pieces: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+    for n in (0..count).filter(|&n| used[n]) {
+        pieces.entry(piece.root(n)).or_default().push(n);
+    }
     let mut free = Vec::new();
-    for root in roots {
-        let members: Vec<usize> = (0..count)
-            .filter(|&n| used[n] && piece.root(n) == root)
-            .collect();
+    for members in pieces.into_values() {
         let positions: Vec<Vector3<f64>> =
             members.iter().map(|&n| mesh.nodes.position(n)).collect();
         let centroid = positions.iter().sum::<Vector3<f64>>() / positions.len() as f64;
