@@ -25,7 +25,12 @@
 //! first [`STARTUP_STEPS`] steps. The second allowance covers the start-up error: K at
 //! whole steps from averaged half-step velocities differs from the work done by about
 //! ⅛ Σ m |a Δt|², which dominates while the energies are small (a load ramped from zero
-//! gives almost none for many steps); an instability grows past both quickly.
+//! gives almost none for many steps); an instability grows past both quickly. The same
+//! error dominates a whole phase in which nothing moves (an activated muscle held at
+//! both ends: energies of 10⁻¹⁰ J from round-off-sized motions), so the fraction is taken
+//! of at least the energy scale Σ_e ½ M_e V_e ε² with ε = [`ENERGY_SCALE_STRAIN`]: the
+//! model's strain energy at a strain of 10⁻⁴ under its initial acoustic moduli, far
+//! below any solution worth checking and far below where an instability ends.
 //!
 //! A [`crate::element::Technology::Tet4NodalAverage`] block couples neighbouring elements through nodal
 //! averages, so it is evaluated in passes over the whole block (`nodal_average.rs`) rather
@@ -148,6 +153,10 @@ pub struct ExplicitResult {
 /// Steps over which the energy balance measures its start-up allowance.
 pub const STARTUP_STEPS: usize = 20;
 
+/// The strain of the energy balance's floor (module documentation): energies below the
+/// model's strain energy at this strain under its initial acoustic moduli are noise.
+pub const ENERGY_SCALE_STRAIN: f64 = 1e-4;
+
 /// Steps between refreshes of the elements' acoustic moduli (stable step).
 pub const MODULUS_REFRESH_INTERVAL: usize = 10;
 
@@ -245,6 +254,10 @@ pub fn run_explicit_with(
     let (mut stable_step, mut critical) =
         internal_forces(mesh, &mut runs, &positions, time, 0.0, true, &mut force)?;
     interaction_forces(interactions, time, &positions, &mut interaction_force)?;
+    let energy_scale: f64 = runs
+        .iter()
+        .map(|run| run.strain_energy_scale(mesh, ENERGY_SCALE_STRAIN))
+        .sum();
     let physical_mass: f64 = mass.iter().sum();
     let mut added_mass = 0.0;
     if let Some(target) = settings.mass_scaling_time_step {
@@ -357,7 +370,8 @@ pub fn run_explicit_with(
             startup_energy = Some(largest_energy);
         }
         let startup = startup_energy.unwrap_or(largest_energy);
-        if drift.abs() > (settings.energy_tolerance * largest_energy).max(10.0 * startup) {
+        let allowed = settings.energy_tolerance * largest_energy.max(energy_scale);
+        if drift.abs() > allowed.max(10.0 * startup) {
             return Err(SolverError::EnergyBalance {
                 time,
                 error: drift,

@@ -189,6 +189,37 @@ impl<'a> PartRun<'a> {
         }
     }
 
+    /// Acoustic modulus M of each element at the last refresh [Pa], in element order.
+    fn element_wave_moduli(&self) -> Box<dyn Iterator<Item = f64> + '_> {
+        match &self.elements {
+            PartElements::General { chunks, .. } => {
+                Box::new(chunks.iter().flat_map(|c| c.wave_moduli().iter().copied()))
+            }
+            PartElements::OnePointHex { chunks, .. } => {
+                Box::new(chunks.iter().flat_map(|c| c.wave_moduli().iter().copied()))
+            }
+            PartElements::NodalAverage { averaged, .. } => Box::new(averaged.wave_moduli()),
+        }
+    }
+
+    /// Σ_e ½ M_e V_e ε² [J]: the strain energy of the part strained by `strain` everywhere
+    /// under the acoustic moduli M_e of the last refresh (V_e the reference volumes): the
+    /// energy scale below which an energy balance measures noise, not the solution.
+    pub fn strain_energy_scale(&self, mesh: &Mesh, strain: f64) -> f64 {
+        self.element_wave_moduli()
+            .enumerate()
+            .map(|(element, modulus)| {
+                let volume = mesh
+                    .element_volume(crate::mesh::ElementRef::new(
+                        self.block as u32,
+                        element as u32,
+                    ))
+                    .unwrap_or(0.0);
+                0.5 * modulus * volume * strain * strain
+            })
+            .sum()
+    }
+
     /// The part's per-element output fields at the last accepted step, ending at `time`.
     pub fn fields(&self, mesh: &Mesh, time: f64) -> Result<PartFields, SolverError> {
         let block = &mesh.blocks[self.block];

@@ -269,6 +269,11 @@ impl OnePointHexChunk {
             })
     }
 
+    /// Acoustic modulus M of each element of the chunk at the last refresh [Pa].
+    pub fn wave_moduli(&self) -> &[f64] {
+        &self.wave_modulus
+    }
+
     /// Hourglass energy ½ k Σ_α |q^α|² of the chunk's elements at `positions` [J].
     pub fn hourglass_energy(&self, block: &ElementBlock, positions: &[Vector3<f64>]) -> f64 {
         let mut energy = 0.0;

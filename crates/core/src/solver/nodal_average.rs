@@ -181,6 +181,13 @@ impl NodalAveragePart {
         })
     }
 
+    /// Acoustic modulus M of each element at the last refresh [Pa], in element order.
+    pub fn wave_moduli(&self) -> impl Iterator<Item = f64> + '_ {
+        self.chunks
+            .iter()
+            .flat_map(|chunk| chunk.wave_modulus.iter().copied())
+    }
+
     /// Accept the step: the new states and deformations become the old ones.
     pub fn commit(&mut self) {
         for chunk in &mut self.chunks {
