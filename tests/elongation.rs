@@ -235,7 +235,7 @@ struct StopAt {
 
 impl ElongationWatcher for StopAt {
     fn point(&mut self, point: &CurvePoint, _snapshot: &Snapshot) -> ControlFlow<()> {
-        self.points.push(point.clone());
+        self.points.push(*point);
         if point.time >= self.until {
             ControlFlow::Break(())
         } else {
