@@ -4,7 +4,7 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -72,8 +72,8 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
              medium mesh, takes about 5 minutes on 2 cores; run it without --quick"
         ),
     };
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    // Creates the directory; a second bench into it is refused while this one runs.
+    let _lock = musclefem_io::output::OutputLock::acquire(&args.out)?;
     let runs: usize = problems
         .iter()
         .map(|&p| matrix(p, args.quick).len() + 1)

@@ -79,8 +79,8 @@ pub fn fibers(args: &FibersArgs) -> Result<()> {
             });
         }
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    // Creates the directory; a second `fibers` into it is refused while this one runs.
+    let _lock = musclefem_io::output::OutputLock::acquire(&args.out)?;
     let csv_path = args.out.join("fibers.csv");
     let vtu_path = args.out.join("fibers.vtu");
     let png_path = args.out.join("fibers.png");

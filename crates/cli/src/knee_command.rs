@@ -200,12 +200,12 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
             );
         }
     }
+    // Nothing is written before the output directory is this run's alone.
+    let _lock = musclefem_io::output::OutputLock::acquire(&args.out)?;
     if args.anatomy.is_none() {
         write_anatomy(&anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
             .context("writing the anatomy")?;
     }
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     musclefem_io::atomic::write_atomically(
         &args.out.join("kinematics.csv"),
         geometry.motions.kinematics_csv(200).as_bytes(),

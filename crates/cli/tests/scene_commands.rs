@@ -233,6 +233,47 @@ fn ctrl_c_stops_a_run_cleanly() {
     assert!(root.join("history.csv").is_file());
 }
 
+/// Two runs into one directory used to both succeed and interleave their files: while
+/// a run writes, a second `run --force` into the same `--out` is refused before it
+/// deletes or writes anything, naming the first; once the first is gone it may proceed.
+#[cfg(unix)]
+#[test]
+fn a_second_run_into_a_running_runs_directory_is_refused() {
+    let dir = test_dir("musclefem-scene", "concurrent");
+    let mut first = start_a_long_run(&dir, Stdio::null(), Stdio::null());
+    let started = Instant::now();
+    while read_pvd(&dir.join("result/result.pvd")).map_or(0, |f| f.len()) < 2 {
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "no frames after 2 min"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let frames_before = read_pvd(&dir.join("result/result.pvd")).unwrap().len();
+    let second = musclefem(&dir, &["run", "long.toml", "--out", "result", "--force"]);
+    let frames_after = read_pvd(&dir.join("result/result.pvd")).unwrap().len();
+    let _ = first.kill();
+    let _ = first.wait();
+    assert!(!second.status.success());
+    let message = text(&second.stderr);
+    assert!(
+        message.contains("another musclefem run")
+            && message.contains(&format!("process {}", first.id())),
+        "{message}"
+    );
+    // The first run's frames were neither deleted nor replaced.
+    assert!(
+        frames_after >= frames_before,
+        "{frames_before} -> {frames_after}"
+    );
+    // Killed (SIGKILL), the first leaves its lock behind; it is stale and taken over.
+    let short = example("neo_hookean_cube_stretch.toml");
+    let third = musclefem(&dir, &["run", &short, "--out", "result", "--force"]);
+    assert!(third.status.success(), "{}", text(&third.stderr));
+    assert!(text(&third.stderr).contains("taking the directory over"));
+    assert!(!dir.join("result/.musclefem.lock").exists());
+}
+
 /// `--threads 100000` started no thread pool in a minute: more threads than cores are cut
 /// to the cores with a warning, and the run finishes with the usual answer; 0 is refused.
 #[test]

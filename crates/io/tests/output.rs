@@ -493,7 +493,9 @@ fn run_directory_lists_complete_frames_and_survives_a_failed_frame() {
     );
     assert!(text.contains("[output]\nframes = 3\n"), "{text}");
 
-    // A second run into the same directory is refused, or replaces the first one's files.
+    // A second run into the same directory, once the first has ended, is refused or
+    // replaces the first one's files.
+    drop(run);
     let err = RunDirectory::create(&dir, ExistingResults::Refuse)
         .unwrap_err()
         .to_string();
@@ -509,8 +511,16 @@ fn run_directory_lists_complete_frames_and_survives_a_failed_frame() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     left.sort();
-    assert_eq!(left, ["frames", "notes.txt"]);
+    assert_eq!(left, [".musclefem.lock", "frames", "notes.txt"]);
     assert!(fs::read_dir(&frames).unwrap().next().is_none());
+    // While it runs, a third one is refused even with Replace, and nothing is deleted.
+    let err = RunDirectory::create(&dir, ExistingResults::Replace)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("another musclefem run"), "{err}");
+    assert!(dir.join("notes.txt").exists());
+    drop(run);
+    assert!(!dir.join(".musclefem.lock").exists());
 }
 
 const CHILD_DIR: &str = "MUSCLEFEM_OUTPUT_TEST_CHILD_DIR";

@@ -11,11 +11,13 @@
 //! - [`history`]: [`HistoryColumns`] and [`HistoryWriter`], CSV histories of the explicit
 //!   and implicit solvers;
 //! - [`run_directory`]: [`RunDirectory`], which lays all of these out in one directory
-//!   and keeps `result.pvd` listing complete frames only, and [`RunLog`].
+//!   and keeps `result.pvd` listing complete frames only, and [`RunLog`];
+//! - [`lock`]: [`OutputLock`], one writer per output directory.
 
 pub mod element_fields;
 pub mod frame;
 pub mod history;
+pub mod lock;
 pub mod pvd;
 pub mod run_directory;
 pub mod vtu;
@@ -23,6 +25,7 @@ pub mod vtu;
 pub use element_fields::ElementFieldArrays;
 pub use frame::{Field, FieldValues, Frame, voigt_to_vtk_symmetric, von_mises};
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
+pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
 pub use run_directory::{ExistingResults, RunDirectory, RunLog};
 pub use vtu::{encode_vtu, stage_vtu, vtk_cell_type, write_vtu};

@@ -8,6 +8,7 @@
 //!   history.csv             reactions, energies, time step (see [`super::history`])
 //!   scene.toml              the scene file the run was started with, verbatim
 //!   run.log                 program version, settings, timings, frames written
+//!   .musclefem.lock         while the run writes: its process (see [`super::lock`])
 //! ```
 //!
 //! Every file is written atomically. [`RunDirectory::write_frame`] commits the frame's
@@ -32,6 +33,7 @@ use super::frame::Frame;
 use super::history::{
     HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history,
 };
+use super::lock::OutputLock;
 use super::pvd::{PvdEntry, write_pvd};
 use super::vtu::write_vtu;
 use crate::OutputError;
@@ -64,11 +66,15 @@ pub struct RunDirectory {
     root: PathBuf,
     frames: Vec<PvdEntry>,
     created: Instant,
+    /// Held for as long as the run writes here: a second run into the same directory
+    /// is refused before it deletes or writes anything.
+    _lock: OutputLock,
 }
 
 impl RunDirectory {
-    /// Create `root` and `root/frames` (and missing parents).
+    /// Create `root` and `root/frames` (and missing parents), locked for this run.
     pub fn create(root: &Path, existing: ExistingResults) -> Result<Self, OutputError> {
+        let lock = OutputLock::acquire(root)?;
         let frames_dir = root.join(FRAMES_DIR);
         fs::create_dir_all(&frames_dir)
             .map_err(|e| OutputError::io("create the directory", &frames_dir, e))?;
@@ -106,6 +112,7 @@ impl RunDirectory {
             root: root.to_path_buf(),
             frames: Vec::new(),
             created: Instant::now(),
+            _lock: lock,
         })
     }
 

@@ -29,6 +29,7 @@ use nalgebra::DVector;
 
 use musclefem_io::PendingFile;
 use musclefem_io::csv::{format_number, format_table};
+use musclefem_io::output::OutputLock;
 use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, SeriesStyle, stage_png};
 use musclefem_materials::MaterialLibrary;
 use musclefem_materials::{Bound, ParameterSpec};
@@ -447,6 +448,8 @@ fn valid_range(spec: &ParameterSpec, start: f64) -> (f64, f64) {
 /// refusal) and written together at its end.
 struct Outputs {
     dir: PathBuf,
+    /// Held while the fit runs: one writer per output directory.
+    _lock: OutputLock,
 }
 
 const FILES: [&str; 4] = ["fit.csv", "fit_curve.csv", "fit.txt", "fit.png"];
@@ -462,9 +465,9 @@ impl Outputs {
                 dir.display()
             );
         }
-        std::fs::create_dir_all(&dir)
-            .with_context(|| format!("creating the output directory {}", dir.display()))?;
-        Ok(Outputs { dir })
+        // Creates the directory; a second fit into it is refused while this one runs.
+        let lock = OutputLock::acquire(&dir)?;
+        Ok(Outputs { dir, _lock: lock })
     }
 
     fn write(&self, csv: String, curve: String, summary: String, figure: &Figure) -> Result<()> {

@@ -35,6 +35,12 @@ pub fn sweep(args: &SweepArgs, plan: &Plan, universe: &Universe) -> Result<()> {
     let world = universe.world();
     let (rank, size) = (world.rank(), world.size());
     let root = world.process_at_rank(0);
+    // Rank 0 writes the table: it holds the output directory's lock.
+    let _lock = if rank == 0 {
+        Some(plan.lock_output()?)
+    } else {
+        None
+    };
     // Rank 0 reads (or with --force removes) the previous table and tells the others
     // which runs are done.
     let (done, done_runs) = if rank == 0 {

@@ -35,6 +35,7 @@ use rayon::prelude::*;
 
 use musclefem_io::PendingFile;
 use musclefem_io::csv::format_number;
+use musclefem_io::output::OutputLock;
 use musclefem_io::plot::stage_bar_png;
 
 use crate::elongation::Activation;
@@ -99,6 +100,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     if let Some(universe) = distributed::start()? {
         return distributed::sweep(args, &plan, &universe);
     }
+    let _lock = plan.lock_output()?;
     let done = plan.previous_records(args.force)?;
     let done_runs: Vec<usize> = done.iter().map(|r| r.run).collect();
     let pending = plan.pending(&done_runs);
@@ -179,6 +181,16 @@ impl Plan {
             columns,
             table_path: args.out.join(SWEEP_CSV),
         })
+    }
+
+    /// Lock the output directory (created if missing) for this sweep: a second sweep
+    /// aimed at it stops before it reads or writes a row.
+    pub(crate) fn lock_output(&self) -> Result<OutputLock> {
+        let dir = match self.table_path.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir,
+            _ => Path::new("."),
+        };
+        Ok(OutputLock::acquire(dir)?)
     }
 
     /// Create the output directory and read the rows of a previous run of this sweep;
