@@ -274,6 +274,33 @@ fn a_second_run_into_a_running_runs_directory_is_refused() {
     assert!(!dir.join("result/.musclefem.lock").exists());
 }
 
+/// `output_interval` was ignored by implicit runs (a frame per increment): frames now
+/// fall on its multiples (the first increment at or after each) and at the end, while
+/// the history keeps a row per increment.
+#[test]
+fn implicit_frames_follow_the_output_interval() {
+    let dir = test_dir("musclefem-scene", "interval");
+    let scene = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml"))
+        .unwrap()
+        .replace(
+            "implicit = { increments = 10 }",
+            "implicit = { increments = 40 }",
+        )
+        .replace("output_interval = 0.1", "output_interval = 0.25");
+    assert!(scene.contains("increments = 40") && scene.contains("output_interval = 0.25"));
+    std::fs::write(dir.join("interval.toml"), scene).unwrap();
+    let out = musclefem(&dir, &["run", "interval.toml", "--out", "result"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let frames = read_pvd(&dir.join("result/result.pvd")).unwrap();
+    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
+    assert_eq!(times.len(), 4, "{times:?}");
+    for (time, expected) in times.iter().zip([0.25, 0.5, 0.75, 1.0]) {
+        assert!((time - expected).abs() < 1e-9, "{times:?}");
+    }
+    let history = std::fs::read_to_string(dir.join("result/history.csv")).unwrap();
+    assert_eq!(history.lines().count(), 1 + 40, "{history}");
+}
+
 /// `--threads 100000` started no thread pool in a minute: more threads than cores are cut
 /// to the cores with a warning, and the run finishes with the usual answer; 0 is refused.
 #[test]
