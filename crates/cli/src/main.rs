@@ -90,8 +90,12 @@ enum Command {
 
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// The scene file (see docs/scene-format.md).
+    /// The scene file (see docs/scene-format.md). A material's plugin is never loaded
+    /// here: the rest of the scene is checked and the plugin's materials are named.
     pub scene: PathBuf,
+    /// Let the scene name files outside its own folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 }
 
 #[derive(Debug, Args)]
@@ -118,6 +122,13 @@ pub struct RunArgs {
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
     pub force: bool,
+    /// Load the shared libraries the scene's materials name as `plugin` (loading one runs
+    /// its code: only for plugins you trust).
+    #[arg(long)]
+    pub allow_plugins: bool,
+    /// Let the scene name files (meshes, fibers, surfaces, plugins) outside its own folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 }
 
 /// The work–precision table that `--tolerance` reads (written by `musclefem bench`).

@@ -19,7 +19,9 @@ use musclefem_core::solver::{
 };
 use musclefem_io::OutputError;
 use musclefem_io::output::{ExistingResults, HistoryWriter, RunDirectory, RunLog};
-use musclefem_io::scene::{Analysis, Model, load_scene, locking_warning};
+use musclefem_io::scene::{
+    Analysis, Model, PluginPolicy, Trust, load_scene_trusting, locking_warning,
+};
 use musclefem_materials::MaterialLibrary;
 
 use crate::commands::Interrupted;
@@ -31,9 +33,19 @@ mod tolerance;
 
 /// Print what the scene holds, or fail naming the file, line and key.
 pub fn check(args: &CheckArgs) -> Result<()> {
-    let model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    let trust = Trust {
+        plugins: PluginPolicy::SkipForCheck,
+        outside_paths: args.allow_outside_paths,
+    };
+    let model = load_scene_trusting(&args.scene, &mut MaterialLibrary::with_builtins(), trust)?;
     refuse_free_body(&model, &args.scene)?;
     println!("{}: ok", args.scene.display());
+    for material in &model.unchecked_plugins {
+        println!(
+            "  material {material}: plugin not loaded (check runs no foreign code), its \
+             parameters unchecked; `run --allow-plugins` loads it"
+        );
+    }
     print!("{}", describe(&model));
     Ok(())
 }
@@ -120,7 +132,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .context("cannot set the number of threads")?;
     }
     let started = Instant::now();
-    let mut model = load_scene(&args.scene, &mut MaterialLibrary::with_builtins())?;
+    let trust = Trust {
+        plugins: if args.allow_plugins {
+            PluginPolicy::Load
+        } else {
+            PluginPolicy::Refuse
+        },
+        outside_paths: args.allow_outside_paths,
+    };
+    let mut model = load_scene_trusting(&args.scene, &mut MaterialLibrary::with_builtins(), trust)?;
     if let Some(choice) = args.solver {
         model.analysis = switch_solver(&model, choice);
         model.solver_rationale = None;

@@ -301,6 +301,113 @@ fn implicit_frames_follow_the_output_interval() {
     assert_eq!(history.lines().count(), 1 + 40, "{history}");
 }
 
+/// A shared library whose constructor writes `marker` when the library is loaded, built
+/// with the C compiler into `dir/libmarker.so`.
+#[cfg(unix)]
+fn library_with_a_constructor(dir: &std::path::Path, marker: &std::path::Path) {
+    let source = dir.join("marker.c");
+    std::fs::write(
+        &source,
+        format!(
+            "#include <stdio.h>\n__attribute__((constructor)) static void mark(void) {{\n  \
+             FILE *f = fopen(\"{}\", \"w\"); if (f) fclose(f);\n}}\n",
+            marker.display()
+        ),
+    )
+    .unwrap();
+    let status = Command::new("cc")
+        .args(["-shared", "-fPIC", "-o"])
+        .arg(dir.join("libmarker.so"))
+        .arg(&source)
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// `check` on a scene with a plugin ran the library's code; `run` loaded any plugin the
+/// scene named, and scenes could read any file: now `check` never loads a plugin (it
+/// checks the rest and says so), `run` loads one only with `--allow-plugins`, and files
+/// outside the scene's folder need `--allow-outside-paths`.
+#[cfg(unix)]
+#[test]
+fn plugins_load_only_when_allowed_and_files_stay_in_the_scene_folder() {
+    let dir = test_dir("musclefem-scene", "trust");
+    let scene_dir = dir.join("scene");
+    std::fs::create_dir_all(&scene_dir).unwrap();
+    let marker = dir.join("constructor-ran");
+    library_with_a_constructor(&scene_dir, &marker);
+    let base = std::fs::read_to_string(example("neo_hookean_cube_stretch.toml")).unwrap();
+    let with_plugin = base.replace(
+        "model = \"neo-hookean\"",
+        "model = \"neo-hookean\"\nplugin = \"libmarker.so\"",
+    );
+    assert_ne!(with_plugin, base);
+    std::fs::write(scene_dir.join("plugin.toml"), &with_plugin).unwrap();
+
+    let check = musclefem(&dir, &["check", "scene/plugin.toml"]);
+    assert!(check.status.success(), "{}", text(&check.stderr));
+    assert!(
+        text(&check.stdout).contains("material rubber (libmarker.so): plugin not loaded"),
+        "{}",
+        text(&check.stdout)
+    );
+    assert!(!marker.exists(), "check ran the plugin's code");
+
+    let run = musclefem(&dir, &["run", "scene/plugin.toml", "--out", "refused"]);
+    assert!(!run.status.success());
+    let message = text(&run.stderr);
+    assert!(
+        message.contains("plugin.toml:") && message.contains("--allow-plugins"),
+        "{message}"
+    );
+    assert!(
+        !marker.exists(),
+        "run ran the plugin's code without --allow-plugins"
+    );
+    assert!(
+        !dir.join("refused").exists(),
+        "a refused run wrote its directory"
+    );
+
+    // Allowed, the library is loaded (its constructor runs); it is no musclefem plugin,
+    // so the run then stops, naming it.
+    let allowed = musclefem(
+        &dir,
+        &[
+            "run",
+            "scene/plugin.toml",
+            "--out",
+            "allowed",
+            "--allow-plugins",
+        ],
+    );
+    assert!(marker.exists(), "{}", text(&allowed.stderr));
+    assert!(!allowed.status.success());
+
+    // A mesh file outside the scene's folder.
+    std::fs::write(dir.join("outside.inp"), "*NODE\n1, 0, 0, 0\n").unwrap();
+    let outside = base.replace(
+        "mesh = { generator = \"box\", size = [0.01, 0.01, 0.01], divisions = [4, 4, 4] }",
+        "mesh = { file = \"../outside.inp\", block = \"cube\" }",
+    );
+    assert_ne!(outside, base);
+    std::fs::write(scene_dir.join("outside.toml"), outside).unwrap();
+    let refused = musclefem(&dir, &["check", "scene/outside.toml"]);
+    assert!(!refused.status.success());
+    let message = text(&refused.stderr);
+    assert!(
+        message.contains("outside the scene's folder") && message.contains("--allow-outside-paths"),
+        "{message}"
+    );
+    // Allowed, the file is read (and found to hold no block 'cube').
+    let read = musclefem(
+        &dir,
+        &["check", "scene/outside.toml", "--allow-outside-paths"],
+    );
+    let message = text(&read.stderr);
+    assert!(!message.contains("outside the scene's folder"), "{message}");
+}
+
 /// `--threads 100000` started no thread pool in a minute: more threads than cores are cut
 /// to the cores with a warning, and the run finishes with the usual answer; 0 is refused.
 #[test]

@@ -4,7 +4,6 @@
 //! checked here, and an error names the line of the reference.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::sync::Arc;
 
 use nalgebra::{Unit, Vector3};
@@ -27,6 +26,7 @@ use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::part_mesh::{append_part, part_mesh};
 use super::solver_choice::{AutoSolver, choose_solver};
+use super::trust::PluginPolicy;
 use crate::output::HistoryColumns;
 
 /// Element technologies by scene name ([`ElementKind::NAMES`]).
@@ -54,6 +54,9 @@ pub struct Model {
     pub write_frames: bool,
     /// Contact and cohesion between surfaces, in the order of the scene file.
     pub interactions: Vec<InteractionModel>,
+    /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
+    /// "material (plugin file)".
+    pub unchecked_plugins: Vec<String>,
 }
 
 impl Model {
@@ -78,23 +81,50 @@ impl Model {
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
-/// into `library` relative to the scene's directory.
+/// into `library` relative to the scene's directory when the locator's trust allows it.
 pub fn build_model(
     scene: &SceneFile,
     locator: &Locator,
     library: &mut MaterialLibrary,
 ) -> Result<Model, SceneError> {
     let at = |span: std::ops::Range<usize>, message: String| locator.error(span, message);
-    let directory = locator.path().parent().unwrap_or(Path::new("."));
 
     // Materials.
     let mut materials: BTreeMap<String, Arc<dyn Material>> = BTreeMap::new();
+    let mut unchecked_plugins = Vec::new();
     for entry in &scene.materials {
         if let Some(plugin) = &entry.plugin {
-            let path = directory.join(plugin.get_ref());
-            library
-                .load_plugin(&path)
-                .map_err(|e| at(plugin.span(), format!("plugin '{}': {e}", path.display())))?;
+            let path = locator.resolve(plugin.span(), plugin.get_ref())?;
+            match locator.trust().plugins {
+                PluginPolicy::Refuse => {
+                    return Err(at(
+                        plugin.span(),
+                        format!(
+                            "plugin '{}': loading a shared library runs its code; pass \
+                             --allow-plugins to `run` if you trust it (`check` reads the \
+                             rest of the scene without loading it)",
+                            path.display()
+                        ),
+                    ));
+                }
+                PluginPolicy::Load => {
+                    library.load_plugin(&path).map_err(|e| {
+                        at(plugin.span(), format!("plugin '{}': {e}", path.display()))
+                    })?;
+                }
+                PluginPolicy::SkipForCheck => {
+                    unchecked_plugins.push(format!(
+                        "{} ({})",
+                        entry.name.get_ref(),
+                        plugin.get_ref()
+                    ));
+                    let stand_in = library
+                        .create("neo-hookean", &BTreeMap::new())
+                        .map_err(|e| at(plugin.span(), format!("neo-Hookean stand-in: {e}")))?;
+                    materials.insert(entry.name.get_ref().clone(), stand_in);
+                    continue;
+                }
+            }
         }
         let model = entry.model.get_ref();
         let names = library.names();
@@ -159,7 +189,7 @@ pub fn build_model(
                 format!("density {density} kg/m3 must be positive"),
             ));
         }
-        let part_mesh = part_mesh(entry, technology.shape(), directory, locator)?;
+        let part_mesh = part_mesh(entry, technology.shape(), locator)?;
         append_part(&mut mesh, part_mesh, name);
         parts.push(Part {
             block: parts.len(),
@@ -326,7 +356,7 @@ pub fn build_model(
             &scaled,
             locator,
         )?;
-        rigid_bodies.push(rigid_body(entry, motion, directory, locator)?);
+        rigid_bodies.push(rigid_body(entry, motion, locator)?);
     }
     let interactions = build_interactions(
         &scene.interactions,
@@ -465,6 +495,7 @@ pub fn build_model(
         output_interval,
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,
+        unchecked_plugins,
     })
 }
 

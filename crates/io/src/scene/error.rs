@@ -3,6 +3,8 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use super::trust::Trust;
+
 /// Why a scene cannot be read or built. Displays as `FILE:LINE:COLUMN: message`.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -28,6 +30,8 @@ pub enum SceneError {
 pub struct Locator {
     path: PathBuf,
     line_starts: Vec<usize>,
+    /// What the scene may reach beyond its text (plugins, files outside its folder).
+    trust: Trust,
 }
 
 impl Locator {
@@ -38,7 +42,25 @@ impl Locator {
         Locator {
             path: path.to_path_buf(),
             line_starts,
+            trust: Trust::default(),
         }
+    }
+
+    /// The same file with the permissions `trust` (default: none, see [`Trust`]).
+    pub fn with_trust(mut self, trust: Trust) -> Self {
+        self.trust = trust;
+        self
+    }
+
+    /// The scene's permissions.
+    pub fn trust(&self) -> Trust {
+        self.trust
+    }
+
+    /// The file `name` the scene names at `span`, relative to the scene's folder and
+    /// confined to it unless the trust allows otherwise ([`Trust::resolve`]).
+    pub fn resolve(&self, span: Range<usize>, name: &str) -> Result<PathBuf, SceneError> {
+        self.trust.resolve(self, span, name)
     }
 
     /// The file name as given.

@@ -2,8 +2,6 @@
 //! prescribed motion, and contact or cohesion of a part's surface against a rigid body or
 //! another part's surface (built by `musclefem-contact`).
 
-use std::path::Path;
-
 use nalgebra::Vector3;
 use toml::Spanned;
 
@@ -80,7 +78,6 @@ impl InteractionModel {
 pub(super) fn rigid_body(
     entry: &RigidBodyEntry,
     motion: RigidMotion,
-    directory: &Path,
     locator: &Locator,
 ) -> Result<RigidSurface, SceneError> {
     let name = entry.name.get_ref();
@@ -99,7 +96,7 @@ pub(super) fn rigid_body(
     let divisions = surface.divisions.unwrap_or(DEFAULT_DIVISIONS);
     let built = match (&surface.file, &surface.shape) {
         (Some(file), None) => {
-            let path = directory.join(file.get_ref());
+            let path = locator.resolve(file.span(), file.get_ref())?;
             let lower = file.get_ref().to_ascii_lowercase();
             if lower.ends_with(".stl") {
                 RigidSurface::from_stl(&path)

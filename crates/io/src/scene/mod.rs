@@ -12,6 +12,7 @@ pub mod memory;
 mod parse;
 mod part_mesh;
 mod solver_choice;
+mod trust;
 
 use std::path::Path;
 
@@ -26,9 +27,21 @@ pub use interactions::InteractionModel;
 pub use locking::{LOCKING_BULK_TO_SHEAR, locking_warning, small_strain_bulk_modulus};
 pub use parse::{parse_scene, read_scene_file};
 pub use solver_choice::{AutoSolver, SLOW_MOTION_RATIO, choose_solver, fastest_wave_speed};
+pub use trust::{PluginPolicy, Trust};
 
-/// Read the scene at `path` and build its model (plugins loaded into `library`).
+/// Read the scene at `path` and build its model, with no permissions beyond reading
+/// files in its folder (a `plugin` is refused: see [`Trust`]).
 pub fn load_scene(path: &Path, library: &mut MaterialLibrary) -> Result<Model, SceneError> {
+    load_scene_trusting(path, library, Trust::default())
+}
+
+/// [`load_scene`] with the permissions `trust` (plugins loaded into `library` when it
+/// allows them).
+pub fn load_scene_trusting(
+    path: &Path,
+    library: &mut MaterialLibrary,
+    trust: Trust,
+) -> Result<Model, SceneError> {
     let (scene, locator) = read_scene_file(path)?;
-    build_model(&scene, &locator, library)
+    build_model(&scene, &locator.with_trust(trust), library)
 }

@@ -4,7 +4,6 @@
 //! (node sets, element sets and surfaces renamed `PART.SET`).
 
 use std::collections::HashMap;
-use std::path::Path;
 
 use nalgebra::Vector3;
 use toml::Spanned;
@@ -23,14 +22,13 @@ use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
 pub(super) fn part_mesh(
     entry: &PartEntry,
     shape: ElementShape,
-    directory: &Path,
     locator: &Locator,
 ) -> Result<Mesh, SceneError> {
     let spec = &entry.mesh;
     let (mut mesh, labels) = match (&spec.generator, &spec.file) {
         (Some(generator), None) => (generate_box(entry, generator, locator)?, None),
         (None, Some(file)) => {
-            let (mesh, labels) = read_block(entry, file, directory, locator)?;
+            let (mesh, labels) = read_block(entry, file, locator)?;
             (mesh, Some(labels))
         }
         _ => {
@@ -55,7 +53,7 @@ pub(super) fn part_mesh(
         ));
     }
     if let Some(fibers) = &entry.fibers {
-        let directions = fiber_directions(fibers, &mesh, labels.as_deref(), directory, locator)?;
+        let directions = fiber_directions(fibers, &mesh, labels.as_deref(), locator)?;
         mesh.blocks[0].fiber_direction = directions;
     }
     Ok(mesh)
@@ -67,7 +65,6 @@ fn fiber_directions(
     fibers: &Spanned<FiberEntry>,
     mesh: &Mesh,
     labels: Option<&[i64]>,
-    directory: &Path,
     locator: &Locator,
 ) -> Result<Vec<Vector3<f64>>, SceneError> {
     let elements = mesh.blocks[0].len();
@@ -99,7 +96,7 @@ fn fiber_directions(
             Ok(vec![value.normalize(); elements])
         }
         (None, Some(file)) => {
-            let path = directory.join(file.get_ref());
+            let path = locator.resolve(file.span(), file.get_ref())?;
             let at = |message: String| locator.error(file.span(), message);
             let rows = read_fibers_csv(&path).map_err(|e| at(e.to_string()))?;
             // Element id → index in the block.
@@ -221,10 +218,9 @@ fn generate_box(
 fn read_block(
     entry: &PartEntry,
     file: &Spanned<String>,
-    directory: &Path,
     locator: &Locator,
 ) -> Result<(Mesh, Vec<i64>), SceneError> {
-    let path = directory.join(file.get_ref());
+    let path = locator.resolve(file.span(), file.get_ref())?;
     let imported = read_mesh(&path).map_err(|e| locator.error(file.span(), e.to_string()))?;
     let mesh = imported.mesh;
     let mut element_labels = imported.element_labels;
