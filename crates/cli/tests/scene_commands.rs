@@ -174,6 +174,19 @@ fn start_a_long_run(dir: &std::path::Path, stdout: Stdio, stderr: Stdio) -> std:
         .unwrap()
 }
 
+/// Waits (at most 2 min) until the run writing into `root` has listed `count` frames.
+#[cfg(unix)]
+fn wait_for_frames(root: &std::path::Path, count: usize) {
+    let started = Instant::now();
+    while read_pvd(&root.join("result.pvd")).map_or(0, |f| f.len()) < count {
+        assert!(
+            started.elapsed() < Duration::from_secs(120),
+            "no {count} frames after 2 min"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
 /// Ctrl-C (SIGINT) during a run stops it cleanly: exit status 130 (128 + SIGINT), a
 /// message saying where it stopped, a run.log that says so, and a result.pvd that lists
 /// only complete frames.
@@ -188,14 +201,7 @@ fn ctrl_c_stops_a_run_cleanly() {
     stderr.read_line(&mut line).unwrap();
     assert!(line.starts_with("t = "), "{line}");
     // Let a few frames be written, then interrupt.
-    let started = Instant::now();
-    while read_pvd(&dir.join("result/result.pvd")).map_or(0, |f| f.len()) < 3 {
-        assert!(
-            started.elapsed() < Duration::from_secs(120),
-            "no frames after 2 min"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    wait_for_frames(&dir.join("result"), 3);
     let signal = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
@@ -241,14 +247,7 @@ fn ctrl_c_stops_a_run_cleanly() {
 fn a_second_run_into_a_running_runs_directory_is_refused() {
     let dir = test_dir("musclefem-scene", "concurrent");
     let mut first = start_a_long_run(&dir, Stdio::null(), Stdio::null());
-    let started = Instant::now();
-    while read_pvd(&dir.join("result/result.pvd")).map_or(0, |f| f.len()) < 2 {
-        assert!(
-            started.elapsed() < Duration::from_secs(120),
-            "no frames after 2 min"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    wait_for_frames(&dir.join("result"), 2);
     let frames_before = read_pvd(&dir.join("result/result.pvd")).unwrap().len();
     let second = musclefem(&dir, &["run", "long.toml", "--out", "result", "--force"]);
     let frames_after = read_pvd(&dir.join("result/result.pvd")).unwrap().len();
