@@ -31,14 +31,16 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use musclefem_core::solver::Record;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory};
+use musclefem_io::output::{
+    ExistingResults, FrameSchedule, HistoryColumns, HistoryWriter, RunDirectory,
+};
 use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
 use musclefem_studies::elongation::{ElementChoice, Solver};
 use musclefem_studies::knee::anatomy::export::write_anatomy;
 use musclefem_studies::knee::simulation::interactions::InterfaceLaw;
 use musclefem_studies::knee::simulation::patella::write_tendon_csv;
 use musclefem_studies::knee::simulation::peak_stress::{
-    TABLE_ANGLES_DEGREES, stage_peak_stress_csv,
+    TABLE_ANGLES_DEGREES, stage_peak_stress_csv, table_instants,
 };
 use musclefem_studies::knee::simulation::plausibility::write_plausibility_csv;
 use musclefem_studies::knee::simulation::resolution::resolution_rationale;
@@ -353,8 +355,14 @@ fn run_one(
         mesh: None,
         history: None,
         vm95: Vec::new(),
-        interval: args.frame_interval,
-        next_frame: 0.0,
+        frames: FrameSchedule::new(
+            args.frame_interval,
+            settings.squat.duration,
+            &table_instants(&settings.squat)
+                .into_iter()
+                .map(|(_, _, time)| time)
+                .collect::<Vec<_>>(),
+        ),
         error: None,
         bar,
         stop,
@@ -401,8 +409,9 @@ struct Outputs<'a> {
     mesh: Option<musclefem_core::mesh::Mesh>,
     history: Option<HistoryWriter>,
     vm95: Vec<StressSample>,
-    interval: f64,
-    next_frame: f64,
+    /// Frames every `--frame-interval`, at the table's angles (30°, 45°, 60°, 90° down
+    /// and up) and at the end.
+    frames: FrameSchedule,
     error: Option<anyhow::Error>,
     bar: &'a ProgressBar,
     /// Set when the other run failed: this one stops too, and notes it in `stopped`.
@@ -436,10 +445,9 @@ impl SquatWatcher for Outputs<'_> {
         fields: &[PartFields],
     ) -> ControlFlow<()> {
         self.vm95.push(sample.clone());
-        if self.interval <= 0.0 || sample.time < self.next_frame - 1e-9 {
+        if !self.frames.due(sample.time) {
             return ControlFlow::Continue(());
         }
-        self.next_frame = sample.time + self.interval;
         let Some(mesh) = &self.mesh else {
             return ControlFlow::Continue(());
         };

@@ -18,7 +18,7 @@ use musclefem_core::solver::{
     Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
 };
 use musclefem_io::OutputError;
-use musclefem_io::output::{ExistingResults, HistoryWriter, RunDirectory, RunLog};
+use musclefem_io::output::{ExistingResults, FrameSchedule, HistoryWriter, RunDirectory, RunLog};
 use musclefem_io::scene::{
     Analysis, Model, PluginPolicy, Trust, load_scene_trusting, locking_warning,
 };
@@ -200,7 +200,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         directory: &mut directory,
         history: None,
         write_frames: model.write_frames,
-        next_frame: 0.0,
+        frames: FrameSchedule::new(model.output_interval, model.analysis.end_time(), &[]),
         bar: progress_bar(duration),
         log_lines: !std::io::stderr().is_terminal(),
         next_log: 0.0,
@@ -330,10 +330,9 @@ struct Watcher<'a> {
     directory: &'a mut RunDirectory,
     history: Option<HistoryWriter>,
     write_frames: bool,
-    /// The time from which the next frame is due [s]: frames fall on the multiples of the
-    /// scene's `output_interval` (the first row at or after each) and at the end, whatever
-    /// the solver's increments (the explicit solver's rows already fall there).
-    next_frame: f64,
+    /// Frames on the multiples of the scene's `output_interval` (the first row at or
+    /// after each), at t = 0 and at the end, whatever the solver's increments.
+    frames: FrameSchedule,
     bar: ProgressBar,
     /// Without a terminal: a plain log line on stderr every tenth of the duration and at
     /// the end.
@@ -351,16 +350,7 @@ impl Watcher<'_> {
     /// The frame of `snapshot`, with its element fields, if frames are asked for and one
     /// is due.
     fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        let interval = self.model.output_interval;
-        let duration = self.model.analysis.end_time();
-        // The initial state (the explicit solver's first row) and the first row at or
-        // after each multiple of the interval from the first one on.
-        let due = snapshot.time == 0.0
-            || snapshot.time >= self.next_frame.max(interval) - 1e-9 * interval
-            || snapshot.time >= duration * (1.0 - 1e-12);
-        if self.write_frames && due {
-            // The next multiple of the interval after this time.
-            self.next_frame = ((snapshot.time / interval + 1e-9).floor() + 1.0) * interval;
+        if self.write_frames && self.frames.due(snapshot.time) {
             let parts = match snapshot.element_fields() {
                 Ok(parts) => parts,
                 Err(e) => {

@@ -12,10 +12,12 @@
 //!   and implicit solvers;
 //! - [`run_directory`]: [`RunDirectory`], which lays all of these out in one directory
 //!   and keeps `result.pvd` listing complete frames only, and [`RunLog`];
-//! - [`lock`]: [`OutputLock`], one writer per output directory.
+//! - [`lock`]: [`OutputLock`], one writer per output directory;
+//! - [`frame_schedule`]: [`FrameSchedule`], which recorded instants get a frame.
 
 pub mod element_fields;
 pub mod frame;
+pub mod frame_schedule;
 pub mod history;
 pub mod lock;
 pub mod pvd;
@@ -24,6 +26,7 @@ pub mod vtu;
 
 pub use element_fields::ElementFieldArrays;
 pub use frame::{Field, FieldValues, Frame, voigt_to_vtk_symmetric, von_mises};
+pub use frame_schedule::FrameSchedule;
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
