@@ -404,6 +404,11 @@ impl Watcher<'_> {
 }
 
 impl Observer for Watcher<'_> {
+    /// The implicit solver's initial state: the first frame.
+    fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.frame(snapshot)
+    }
+
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         if let Some(history) = &mut self.history
             && let Err(e) = history.push_record(record)

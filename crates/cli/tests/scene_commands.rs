@@ -273,9 +273,10 @@ fn a_second_run_into_a_running_runs_directory_is_refused() {
     assert!(!dir.join("result/.musclefem.lock").exists());
 }
 
-/// `output_interval` was ignored by implicit runs (a frame per increment): frames now
-/// fall on its multiples (the first increment at or after each) and at the end, while
-/// the history keeps a row per increment.
+/// `output_interval` was ignored by implicit runs (a frame per increment) and they had no
+/// frame of the initial state: frames now fall at t = 0, on the interval's multiples
+/// (the first increment at or after each) and at the end, while the history keeps a row
+/// per increment.
 #[test]
 fn implicit_frames_follow_the_output_interval() {
     let dir = test_dir("musclefem-scene", "interval");
@@ -292,8 +293,8 @@ fn implicit_frames_follow_the_output_interval() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let frames = read_pvd(&dir.join("result/result.pvd")).unwrap();
     let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
-    assert_eq!(times.len(), 4, "{times:?}");
-    for (time, expected) in times.iter().zip([0.25, 0.5, 0.75, 1.0]) {
+    assert_eq!(times.len(), 5, "{times:?}");
+    for (time, expected) in times.iter().zip([0.0, 0.25, 0.5, 0.75, 1.0]) {
         assert!((time - expected).abs() < 1e-9, "{times:?}");
     }
     let history = std::fs::read_to_string(dir.join("result/history.csv")).unwrap();

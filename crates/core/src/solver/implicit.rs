@@ -162,6 +162,14 @@ pub fn run_implicit_with(
         model.inertia = Some(inertia);
         model.mass_shift = settings.mass_shift_for_indefinite_tangents;
     }
+    {
+        let fields = || model.fields(0.0);
+        let nodal = || all_nodal_fields(model.interactions, node_count);
+        let snapshot = Snapshot::new(0.0, &displacement, &fields).with_nodal_fields(&nodal);
+        if observer.start(&snapshot).is_break() {
+            return Err(SolverError::Interrupted { time: 0.0 });
+        }
+    }
     while time < end {
         let mut step = increment.min(end - time);
         if end - (time + step) < 1e-9 * step {

@@ -117,6 +117,13 @@ pub trait Observer {
     /// A history row was recorded, with the state of the run at its time.
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()>;
 
+    /// The initial state (t = 0, nothing displaced, every point in its initial state),
+    /// shown by a solver that records no history row there (the implicit one; the
+    /// explicit one's first row is at t = 0), so that a run's first frame is its start.
+    fn start(&mut self, _snapshot: &Snapshot) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+
     /// A step ended at `time` [s], the `steps`-th; called every step, keep it cheap.
     fn progress(&mut self, _time: f64, _steps: usize) -> ControlFlow<()> {
         ControlFlow::Continue(())

@@ -156,6 +156,11 @@ impl Adapter<'_> {
 }
 
 impl Observer for Adapter<'_> {
+    /// The implicit solver's initial state: the curve's first point (no force yet).
+    fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.add(0.0, 0.0, snapshot)
+    }
+
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         match record {
             Record::Explicit(row) => {

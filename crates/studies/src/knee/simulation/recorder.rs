@@ -259,6 +259,11 @@ impl StallDetector {
 }
 
 impl Observer for Recorder<'_> {
+    /// The implicit solver's initial state: a sample (and frame) at t = 0.
+    fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.record(snapshot)
+    }
+
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
         if let Record::Explicit(row) = record {
             let energies = [
