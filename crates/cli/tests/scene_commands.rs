@@ -41,7 +41,7 @@ fn check_describes_a_good_scene_and_names_the_line_of_a_bad_one() {
     assert!(!dir.join("never").exists());
 }
 
-/// The neo-Hookean example: 10 frames listed in result.pvd, a history whose last
+/// The neo-Hookean example: 11 frames listed in result.pvd (t = 0 and every 0.1 s), a history whose last
 /// reaction is the material-point driver's 1.0026 N, the scene copy and the log; a second
 /// run into the same directory is refused unless --force.
 #[test]
@@ -58,7 +58,8 @@ fn run_writes_frames_history_scene_and_log() {
     );
     let root = dir.join("result");
     let frames = read_pvd(&root.join("result.pvd")).unwrap();
-    assert_eq!(frames.len(), 10);
+    assert_eq!(frames.len(), 11);
+    assert_eq!(frames[0].time, 0.0);
     assert!((frames.last().unwrap().time - 1.0).abs() < 1e-12);
     for frame in &frames {
         assert!(root.join(&frame.file).is_file(), "{}", frame.file);
