@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use musclefem_io::mesh_import::{ImportError, parse_abaqus, parse_gmsh, read_mesh};
+use musclefem_io::mesh_import::{ImportError, parse_abaqus, parse_gmsh, read_mesh, read_mesh_with};
 
 /// A valid one-tet file; cases below edit it. Lines: 1 *NODE, 2-5 nodes, 6 *ELEMENT, 7.
 const TET: &str = "*NODE\n1, 0, 0, 0\n2, 1, 0, 0\n3, 0, 1, 0\n4, 0, 0, 1\n\
@@ -349,4 +349,45 @@ fn malformed_gmsh_inputs_name_file_line_and_cause() {
         let error = parse_gmsh(text, "m.msh").expect_err(what);
         check(&error, "m.msh", *line, words, what);
     }
+}
+
+/// `*INCLUDE, INPUT=/etc/passwd` used to quote the file's first line in the error: an
+/// include outside the deck's folder is refused before it is read, naming both files;
+/// one in the folder or below is read; `read_mesh_with(.., true)` lifts the limit.
+#[test]
+fn includes_stay_in_the_decks_folder_unless_allowed() {
+    let dir = scratch("include-outside");
+    let deck_dir = dir.join("deck");
+    std::fs::create_dir_all(deck_dir.join("parts")).unwrap();
+    std::fs::write(dir.join("secret.inp"), "root:x:0:0:root:/root:/bin/bash\n").unwrap();
+    std::fs::write(deck_dir.join("parts/tet.inp"), TET).unwrap();
+    std::fs::write(
+        deck_dir.join("inside.inp"),
+        "*INCLUDE, INPUT=parts/tet.inp\n",
+    )
+    .unwrap();
+    std::fs::write(
+        deck_dir.join("outside.inp"),
+        "*INCLUDE, INPUT=../secret.inp\n",
+    )
+    .unwrap();
+    let inside = read_mesh(deck_dir.join("inside.inp")).unwrap();
+    assert_eq!(inside.mesh.element_count(), 1);
+    let refused = read_mesh(deck_dir.join("outside.inp"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        refused.contains("outside.inp:1:") && refused.contains("lies outside the folder"),
+        "{refused}"
+    );
+    assert!(
+        !refused.contains("root:x"),
+        "the error quotes the file: {refused}"
+    );
+    // Allowed, it is read (and is no mesh).
+    let read = read_mesh_with(deck_dir.join("outside.inp"), true)
+        .unwrap_err()
+        .to_string();
+    assert!(read.contains("secret.inp:1:"), "{read}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

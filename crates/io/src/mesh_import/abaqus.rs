@@ -18,7 +18,10 @@
 //!   nodes, translation first; assembly-level sets and surfaces name the instance
 //!   (`INSTANCE=` or `instance.set`);
 //! - `*INCLUDE, INPUT=path`, relative to the including file (errors then name the
-//!   included file and its line); nodes may come after the elements that use them.
+//!   included file and its line), in the top file's folder or below it unless read with
+//!   [`read_abaqus_with`]`(path, true)` (a deck is not a key to the whole disk: an
+//!   error in an included file quotes its content); nodes may come after the elements
+//!   that use them.
 //!
 //! Keywords and parameters are case-insensitive, `**` starts a comment line, labels are
 //! any positive integers (not necessarily contiguous). Model and history keywords that do
@@ -48,20 +51,45 @@ const MAX_INCLUDE_DEPTH: usize = 16;
 /// line after line by naming themselves).
 const MAX_COPIED_ENTRIES: usize = 1 << 24;
 
-/// Reads an Abaqus input file and the files it includes.
+/// Where `*INCLUDE` may reach.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Includes {
+    /// Text in memory: no file to be relative to.
+    Refused,
+    /// Files in the top file's folder or below it.
+    InFolder,
+    /// Any file.
+    Anywhere,
+}
+
+/// Reads an Abaqus input file and the files it includes (from its folder or below).
 pub fn read_abaqus(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
+    read_abaqus_with(path, false)
+}
+
+/// [`read_abaqus`], with includes from outside the file's folder when
+/// `outside_includes` (the user trusts the deck).
+pub fn read_abaqus_with(
+    path: impl AsRef<Path>,
+    outside_includes: bool,
+) -> Result<ImportedMesh, ImportError> {
     let path = path.as_ref();
     let text = utf8(read_bytes(path)?, path)?;
-    parse(&text, path, true)
+    let includes = if outside_includes {
+        Includes::Anywhere
+    } else {
+        Includes::InFolder
+    };
+    parse(&text, path, includes)
 }
 
 /// Reads Abaqus input already in memory; `name` is used in error messages. `*INCLUDE`
 /// is refused (there is no file to be relative to): use [`read_abaqus`] for that.
 pub fn parse_abaqus(text: &str, name: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
-    parse(text, name.as_ref(), false)
+    parse(text, name.as_ref(), Includes::Refused)
 }
 
-fn parse(text: &str, path: &Path, includes: bool) -> Result<ImportedMesh, ImportError> {
+fn parse(text: &str, path: &Path, includes: Includes) -> Result<ImportedMesh, ImportError> {
     let mut raw = RawMesh {
         files: vec![path.to_path_buf()],
         ..RawMesh::default()
@@ -90,7 +118,7 @@ fn flatten(
     out: &mut Vec<Line>,
     text: &str,
     file: u32,
-    includes: bool,
+    includes: Includes,
     depth: usize,
 ) -> Result<(), ImportError> {
     let path = files.get(file as usize).cloned().unwrap_or_default();
@@ -112,7 +140,7 @@ fn flatten(
             let input = keyword
                 .get("INPUT")
                 .ok_or_else(|| error("*INCLUDE: parameter INPUT= is missing".into()))?;
-            if !includes {
+            if includes == Includes::Refused {
                 return Err(error(format!(
                     "*INCLUDE, INPUT={input}: includes need a file to be relative to; \
                      read the file with read_abaqus"
@@ -125,6 +153,18 @@ fn flatten(
                 )));
             }
             let included = path.parent().unwrap_or(Path::new("")).join(input);
+            if includes == Includes::InFolder {
+                let top = &files[0];
+                if !lies_in_folder_of(&included, top) {
+                    return Err(error(format!(
+                        "*INCLUDE, INPUT={input}: '{}' lies outside the folder of '{}': \
+                         included files must be in the deck's folder or below it (a scene \
+                         allows others with --allow-outside-paths)",
+                        included.display(),
+                        top.display()
+                    )));
+                }
+            }
             let bytes = std::fs::read(&included).map_err(|e| {
                 error(format!(
                     "*INCLUDE: cannot read '{}': {e}",
@@ -143,6 +183,19 @@ fn flatten(
         });
     }
     Ok(())
+}
+
+/// Whether `file` lies in the folder of `top` or below it, after `..` and symbolic links
+/// (a file that cannot be resolved, e.g. a missing one, is left to the reader's error).
+fn lies_in_folder_of(file: &Path, top: &Path) -> bool {
+    let folder = match top.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    };
+    match (folder.canonicalize(), file.canonicalize()) {
+        (Ok(folder), Ok(file)) => file.starts_with(folder),
+        _ => true,
+    }
 }
 
 /// A keyword line: the name in upper case with single spaces, and the parameters (keys

@@ -31,7 +31,7 @@ use std::path::{Path, PathBuf};
 
 use musclefem_mesh::Mesh;
 
-pub use abaqus::{parse_abaqus, read_abaqus};
+pub use abaqus::{parse_abaqus, read_abaqus, read_abaqus_with};
 pub use error::ImportError;
 pub use gmsh::{parse_gmsh, read_gmsh};
 
@@ -66,13 +66,22 @@ pub struct SkippedKeyword {
 /// Reads a mesh, choosing the reader by extension: `.inp` (Abaqus) or `.msh` (Gmsh),
 /// in any letter case.
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
+    read_mesh_with(path, false)
+}
+
+/// [`read_mesh`], with Abaqus `*INCLUDE`s from outside the file's folder when
+/// `outside_includes` ([`read_abaqus_with`]).
+pub fn read_mesh_with(
+    path: impl AsRef<Path>,
+    outside_includes: bool,
+) -> Result<ImportedMesh, ImportError> {
     let path = path.as_ref();
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match extension.as_deref() {
-        Some("inp") => read_abaqus(path),
+        Some("inp") => read_abaqus_with(path, outside_includes),
         Some("msh") => read_gmsh(path),
         _ => Err(ImportError::Mesh {
             file: path.to_path_buf(),

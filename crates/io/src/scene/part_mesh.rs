@@ -15,7 +15,7 @@ use super::error::{Locator, SceneError, suggestion};
 use super::format::{FiberEntry, OneOrMany, PartEntry};
 use super::memory;
 use crate::fiber_csv::read_fibers_csv;
-use crate::mesh_import::read_mesh;
+use crate::mesh_import::read_mesh_with;
 use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
 
 /// The mesh of a part (generated, or one block of a file), with its fibers.
@@ -221,7 +221,8 @@ fn read_block(
     locator: &Locator,
 ) -> Result<(Mesh, Vec<i64>), SceneError> {
     let path = locator.resolve(file.span(), file.get_ref())?;
-    let imported = read_mesh(&path).map_err(|e| locator.error(file.span(), e.to_string()))?;
+    let imported = read_mesh_with(&path, locator.trust().outside_paths)
+        .map_err(|e| locator.error(file.span(), e.to_string()))?;
     let mesh = imported.mesh;
     let mut element_labels = imported.element_labels;
     let names: Vec<&str> = mesh.blocks.iter().map(|b| b.name.as_str()).collect();
