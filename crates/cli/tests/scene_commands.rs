@@ -84,6 +84,26 @@ fn run_writes_frames_history_scene_and_log() {
     assert_eq!(rows.len(), 10);
     let reaction = rows.last().unwrap()[3];
     assert!((reaction - 1.002568).abs() < 1e-5, "{reaction} N");
+    // Quasi-static energies (they were all 0): the work of the pulled face's reaction,
+    // ∫ R du with u = 5 mm × t, trapezoidal over the rows, is the strain energy put in.
+    let mut work = 0.0;
+    let (mut time, mut force) = (0.0, 0.0);
+    for row in &rows {
+        work += 0.5 * (force + row[3]) * 0.005 * (row[0] - time);
+        (time, force) = (row[0], row[3]);
+    }
+    let last = rows.last().unwrap();
+    let (internal, kinetic, external) = (last[7], last[8], last[9]);
+    assert!(work > 2e-3 && work < 4e-3, "{work} J");
+    assert!(
+        (internal - work).abs() < 1e-6 * work,
+        "{internal} J, {work} J"
+    );
+    assert!(
+        (external - internal).abs() < 1e-6 * internal,
+        "{external} J, {internal} J"
+    );
+    assert_eq!(kinetic, 0.0);
     assert_eq!(
         std::fs::read_to_string(root.join("scene.toml")).unwrap(),
         std::fs::read_to_string(&scene).unwrap()

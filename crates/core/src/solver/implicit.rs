@@ -147,16 +147,20 @@ pub fn run_implicit_with(
     // Internal and external (loads and supports) nodal forces at the last converged state.
     let mut internal_before = vec![Vector3::zeros(); node_count];
     let mut external_before = vec![Vector3::zeros(); node_count];
+    // The loads at t = 0 on the free components (the supports carry the rest).
+    loads.external_forces(0.0, &mut external_before);
+    for (d, &eq) in model.equation.iter().enumerate() {
+        if eq == PRESCRIBED {
+            external_before[d / 3][d % 3] = 0.0;
+        }
+    }
     if let Some(newmark) = &settings.dynamics {
         check_newmark(newmark)?;
         let mut inertia = Inertia::new(lumped_mass(mesh, parts)?);
-        loads.external_forces(0.0, &mut external_before);
         for (d, &eq) in model.equation.iter().enumerate() {
             if eq != PRESCRIBED {
                 inertia.acceleration[d / 3][d % 3] =
                     external_before[d / 3][d % 3] / inertia.mass[d / 3];
-            } else {
-                external_before[d / 3][d % 3] = 0.0;
             }
         }
         model.inertia = Some(inertia);
@@ -201,18 +205,21 @@ pub fn run_implicit_with(
                 if let (Some(newmark), Some(inertia)) = (&settings.dynamics, model.inertia.as_mut())
                 {
                     inertia.commit(newmark, &displacement, step);
-                    let supports = model.support_forces();
-                    for n in 0..node_count {
-                        let du = displacement[n] - converged[n];
-                        let internal = model.force[n];
-                        let external = model.external[n] + supports[n];
-                        energy.internal_work += 0.5 * (internal_before[n] + internal).dot(&du);
-                        energy.external_work += 0.5 * (external_before[n] + external).dot(&du);
-                        internal_before[n] = internal;
-                        external_before[n] = external;
-                    }
-                    energy.kinetic = model.inertia.as_ref().map_or(0.0, Inertia::kinetic_energy);
                 }
+                // Work of the internal and of the external forces (loads and supports),
+                // trapezoidal over the increment; quasi-static runs too (W_int = W_ext
+                // there to the Newton tolerance, the strain energy put in).
+                let supports = model.support_forces();
+                for n in 0..node_count {
+                    let du = displacement[n] - converged[n];
+                    let internal = model.force[n];
+                    let external = model.external[n] + supports[n];
+                    energy.internal_work += 0.5 * (internal_before[n] + internal).dot(&du);
+                    energy.external_work += 0.5 * (external_before[n] + external).dot(&du);
+                    internal_before[n] = internal;
+                    external_before[n] = external;
+                }
+                energy.kinetic = model.inertia.as_ref().map_or(0.0, Inertia::kinetic_energy);
                 converged.copy_from_slice(&displacement);
                 if settings.record_displacements {
                     displacement_history.push(displacement.clone());

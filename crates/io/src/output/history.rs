@@ -14,7 +14,9 @@
 //! ```
 //!
 //! (one line in the file). Implicit header ([`HistoryColumns::implicit_header`]): Newton
-//! iterations, and the energies of a dynamic run (zero kinetic energy when quasi-static):
+//! iterations, and the work of the internal and of the external forces (loads and
+//! supports) with the kinetic energy (zero when quasi-static, where the two works agree
+//! to the Newton tolerance):
 //!
 //! ```text
 //! time_s,time_step_s,newton_iterations,reaction_<d>_n...,<the rigid-tie columns>,
