@@ -43,6 +43,8 @@ pub struct BenchArgs {
     /// `musclefem run SCENE --tolerance` reads the rows.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["problem", "quick"])]
     pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub trust: musclefem_studies::scene_study::SceneTrustArgs,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
@@ -59,7 +61,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         args.force,
     )?;
     if let Some(scene_path) = &args.scene {
-        return scene::bench_scene(scene_path, &args.out);
+        return scene::bench_scene(scene_path, args.trust.trust(), &args.out);
     }
     let problems: &[Problem] = match (args.problem, args.quick) {
         (ProblemChoice::Cube, _) => &[Problem::Cube],

@@ -122,13 +122,8 @@ pub struct RunArgs {
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
     pub force: bool,
-    /// Load the shared libraries the scene's materials name as `plugin` (loading one runs
-    /// its code: only for plugins you trust).
-    #[arg(long)]
-    pub allow_plugins: bool,
-    /// Let the scene name files (meshes, fibers, surfaces, plugins) outside its own folder.
-    #[arg(long)]
-    pub allow_outside_paths: bool,
+    #[command(flatten)]
+    pub trust: musclefem_studies::scene_study::SceneTrustArgs,
 }
 
 /// The work–precision table that `--tolerance` reads (written by `musclefem bench`).

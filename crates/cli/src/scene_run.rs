@@ -132,15 +132,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
             .context("cannot set the number of threads")?;
     }
     let started = Instant::now();
-    let trust = Trust {
-        plugins: if args.allow_plugins {
-            PluginPolicy::Load
-        } else {
-            PluginPolicy::Refuse
-        },
-        outside_paths: args.allow_outside_paths,
-    };
-    let mut model = load_scene_trusting(&args.scene, &mut MaterialLibrary::with_builtins(), trust)?;
+    let mut model = load_scene_trusting(
+        &args.scene,
+        &mut MaterialLibrary::with_builtins(),
+        args.trust.trust(),
+    )?;
     if let Some(choice) = args.solver {
         model.analysis = switch_solver(&model, choice);
         model.solver_rationale = None;

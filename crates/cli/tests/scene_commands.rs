@@ -389,6 +389,26 @@ fn plugins_load_only_when_allowed_and_files_stay_in_the_scene_folder() {
         !dir.join("refused").exists(),
         "a refused run wrote its directory"
     );
+    // So do the other commands that read scenes.
+    let sweep = musclefem(
+        &dir,
+        &[
+            "sweep",
+            "--scene",
+            "scene/plugin.toml",
+            "--vary",
+            "rubber.mu=1e4,2e4",
+            "--out",
+            "sweep",
+        ],
+    );
+    assert!(!sweep.status.success());
+    assert!(
+        text(&sweep.stderr).contains("--allow-plugins"),
+        "{}",
+        text(&sweep.stderr)
+    );
+    assert!(!marker.exists(), "sweep ran the plugin's code");
 
     // Allowed, the library is loaded (its constructor runs); it is no musclefem plugin,
     // so the run then stops, naming it.

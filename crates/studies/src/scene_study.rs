@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 
 use musclefem_core::solver::{Observer, Problem, Record, Snapshot, run};
-use musclefem_io::scene::{Locator, SceneFile, build_model, read_scene_file};
+use musclefem_io::scene::{Locator, PluginPolicy, SceneFile, Trust, build_model, read_scene_file};
 use musclefem_materials::{MaterialLibrary, ParameterSpec};
 
 /// A column of the scene's history, at the end of the run or at a time.
@@ -91,11 +91,40 @@ pub struct SceneStudy {
     outputs: Vec<HistoryOutput>,
 }
 
+/// What the commands that read a scene let it reach (`docs/scene-format.md`): its
+/// plugins loaded, files outside its folder read.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct SceneTrustArgs {
+    /// Load the shared libraries the scene's materials name as `plugin` (loading one runs
+    /// its code: only for plugins you trust).
+    #[arg(long)]
+    pub allow_plugins: bool,
+    /// Let the scene name files (meshes, fibers, surfaces, plugins) outside its own folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
+}
+
+impl SceneTrustArgs {
+    /// The scene's permissions.
+    pub fn trust(&self) -> Trust {
+        Trust {
+            plugins: if self.allow_plugins {
+                PluginPolicy::Load
+            } else {
+                PluginPolicy::Refuse
+            },
+            outside_paths: self.allow_outside_paths,
+        }
+    }
+}
+
 impl SceneStudy {
-    /// Read and check the scene at `path` (as `musclefem check` does), with every reaction
-    /// column at the end as its outputs (none if it has no reaction).
-    pub fn load(path: &Path) -> Result<Self> {
+    /// Read and check the scene at `path` (as `musclefem check` does) with the
+    /// permissions `trust`, with every reaction column at the end as its outputs (none if
+    /// it has no reaction).
+    pub fn load(path: &Path, trust: Trust) -> Result<Self> {
         let (scene, locator) = read_scene_file(path)?;
+        let locator = locator.with_trust(trust);
         let model = build_model(&scene, &locator, &mut MaterialLibrary::with_builtins())?;
         let header = model.history_columns().header(&model.analysis);
         let columns: Vec<String> = header.split(',').map(str::to_string).collect();
@@ -379,7 +408,7 @@ mod tests {
     #[test]
     fn names_and_columns_are_checked_against_the_scene() {
         let path = example("hill_block_isometric.toml");
-        let study = SceneStudy::load(&path).unwrap();
+        let study = SceneStudy::load(&path, Trust::default()).unwrap();
         // Every reaction at the end by default: the four held faces.
         let names: Vec<String> = study.outputs().iter().map(HistoryOutput::name).collect();
         assert_eq!(names.len(), 4, "{names:?}");
@@ -395,7 +424,7 @@ mod tests {
             let error = study.check_names([name]).unwrap_err().to_string();
             assert!(error.contains(expected), "{error}");
         }
-        let error = SceneStudy::load(&path)
+        let error = SceneStudy::load(&path, Trust::default())
             .unwrap()
             .with_outputs(&["reaction_nothing_n".into()])
             .err()
@@ -403,7 +432,7 @@ mod tests {
             .to_string();
         assert!(error.contains("no history column"), "{error}");
         assert!(error.contains("reaction_block.x1.x_n"), "{error}");
-        let late = SceneStudy::load(&path)
+        let late = SceneStudy::load(&path, Trust::default())
             .unwrap()
             .with_outputs(&["reaction_block.x1.x_n@1".into()])
             .err()
@@ -417,7 +446,7 @@ mod tests {
         // The block of the example held isometric, activated fully: its reaction on x1 is
         // σ_iso × A, σ_iso ≈ σ0 f_L(λ_f) with the fiber a little shorter than optimal as
         // the series element stretches (the example's 692.8 kPa at σ0 = 700 kPa).
-        let study = SceneStudy::load(&example("hill_block_isometric.toml"))
+        let study = SceneStudy::load(&example("hill_block_isometric.toml"), Trust::default())
             .unwrap()
             .with_outputs(&["reaction_block.x1.x_n".into()])
             .unwrap();

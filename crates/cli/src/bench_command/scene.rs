@@ -12,8 +12,8 @@ use musclefem_studies::bench::scene::{ERROR_METRIC, SceneProblem};
 
 use super::{machine, pareto_log, progress_bar, say, write_outputs};
 
-pub fn bench_scene(scene_path: &Path, out: &Path) -> Result<()> {
-    let scene = SceneProblem::load(scene_path)?;
+pub fn bench_scene(scene_path: &Path, trust: musclefem_io::scene::Trust, out: &Path) -> Result<()> {
+    let scene = SceneProblem::load(scene_path, trust)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let (methods, left_out) = scene.matrix();
     let bar = progress_bar(methods.len() as u64 + 1);

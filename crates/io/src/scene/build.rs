@@ -101,8 +101,8 @@ pub fn build_model(
                         plugin.span(),
                         format!(
                             "plugin '{}': loading a shared library runs its code; pass \
-                             --allow-plugins to `run` if you trust it (`check` reads the \
-                             rest of the scene without loading it)",
+                             --allow-plugins if you trust it (`check` reads the rest of \
+                             the scene without loading it)",
                             path.display()
                         ),
                     ));

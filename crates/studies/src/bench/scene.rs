@@ -30,7 +30,7 @@ use musclefem_core::mesh::ElementRef;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::ImplicitSettings;
 use musclefem_core::solver::{Analysis, Observer, Problem, Record, Snapshot, run};
-use musclefem_io::scene::{Model, fastest_wave_speed, load_scene};
+use musclefem_io::scene::{Model, Trust, fastest_wave_speed, load_scene_trusting};
 use musclefem_materials::MaterialLibrary;
 
 use super::Response;
@@ -54,10 +54,11 @@ pub struct SceneProblem {
 }
 
 impl SceneProblem {
-    /// The scene at `path`, checked as `musclefem run` checks it.
-    pub fn load(path: &Path) -> Result<Self> {
+    /// The scene at `path`, checked as `musclefem run` checks it, with the permissions
+    /// `trust`.
+    pub fn load(path: &Path, trust: Trust) -> Result<Self> {
         let name = scene_name(path)?;
-        let model = load_scene(path, &mut MaterialLibrary::with_builtins())?;
+        let model = load_scene_trusting(path, &mut MaterialLibrary::with_builtins(), trust)?;
         Ok(SceneProblem { name, model })
     }
 
@@ -292,7 +293,7 @@ mod tests {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../examples")
             .join(name);
-        SceneProblem::load(&path).unwrap()
+        SceneProblem::load(&path, Trust::default()).unwrap()
     }
 
     #[test]

@@ -63,6 +63,8 @@ pub struct FitArgs {
     /// the data (the specimen and solver options below do not apply).
     #[arg(long, value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub trust: crate::scene_study::SceneTrustArgs,
     /// With --scene: the history column of the abscissa (it must increase along the run).
     #[arg(
         long,
@@ -130,7 +132,7 @@ pub fn fit(args: &FitArgs) -> Result<()> {
     let base = match &args.scene {
         Some(path) => {
             crate::sweep::check_no_test_options(&args.options)?;
-            let study = SceneStudy::load(path)?;
+            let study = SceneStudy::load(path, args.trust.trust())?;
             let y = args.y.as_deref().context(
                 "--scene: name the history column to fit with --y, e.g. --y reaction_block.x1.x_n",
             )?;

@@ -62,6 +62,8 @@ pub struct SweepArgs {
     /// materials changed (the specimen and solver options below do not apply).
     #[arg(long, value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub trust: crate::scene_study::SceneTrustArgs,
     /// A summary output of a scene run: a column of its history.csv at the end of the
     /// run (COLUMN) or at a time (COLUMN@SECONDS, linear between rows); repeatable
     /// [default: every reaction column at the end].
@@ -128,7 +130,7 @@ impl Plan {
             (_, Some(scene)) => {
                 check_no_test_options(&args.options)?;
                 Study::Scene(Box::new(
-                    SceneStudy::load(scene)?.with_outputs(&args.outputs)?,
+                    SceneStudy::load(scene, args.trust.trust())?.with_outputs(&args.outputs)?,
                 ))
             }
             (Some(base), None) if !args.outputs.is_empty() => bail!(
