@@ -14,9 +14,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
-use musclefem_core::solver::{
-    Observer, Outcome, Problem, Record, Snapshot, SolverError, run as solve,
-};
+use musclefem_core::solver::{Observer, Outcome, Record, Snapshot, SolverError};
 use musclefem_io::OutputError;
 use musclefem_io::output::{ExistingResults, FrameSchedule, HistoryWriter, RunDirectory, RunLog};
 use musclefem_io::scene::{
@@ -169,7 +167,6 @@ pub fn run(args: &RunArgs) -> Result<()> {
         .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
     directory.write_scene(&scene_text)?;
     let columns = model.history_columns();
-    let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
     let interrupted = Arc::new(AtomicBool::new(false));
     {
         let flag = interrupted.clone();
@@ -207,13 +204,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         last_row: String::new(),
     };
     watcher.history = Some(watcher.directory.history(&columns, &model.analysis)?);
-    let problem = Problem {
-        mesh: &model.mesh,
-        parts: &model.parts,
-        loads: &model.loads,
-        interactions: &mut interactions,
-    };
-    let result = solve(problem, &model.analysis, &mut watcher);
+    let result = model.run(&mut watcher);
     let steps = result.as_ref().map_or(0, Outcome::steps);
     let outcome = result.map(|_| ());
     let solve = solve_started.elapsed();

@@ -16,8 +16,8 @@ use std::time::{Duration, Instant};
 use proptest::prelude::*;
 use proptest::test_runner::TestRunner;
 
+use musclefem_core::solver::Analysis;
 use musclefem_core::solver::observer::NoObserver;
-use musclefem_core::solver::{Analysis, Problem, run};
 use musclefem_io::scene::{build_model, parse_scene};
 use musclefem_materials::MaterialLibrary;
 
@@ -195,15 +195,8 @@ fn check_scene(name: &str, text: &str) -> Result<&'static str, TestCaseError> {
     if !small_implicit {
         return Ok("built");
     }
-    let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
-    let problem = Problem {
-        mesh: &model.mesh,
-        parts: &model.parts,
-        loads: &model.loads,
-        interactions: &mut interactions,
-    };
     let started = Instant::now();
-    let outcome = run(problem, &model.analysis, &mut NoObserver);
+    let outcome = model.run(&mut NoObserver);
     prop_assert!(
         started.elapsed() < Duration::from_secs(60),
         "a small implicit run took {:?}",

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_core::solver::{Observer, Problem, Record, Snapshot, run};
+use musclefem_core::solver::{Observer, Record, Snapshot};
 use musclefem_io::scene::{Locator, PluginPolicy, SceneFile, Trust, build_model, read_scene_file};
 use musclefem_materials::{MaterialLibrary, ParameterSpec};
 
@@ -287,14 +287,7 @@ impl SceneStudy {
             rows: Vec::new(),
             error: None,
         };
-        let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
-        let problem = Problem {
-            mesh: &model.mesh,
-            parts: &model.parts,
-            loads: &model.loads,
-            interactions: &mut interactions,
-        };
-        let outcome = run(problem, &model.analysis, &mut history)?;
+        let outcome = model.run(&mut history)?;
         if let Some(error) = history.error {
             return Err(error.into());
         }

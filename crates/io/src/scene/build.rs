@@ -60,6 +60,30 @@ pub struct Model {
 }
 
 impl Model {
+    /// Run the model under its own analysis, showing `observer` every recorded instant.
+    pub fn run(
+        &self,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        self.run_with(&self.analysis, observer)
+    }
+
+    /// Run the model under `analysis` (another solver or step setting than its own).
+    pub fn run_with(
+        &self,
+        analysis: &Analysis,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        let mut interactions: Vec<_> = self.interactions.iter().map(|i| i.boxed()).collect();
+        let problem = musclefem_core::solver::Problem {
+            mesh: &self.mesh,
+            parts: &self.parts,
+            loads: &self.loads,
+            interactions: &mut interactions,
+        };
+        musclefem_core::solver::run(problem, analysis, observer)
+    }
+
     /// The names of the columns of this model's `history.csv`: a reaction per prescribed
     /// displacement, the rigid ties' forces and moments, and the interactions.
     pub fn history_columns(&self) -> HistoryColumns {

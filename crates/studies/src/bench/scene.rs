@@ -29,7 +29,7 @@ use nalgebra::Vector3;
 use musclefem_core::mesh::ElementRef;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::ImplicitSettings;
-use musclefem_core::solver::{Analysis, Observer, Problem, Record, Snapshot, run};
+use musclefem_core::solver::{Analysis, Observer, Record, Snapshot};
 use musclefem_io::scene::{Model, Trust, fastest_wave_speed, load_scene_trusting};
 use musclefem_materials::MaterialLibrary;
 
@@ -203,7 +203,6 @@ impl SceneProblem {
     /// Run the scene with `step`: its displacements at the end.
     pub fn run(&self, step: StepSetting) -> Result<Response> {
         let model = &self.model;
-        let mut interactions: Vec<_> = model.interactions.iter().map(|i| i.boxed()).collect();
         let mut end = EndState {
             from_time: 0.1 * self.duration(),
             time: 0.0,
@@ -211,13 +210,7 @@ impl SceneProblem {
             kinetic_to_internal: 0.0,
         };
         let quasi_static = matches!(&model.analysis, Analysis::Implicit(s) if s.dynamics.is_none());
-        let problem = Problem {
-            mesh: &model.mesh,
-            parts: &model.parts,
-            loads: &model.loads,
-            interactions: &mut interactions,
-        };
-        run(problem, &self.analysis(step), &mut end)?;
+        model.run_with(&self.analysis(step), &mut end)?;
         let duration = self.duration();
         if (end.time - duration).abs() > 1e-9 * duration.max(1.0) {
             bail!(
