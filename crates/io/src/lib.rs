@@ -29,6 +29,7 @@ pub mod fiber_csv;
 pub mod mesh_import;
 #[cfg(feature = "results")]
 pub mod output;
+pub mod paths;
 #[cfg(feature = "plot")]
 pub mod plot;
 #[cfg(feature = "scene")]

@@ -155,7 +155,7 @@ fn flatten(
             let included = path.parent().unwrap_or(Path::new("")).join(input);
             if includes == Includes::InFolder {
                 let top = &files[0];
-                if !lies_in_folder_of(&included, top) {
+                if !crate::paths::lies_in_folder(&included, top.parent().unwrap_or(Path::new(""))) {
                     return Err(error(format!(
                         "*INCLUDE, INPUT={input}: '{}' lies outside the folder of '{}': \
                          included files must be in the deck's folder or below it (a scene \
@@ -183,19 +183,6 @@ fn flatten(
         });
     }
     Ok(())
-}
-
-/// Whether `file` lies in the folder of `top` or below it, after `..` and symbolic links
-/// (a file that cannot be resolved, e.g. a missing one, is left to the reader's error).
-fn lies_in_folder_of(file: &Path, top: &Path) -> bool {
-    let folder = match top.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() => folder,
-        _ => Path::new("."),
-    };
-    match (folder.canonicalize(), file.canonicalize()) {
-        (Ok(folder), Ok(file)) => file.starts_with(folder),
-        _ => true,
-    }
 }
 
 /// A keyword line: the name in upper case with single spaces, and the parameters (keys

@@ -49,15 +49,7 @@ impl Trust {
         if self.outside_paths {
             return Ok(path);
         }
-        let folder = if directory.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            directory
-        };
-        let (Ok(folder), Ok(file)) = (folder.canonicalize(), path.canonicalize()) else {
-            return Ok(path);
-        };
-        if file.starts_with(&folder) {
+        if crate::paths::lies_in_folder(&path, directory) {
             Ok(path)
         } else {
             Err(locator.error(
@@ -66,7 +58,7 @@ impl Trust {
                     "'{name}' lies outside the scene's folder {}: files a scene names must be \
                      in its folder or below it (pass --allow-outside-paths if you trust this \
                      scene)",
-                    folder.display()
+                    directory.display()
                 ),
             ))
         }
