@@ -120,8 +120,12 @@ pub struct RunArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Replace the results of a previous run in the output directory.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resume")]
     pub force: bool,
+    /// Go on with the stopped run in the output directory from its last checkpoint
+    /// (written at every frame); the files end as an uninterrupted run's would.
+    #[arg(long)]
+    pub resume: bool,
     #[command(flatten)]
     pub trust: musclefem_studies::scene_study::SceneTrustArgs,
 }

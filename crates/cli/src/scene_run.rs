@@ -14,9 +14,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
-use musclefem_core::solver::{Observer, Outcome, Record, Snapshot, SolverError};
+use musclefem_core::solver::{Checkpoint, Observer, Outcome, Record, Snapshot, SolverError};
 use musclefem_io::OutputError;
-use musclefem_io::output::{ExistingResults, FrameSchedule, HistoryWriter, RunDirectory, RunLog};
+use musclefem_io::output::{
+    CHECKPOINT_FILE, ExistingResults, FrameSchedule, HistoryWriter, RunCheckpoint, RunDirectory,
+    RunLog,
+};
 use musclefem_io::scene::{
     Analysis, Model, PluginPolicy, Trust, load_scene_trusting, locking_warning,
 };
@@ -163,8 +166,17 @@ pub fn run(args: &RunArgs) -> Result<()> {
     } else {
         ExistingResults::Refuse
     };
-    let mut directory = RunDirectory::create(&out, existing)
-        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+    let fingerprint = model.fingerprint(&scene_text, &model.analysis);
+    let resumed = if args.resume {
+        Some(read_checkpoint(&out, fingerprint)?)
+    } else {
+        None
+    };
+    let mut directory = match &resumed {
+        Some(checkpoint) => RunDirectory::resume(&out, checkpoint.frames.clone())?,
+        None => RunDirectory::create(&out, existing)
+            .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?,
+    };
     directory.write_scene(&scene_text)?;
     let columns = model.history_columns();
     let interrupted = Arc::new(AtomicBool::new(false));
@@ -178,9 +190,15 @@ pub fn run(args: &RunArgs) -> Result<()> {
         });
     }
     // A log from the start: a run killed before its end leaves one that says so.
+    let resumed_from = resumed.as_ref().map_or(String::new(), |c| {
+        format!(
+            "resumed = from the checkpoint at t = {:e} s\n",
+            c.solver.time
+        )
+    });
     directory.write_run_log(&RunLog::new(format!(
-        "scene = {}\nsolver = {:?}\nend = running (a run that ended rewrites this line; this \
-         one was stopped without being able to)\n",
+        "scene = {}\nsolver = {:?}\n{resumed_from}end = running (a run that ended rewrites \
+         this line; this one was stopped without being able to)\n",
         args.scene.display(),
         model.analysis
     )))?;
@@ -202,9 +220,34 @@ pub fn run(args: &RunArgs) -> Result<()> {
         error: None,
         fields_error: None,
         last_row: String::new(),
+        fingerprint,
+        frame_due: false,
+        no_checkpoints: None,
+        abort_after_checkpoint: std::env::var(ABORT_AFTER_CHECKPOINT)
+            .ok()
+            .and_then(|k| k.parse().ok()),
     };
-    watcher.history = Some(watcher.directory.history(&columns, &model.analysis)?);
-    let result = model.run(&mut watcher);
+    let history = watcher.directory.history(&columns, &model.analysis)?;
+    let result = match resumed {
+        Some(checkpoint) => {
+            if checkpoint.history_header != history.header() {
+                bail!(
+                    "{}: the checkpoint's history has other columns than this scene's",
+                    out.display()
+                );
+            }
+            // The frame schedule is a function of the recorded times: replay them.
+            for row in &checkpoint.history_rows {
+                watcher.frames.due(row[0]);
+            }
+            watcher.history = Some(history.with_rows(checkpoint.history_rows)?);
+            model.resume_with(&model.analysis, &checkpoint.solver, &mut watcher)
+        }
+        None => {
+            watcher.history = Some(history);
+            model.run(&mut watcher)
+        }
+    };
     let steps = result.as_ref().map_or(0, Outcome::steps);
     let outcome = result.map(|_| ());
     let solve = solve_started.elapsed();
@@ -212,6 +255,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let write_error = watcher.error.take();
     let fields_error = watcher.fields_error.take();
     let last_row = std::mem::take(&mut watcher.last_row);
+    let no_checkpoints = watcher.no_checkpoints.take();
     if let Some(history) = watcher.history.take() {
         history.finish()?;
     }
@@ -226,8 +270,12 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         (Err(error), ..) => format!("failed: {error}"),
     };
+    let checkpoints = match &no_checkpoints {
+        Some(why) => format!("checkpoints = none: {}\n", why.replace('\n', "; ")),
+        None => format!("checkpoints = at every frame, in {CHECKPOINT_FILE} until the end\n"),
+    };
     let log = RunLog::new(format!(
-        "scene = {}\nsolver = {:?}\nend = {}\n",
+        "scene = {}\nsolver = {:?}\n{resumed_from}{checkpoints}end = {}\n",
         args.scene.display(),
         model.analysis,
         end.replace('\n', "; ")
@@ -248,6 +296,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     }
     match outcome {
         Ok(()) => {
+            directory.remove_checkpoint()?;
             println!(
                 "done: {steps} steps in {:.2?}; {} frames, history and log in {}",
                 solve,
@@ -261,8 +310,11 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         Err(SolverError::Interrupted { time }) => Err(Interrupted(format!(
             "stopped at t = {time:.6e} s on request; {} frames and the history up to there \
-             are in {} (run.log says so)",
+             are in {} (run.log says so); `musclefem run {} --out {} --resume` goes on from \
+             the last frame",
             directory.frames().len(),
+            out.display(),
+            args.scene.display(),
             out.display()
         ))
         .into()),
@@ -272,6 +324,28 @@ pub fn run(args: &RunArgs) -> Result<()> {
             out.display()
         ),
     }
+}
+
+/// The checkpoint in the run directory `out`, if it belongs to the model of
+/// `fingerprint`.
+fn read_checkpoint(out: &std::path::Path, fingerprint: u64) -> Result<RunCheckpoint> {
+    let path = out.join(CHECKPOINT_FILE);
+    if !path.exists() {
+        bail!(
+            "{}: no checkpoint to resume from (the run there completed, or stopped before \
+             its first frame); run without --resume, with --force, to start again",
+            path.display()
+        );
+    }
+    let checkpoint = RunCheckpoint::read(&path)?;
+    if checkpoint.fingerprint != fingerprint {
+        bail!(
+            "{}: the checkpoint was written by a run of another scene, mesh or solver \
+             setting; resume with the same ones, or start again with --force",
+            path.display()
+        );
+    }
+    Ok(checkpoint)
 }
 
 /// The other solver's default settings for the scene's duration and output interval.
@@ -331,13 +405,27 @@ struct Watcher<'a> {
     /// A material failure while evaluating a frame's element fields.
     fields_error: Option<SolverError>,
     last_row: String,
+    /// Of the model, written into every checkpoint.
+    fingerprint: u64,
+    /// Whether the last recorded row was a frame's: a checkpoint follows it.
+    frame_due: bool,
+    /// Why no checkpoint could be taken (an interaction that cannot write its state).
+    no_checkpoints: Option<String>,
+    /// Fault injection for the kill-and-resume tests ([`ABORT_AFTER_CHECKPOINT`]).
+    abort_after_checkpoint: Option<usize>,
 }
+
+/// The environment variable that makes a run abort (as if killed: no handler, no clean-up)
+/// right after writing checkpoint number K (from 1), for the kill-and-resume tests: a
+/// deterministic stand-in for a kill at a chosen frame.
+pub const ABORT_AFTER_CHECKPOINT: &str = "MUSCLEFEM_ABORT_AFTER_CHECKPOINT";
 
 impl Watcher<'_> {
     /// The frame of `snapshot`, with its element fields, if frames are asked for and one
     /// is due.
     fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        if self.write_frames && self.frames.due(snapshot.time) {
+        self.frame_due = self.frames.due(snapshot.time);
+        if self.write_frames && self.frame_due {
             let parts = match snapshot.element_fields() {
                 Ok(parts) => parts,
                 Err(e) => {
@@ -413,6 +501,43 @@ impl Observer for Watcher<'_> {
             self.reactions_text(record.reactions())
         );
         self.frame(snapshot)
+    }
+
+    fn wants_checkpoint(&mut self) -> bool {
+        self.no_checkpoints.is_none() && std::mem::take(&mut self.frame_due)
+    }
+
+    /// Written after every frame: the state and the outputs up to it.
+    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
+        let (solver, Some(history)) = (checkpoint, &self.history) else {
+            return ControlFlow::Continue(());
+        };
+        let solver = match solver {
+            Ok(solver) => solver,
+            Err(why) => {
+                eprintln!("warning: the run cannot be checkpointed: {why}");
+                self.no_checkpoints = Some(why.to_string());
+                return ControlFlow::Continue(());
+            }
+        };
+        let file = RunCheckpoint {
+            fingerprint: self.fingerprint,
+            history_header: history.header().to_string(),
+            history_rows: history.rows().to_vec(),
+            frames: self.directory.frames().to_vec(),
+            solver,
+        };
+        if let Err(e) = file.write(&self.directory.checkpoint_path()) {
+            self.error = Some(e);
+            return ControlFlow::Break(());
+        }
+        if let Some(k) = &mut self.abort_after_checkpoint {
+            *k = k.saturating_sub(1);
+            if *k == 0 {
+                std::process::abort();
+            }
+        }
+        ControlFlow::Continue(())
     }
 
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {

@@ -26,6 +26,7 @@ pub mod atomic;
 pub mod csv;
 pub mod error;
 pub mod fiber_csv;
+pub mod fingerprint;
 pub mod mesh_import;
 #[cfg(feature = "results")]
 pub mod output;

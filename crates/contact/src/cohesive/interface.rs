@@ -57,9 +57,12 @@
 //!   smoothly sliding bond also moves its starting triangle to the one its walk reached.
 
 use musclefem_core::mesh::Mesh;
-use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
+use musclefem_core::solver::{
+    CheckpointReader, CheckpointWriter, Interaction, InteractionReport, NodalField, SolverError,
+};
 use nalgebra::{Matrix3, Vector3};
 
+use super::bond_checkpoint::{restore_bonds, save_bonds};
 use super::bonds::{Bond, BondState, closest_distance, evaluate_all, form_bonds};
 use super::error::CohesiveError;
 use super::law::CohesiveLaw;
@@ -373,6 +376,16 @@ impl Interaction for CohesiveInterface {
                 bond.coordinates = state.coordinates;
             }
         }
+    }
+
+    /// The bonds and their last evaluated states (`bond_checkpoint.rs`).
+    fn save_state(&self, out: &mut CheckpointWriter) -> Result<(), SolverError> {
+        save_bonds(&self.bonds, &self.states, out);
+        Ok(())
+    }
+
+    fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        restore_bonds(&mut self.bonds, &mut self.states, input)
     }
 
     /// `force`: the force the interface exerts on the secondary surface, Σ −f_s [N] (for a

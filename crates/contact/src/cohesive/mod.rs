@@ -22,6 +22,7 @@
 //! let mut interactions: Vec<Box<dyn Interaction>> = vec![Box::new(glue)];
 //! ```
 
+mod bond_checkpoint;
 mod bonds;
 mod error;
 mod frame;

@@ -22,6 +22,7 @@ use std::ops::Range;
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::{ElementChunk, chunk_ranges};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
@@ -61,6 +62,21 @@ pub(super) struct ViscousBlock {
 }
 
 impl ViscousBlock {
+    /// Writes the element volumes of the last two evaluations.
+    pub fn save_state(&self, out: &mut CheckpointWriter) {
+        out.f64s(&self.volume_old);
+        out.f64s(&self.volume_new);
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote.
+    pub fn restore_state(
+        &mut self,
+        input: &mut CheckpointReader,
+    ) -> Result<(), super::SolverError> {
+        input.f64s_into("element volumes", &mut self.volume_old)?;
+        input.f64s_into("element volumes", &mut self.volume_new)
+    }
+
     pub fn new(kernel: &BlockKernel) -> Self {
         let volumes: Vec<f64> = (0..kernel.len())
             .map(|e| kernel.reference_volume(e))

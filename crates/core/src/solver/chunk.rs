@@ -12,6 +12,8 @@ use musclefem_materials::{
     Material, MaterialError, PointBlock, PointResponse, Tangent, VoigtStress,
 };
 
+use super::SolverError;
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::element_fields::AcceptedPoints;
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
@@ -225,6 +227,28 @@ impl ElementChunk {
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.state_old, &mut self.state_new);
         std::mem::swap(&mut self.f_old, &mut self.f_new);
+    }
+
+    /// Writes what evolves: F and the state variables (accepted and trial), the stresses
+    /// and the acoustic moduli of the last refresh (the tangents and forces are
+    /// recomputed before they are read).
+    pub fn save_state(&self, out: &mut CheckpointWriter) {
+        out.matrices(&self.f_old);
+        out.matrices(&self.f_new);
+        out.f64s(&self.state_old);
+        out.f64s(&self.state_new);
+        out.matrices(&self.stress);
+        out.f64s(&self.wave_modulus);
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote.
+    pub fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        input.matrices_into("deformation gradients", &mut self.f_old)?;
+        input.matrices_into("deformation gradients", &mut self.f_new)?;
+        input.f64s_into("state variables", &mut self.state_old)?;
+        input.f64s_into("state variables", &mut self.state_new)?;
+        input.matrices_into("stresses", &mut self.stress)?;
+        input.f64s_into("acoustic moduli", &mut self.wave_modulus)
     }
 
     /// The material points of the last accepted step, for the output fields.

@@ -58,6 +58,7 @@
 use nalgebra::Vector3;
 
 use super::bulk_viscosity::BulkViscosity;
+use super::checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
 use super::element_fields::PartFields;
 use super::explicit_parts::{
     PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
@@ -200,6 +201,20 @@ pub fn run_explicit_with(
     settings: &ExplicitSettings,
     observer: &mut dyn Observer,
 ) -> Result<ExplicitResult, SolverError> {
+    explicit_run(mesh, parts, loads, interactions, settings, observer, None)
+}
+
+/// [`run_explicit_with`], started from `from` (a checkpoint of the same problem) when
+/// given: the result's history then holds the rows after the checkpoint only.
+pub(super) fn explicit_run(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    interactions: &mut [Box<dyn Interaction>],
+    settings: &ExplicitSettings,
+    observer: &mut dyn Observer,
+    from: Option<&Checkpoint>,
+) -> Result<ExplicitResult, SolverError> {
     check_settings(settings)?;
     let node_count = mesh.nodes.len();
     let mut runs = Vec::with_capacity(parts.len());
@@ -279,8 +294,107 @@ pub fn run_explicit_with(
     let mut history = Vec::new();
     let mut next_record = 0.0;
     let mut steps = 0;
+    // Set after a recorded row whose observer asked for a checkpoint: taken at the top of
+    // the next pass, where the state is that of a step boundary.
+    let mut checkpoint_wanted = false;
+    if let Some(checkpoint) = from {
+        let mut input = CheckpointReader::new(&checkpoint.state);
+        time = input.f64()?;
+        half_step = input.f64()?;
+        for value in [
+            &mut internal_energy,
+            &mut external_work,
+            &mut viscous_energy,
+            &mut interaction_work,
+            &mut largest_energy,
+            &mut next_record,
+        ] {
+            *value = input.f64()?;
+        }
+        initial_balance = input.optional_f64()?;
+        startup_energy = input.optional_f64()?;
+        steps = input.index()?;
+        for (what, values) in [
+            ("displacements", &mut displacement),
+            ("displacements", &mut previous_displacement),
+            ("positions", &mut positions),
+            ("velocities", &mut velocity),
+            ("velocities", &mut old_velocity),
+            ("internal forces", &mut force),
+            ("internal forces", &mut previous_force),
+            ("viscous forces", &mut viscous_force),
+            ("viscous forces", &mut previous_viscous_force),
+            ("interaction forces", &mut interaction_force),
+            ("interaction forces", &mut previous_interaction_force),
+            ("reactions", &mut reaction),
+            ("reactions", &mut previous_reaction),
+            ("external forces", &mut external),
+            ("external forces", &mut previous_external),
+        ] {
+            input.matrices_into(what, values)?;
+        }
+        for run in &mut runs {
+            run.restore_state(&mut input)?;
+        }
+        for interaction in interactions.iter_mut() {
+            interaction.restore_state(&mut input)?;
+        }
+        input.finish()?;
+        (stable_step, critical) = smallest_stable_step(&runs);
+    }
 
     loop {
+        if std::mem::take(&mut checkpoint_wanted) {
+            let checkpoint = (|| {
+                let mut out = CheckpointWriter::new();
+                out.f64(time);
+                out.f64(half_step);
+                for value in [
+                    internal_energy,
+                    external_work,
+                    viscous_energy,
+                    interaction_work,
+                    largest_energy,
+                    next_record,
+                ] {
+                    out.f64(value);
+                }
+                out.optional_f64(initial_balance);
+                out.optional_f64(startup_energy);
+                out.u64(steps as u64);
+                for values in [
+                    &displacement,
+                    &previous_displacement,
+                    &positions,
+                    &velocity,
+                    &old_velocity,
+                    &force,
+                    &previous_force,
+                    &viscous_force,
+                    &previous_viscous_force,
+                    &interaction_force,
+                    &previous_interaction_force,
+                    &reaction,
+                    &previous_reaction,
+                    &external,
+                    &previous_external,
+                ] {
+                    out.matrices(values);
+                }
+                runs.iter().for_each(|run| run.save_state(&mut out));
+                for interaction in interactions.iter() {
+                    interaction.save_state(&mut out)?;
+                }
+                Ok(Checkpoint {
+                    solver: "explicit".to_string(),
+                    time,
+                    state: out.into_bytes(),
+                })
+            })();
+            if observer.checkpoint(checkpoint).is_break() {
+                return Err(SolverError::Interrupted { time });
+            }
+        }
         // At the end time one more velocity update closes the books at t^N: the free
         // components get v^{N+½} from the forces, the prescribed ones keep their rate.
         let closing = time >= settings.end_time * (1.0 - 1e-12);
@@ -397,12 +511,14 @@ pub fn run_explicit_with(
             let fields = || all_fields(mesh, &runs, time);
             let nodal = || all_nodal_fields(interactions, node_count);
             let snapshot = Snapshot::new(time, &displacement, &fields).with_nodal_fields(&nodal);
-            if let (Some(row), false) = (history.last(), closing)
-                && observer
+            if let (Some(row), false) = (history.last(), closing) {
+                if observer
                     .record(&Record::Explicit(row), &snapshot)
                     .is_break()
-            {
-                return Err(SolverError::Interrupted { time });
+                {
+                    return Err(SolverError::Interrupted { time });
+                }
+                checkpoint_wanted = observer.wants_checkpoint();
             }
         }
         // A non-finite velocity makes K non-finite: look for it only then.

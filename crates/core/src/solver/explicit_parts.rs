@@ -10,6 +10,7 @@ use musclefem_materials::Material;
 
 use super::assembly::NodeAdjacency;
 use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk, chunk_ranges};
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::hex8_one_point_chunk::OnePointHexChunk;
@@ -166,6 +167,47 @@ impl<'a> PartRun<'a> {
             }
             PartElements::NodalAverage { averaged, .. } => averaged.commit(),
         }
+    }
+
+    /// Writes what evolves in the part's elements (see [`super::checkpoint`]), the
+    /// bulk-viscosity volumes and the cached stable step.
+    pub fn save_state(&self, out: &mut CheckpointWriter) {
+        match &self.elements {
+            PartElements::General { chunks, .. } => {
+                chunks.iter().for_each(|chunk| chunk.save_state(out))
+            }
+            PartElements::OnePointHex { chunks, .. } => {
+                chunks.iter().for_each(|chunk| chunk.save_state(out))
+            }
+            PartElements::NodalAverage { averaged, .. } => averaged.save_state(out),
+        }
+        if let Some(viscous) = &self.viscous {
+            viscous.save_state(out);
+        }
+        out.f64(self.stable.0);
+        out.u64(self.stable.1 as u64);
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote.
+    pub fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        match &mut self.elements {
+            PartElements::General { chunks, .. } => {
+                for chunk in chunks {
+                    chunk.restore_state(input)?;
+                }
+            }
+            PartElements::OnePointHex { chunks, .. } => {
+                for chunk in chunks {
+                    chunk.restore_state(input)?;
+                }
+            }
+            PartElements::NodalAverage { averaged, .. } => averaged.restore_state(input)?,
+        }
+        if let Some(viscous) = &mut self.viscous {
+            viscous.restore_state(input)?;
+        }
+        self.stable = (input.f64()?, input.index()?);
+        Ok(())
     }
 
     /// The stable step L₀ √(ρ_e/M) of every element with its index, from the moduli of

@@ -54,6 +54,7 @@
 
 use nalgebra::Vector3;
 
+use super::checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
 use super::explicit::all_nodal_fields;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
@@ -117,6 +118,23 @@ pub fn run_implicit_with(
     settings: &ImplicitSettings,
     observer: &mut dyn Observer,
 ) -> Result<ImplicitResult, SolverError> {
+    implicit_run(mesh, parts, loads, interactions, settings, observer, None)
+}
+
+/// [`run_implicit_with`], started from `from` (a checkpoint of the same problem) when
+/// given: the result's history and step reports then hold the increments after the
+/// checkpoint only. A factorization kept for reuse ([`ImplicitSettings::factor_reuse`])
+/// is not part of a checkpoint: the increment after one factorizes afresh, in the run
+/// that took it as in the resumed one, so both compute the same numbers.
+pub(super) fn implicit_run(
+    mesh: &Mesh,
+    parts: &[Part],
+    loads: &Loads,
+    interactions: &mut [Box<dyn Interaction>],
+    settings: &ImplicitSettings,
+    observer: &mut dyn Observer,
+    from: Option<&Checkpoint>,
+) -> Result<ImplicitResult, SolverError> {
     check_settings(settings)?;
     let mut model = Model::new(
         mesh,
@@ -166,7 +184,38 @@ pub fn run_implicit_with(
         model.inertia = Some(inertia);
         model.mass_shift = settings.mass_shift_for_indefinite_tangents;
     }
-    {
+    if let Some(checkpoint) = from {
+        let mut input = CheckpointReader::new(&checkpoint.state);
+        time = input.f64()?;
+        increment = input.f64()?;
+        easy = input.index()?;
+        energy.kinetic = input.f64()?;
+        energy.internal_work = input.f64()?;
+        energy.external_work = input.f64()?;
+        input.matrices_into("displacements", &mut displacement)?;
+        converged.copy_from_slice(&displacement);
+        input.matrices_into("internal forces", &mut internal_before)?;
+        input.matrices_into("external forces", &mut external_before)?;
+        if let Some(inertia) = model.inertia.as_mut() {
+            input.matrices_into("velocities", &mut inertia.velocity)?;
+            input.matrices_into("accelerations", &mut inertia.acceleration)?;
+        }
+        for run in &mut model.runs {
+            for chunk in &mut run.chunks {
+                chunk.restore_state(&mut input)?;
+            }
+        }
+        for interaction in model.interactions.iter_mut() {
+            interaction.restore_state(&mut input)?;
+        }
+        // The pattern as it had grown, so that the factorizations order alike.
+        let pairs = input.u32s()?;
+        input.finish()?;
+        if !pairs.is_empty() {
+            model.coupled_pairs = pairs.chunks_exact(2).map(|p| (p[0], p[1])).collect();
+            model.build_system().map_err(SolverError::Checkpoint)?;
+        }
+    } else {
         let fields = || model.fields(0.0);
         let nodal = || all_nodal_fields(model.interactions, node_count);
         let snapshot = Snapshot::new(0.0, &displacement, &fields).with_nodal_fields(&nodal);
@@ -252,6 +301,7 @@ pub fn run_implicit_with(
                 {
                     return Err(SolverError::Interrupted { time });
                 }
+                let checkpoint_wanted = time < end && observer.wants_checkpoint();
                 if let Some(cutting) = &settings.cutting {
                     if report.iterations <= cutting.easy_iterations {
                         easy += 1;
@@ -264,6 +314,20 @@ pub fn run_implicit_with(
                     }
                 }
                 steps.push(report);
+                if checkpoint_wanted {
+                    model.system.forget_factorization();
+                    let checkpoint = implicit_checkpoint(
+                        &model,
+                        time,
+                        increment,
+                        easy,
+                        &energy,
+                        [&displacement, &internal_before, &external_before],
+                    );
+                    if observer.checkpoint(checkpoint).is_break() {
+                        return Err(SolverError::Interrupted { time });
+                    }
+                }
             }
             Err(failure) => {
                 displacement.copy_from_slice(&converged);
@@ -325,6 +389,50 @@ pub fn run_implicit_with(
         evaluation_times: model.times.clone(),
         linear_solves: model.system.statistics().clone(),
         displacement_history,
+    })
+}
+
+/// The state after a converged increment ending at `time`, with the step control
+/// (`increment`, `easy`), the energy books and the nodal `displacement`, internal and
+/// external forces (in that order), as [`implicit_run`] reads it back.
+fn implicit_checkpoint(
+    model: &Model,
+    time: f64,
+    increment: f64,
+    easy: usize,
+    energy: &EnergyBalance,
+    nodal: [&[Vector3<f64>]; 3],
+) -> Result<Checkpoint, SolverError> {
+    let mut out = CheckpointWriter::new();
+    out.f64(time);
+    out.f64(increment);
+    out.u64(easy as u64);
+    out.f64(energy.kinetic);
+    out.f64(energy.internal_work);
+    out.f64(energy.external_work);
+    nodal.iter().for_each(|values| out.matrices(values));
+    if let Some(inertia) = &model.inertia {
+        out.matrices(&inertia.velocity);
+        out.matrices(&inertia.acceleration);
+    }
+    for run in &model.runs {
+        run.chunks
+            .iter()
+            .for_each(|chunk| chunk.save_state(&mut out));
+    }
+    for interaction in model.interactions.iter() {
+        interaction.save_state(&mut out)?;
+    }
+    let pairs: Vec<u32> = model
+        .coupled_pairs
+        .iter()
+        .flat_map(|&(a, b)| [a, b])
+        .collect();
+    out.u32s(&pairs);
+    Ok(Checkpoint {
+        solver: "implicit".to_string(),
+        time,
+        state: out.into_bytes(),
     })
 }
 

@@ -8,6 +8,8 @@ use nalgebra::Vector3;
 
 use musclefem_materials::{Material, MaterialError, Tangent, VoigtStress};
 
+use super::SolverError;
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::ElementChunk;
 use super::element_fields::AcceptedPoints;
 use super::mixed_pressure::MixedPressure;
@@ -146,6 +148,17 @@ impl ImplicitChunk {
     /// Accept the step: the new state and deformation become the old ones.
     pub fn commit(&mut self) {
         self.chunk.commit();
+    }
+
+    /// Writes the material points' state (the stiffness and the mixed pressure's
+    /// linearization are rebuilt by the next step's first evaluation).
+    pub fn save_state(&self, out: &mut CheckpointWriter) {
+        self.chunk.save_state(out);
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote.
+    pub fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        self.chunk.restore_state(input)
     }
 
     /// The material points of the last accepted step, for the output fields.

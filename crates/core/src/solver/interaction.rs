@@ -18,6 +18,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::SolverError;
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 
 /// A force law between surfaces, evaluated from nodal positions.
 pub trait Interaction: Send {
@@ -56,6 +57,26 @@ pub trait Interaction: Send {
 
     /// Totals of the last [`forces`](Self::forces) call, for the history.
     fn report(&self) -> InteractionReport;
+
+    /// Writes what a resumed run needs (see [`super::checkpoint`]): the committed
+    /// history (bonds, damage) and whatever the last [`forces`](Self::forces) call left
+    /// that the next [`report`](Self::report), [`nodal_fields`](Self::nodal_fields) or
+    /// search reads. By default an interaction cannot be checkpointed.
+    fn save_state(&self, _out: &mut CheckpointWriter) -> Result<(), SolverError> {
+        Err(SolverError::Checkpoint(format!(
+            "interaction '{}' cannot write its state yet",
+            self.name()
+        )))
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote, into an interaction built for
+    /// the same problem.
+    fn restore_state(&mut self, _input: &mut CheckpointReader) -> Result<(), SolverError> {
+        Err(SolverError::Checkpoint(format!(
+            "interaction '{}' cannot read a state yet",
+            self.name()
+        )))
+    }
 
     /// Per-node output fields of the last [`forces`](Self::forces) call (for example the
     /// contact pressure and the cohesive traction), each with one value (or three) per

@@ -14,6 +14,7 @@
 
 mod assembly;
 pub mod bulk_viscosity;
+pub mod checkpoint;
 mod chunk;
 pub mod element_fields;
 pub mod explicit;
@@ -40,12 +41,13 @@ mod rigid_motion;
 mod run;
 mod sparse;
 
+pub use checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
 pub use interaction::{Interaction, InteractionReport, NodalField};
 pub use loads::{Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidTie};
 pub use observer::{NoObserver, Observer, Record, Snapshot};
 pub use part::Part;
 pub use rigid_motion::{PoseFollower, RigidMotion, RigidRotation};
-pub use run::{Analysis, Outcome, Problem, run};
+pub use run::{Analysis, Outcome, Problem, resume, run};
 
 use thiserror::Error;
 
@@ -129,6 +131,8 @@ pub enum SolverError {
     },
     #[error("stopped at t = {time:.6e} s on request; the outputs hold the run up to there")]
     Interrupted { time: f64 },
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
     #[error("at t = {time:.6e} s the linear solve failed: {reason}")]
     LinearSolve { time: f64, reason: String },
 }

@@ -22,6 +22,8 @@ use rayon::prelude::*;
 use musclefem_materials::tensor::symmetric_from_voigt;
 use musclefem_materials::{Material, MaterialError, PointBlock, PointResponse, VoigtStress};
 
+use super::SolverError;
+use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::{PointSlices, characteristic_length, chunk_ranges, point_acoustic_modulus};
 use super::element_fields::AcceptedPoints;
 use crate::element::BlockKernel;
@@ -194,6 +196,45 @@ impl NodalAveragePart {
             std::mem::swap(&mut chunk.state_old, &mut chunk.state_new);
             std::mem::swap(&mut chunk.f_old, &mut chunk.f_new);
         }
+    }
+
+    /// Writes what evolves: per element F, F̄ (accepted and trial), the state variables,
+    /// stresses, volumes, pressure work and acoustic moduli; per node J_a and S_a.
+    pub fn save_state(&self, out: &mut CheckpointWriter) {
+        for chunk in &self.chunks {
+            out.matrices(&chunk.deformation);
+            out.matrices(&chunk.f_old);
+            out.matrices(&chunk.f_new);
+            out.f64s(&chunk.state_old);
+            out.f64s(&chunk.state_new);
+            out.matrices(&chunk.stress);
+            out.f64s(&chunk.current_volume);
+            out.f64s(&chunk.pressure_work);
+            out.f64s(&chunk.wave_modulus);
+        }
+        out.f64s(&self.current_volume);
+        out.f64s(&self.pressure_work);
+        out.f64s(&self.nodal_jacobian);
+        out.f64s(&self.nodal_pressure);
+    }
+
+    /// Reads what [`save_state`](Self::save_state) wrote.
+    pub fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        for chunk in &mut self.chunks {
+            input.matrices_into("deformation gradients", &mut chunk.deformation)?;
+            input.matrices_into("deformation gradients", &mut chunk.f_old)?;
+            input.matrices_into("deformation gradients", &mut chunk.f_new)?;
+            input.f64s_into("state variables", &mut chunk.state_old)?;
+            input.f64s_into("state variables", &mut chunk.state_new)?;
+            input.matrices_into("stresses", &mut chunk.stress)?;
+            input.f64s_into("element volumes", &mut chunk.current_volume)?;
+            input.f64s_into("pressure work", &mut chunk.pressure_work)?;
+            input.f64s_into("acoustic moduli", &mut chunk.wave_modulus)?;
+        }
+        input.f64s_into("element volumes", &mut self.current_volume)?;
+        input.f64s_into("pressure work", &mut self.pressure_work)?;
+        input.f64s_into("nodal volume ratios", &mut self.nodal_jacobian)?;
+        input.f64s_into("nodal pressures", &mut self.nodal_pressure)
     }
 
     /// The material points (one per element, at F̄) of the last accepted step, chunk by

@@ -10,6 +10,7 @@ use std::ops::ControlFlow;
 use nalgebra::Vector3;
 
 use super::SolverError;
+use super::checkpoint::Checkpoint;
 use super::element_fields::PartFields;
 use super::explicit::HistoryRow;
 use super::implicit::ImplicitHistoryRow;
@@ -121,6 +122,20 @@ pub trait Observer {
     /// shown by a solver that records no history row there (the implicit one; the
     /// explicit one's first row is at t = 0), so that a run's first frame is its start.
     fn start(&mut self, _snapshot: &Snapshot) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+
+    /// Asked right after each recorded row: whether the run should hand this observer a
+    /// [`Checkpoint`] of its state there (before the next step), to resume from. Never,
+    /// by default.
+    fn wants_checkpoint(&mut self) -> bool {
+        false
+    }
+
+    /// The run's state right after the last recorded row (see [`super::resume`]), or why
+    /// it could not be taken (an interaction that cannot write its state): the run goes
+    /// on either way unless this returns `Break`.
+    fn checkpoint(&mut self, _checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
 

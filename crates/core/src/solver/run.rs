@@ -6,9 +6,10 @@
 use nalgebra::Vector3;
 
 use super::SolverError;
-use super::explicit::{ExplicitResult, ExplicitSettings, run_explicit_with};
+use super::checkpoint::Checkpoint;
+use super::explicit::{ExplicitResult, ExplicitSettings, explicit_run};
 use super::free_motion::refuse_free_motion;
-use super::implicit::{ImplicitResult, ImplicitSettings, run_implicit_with};
+use super::implicit::{ImplicitResult, ImplicitSettings, implicit_run};
 use super::interaction::Interaction;
 use super::loads::Loads;
 use super::observer::Observer;
@@ -83,6 +84,35 @@ pub fn run(
     analysis: &Analysis,
     observer: &mut dyn Observer,
 ) -> Result<Outcome, SolverError> {
+    run_from(problem, analysis, observer, None)
+}
+
+/// Goes on with `problem` from `checkpoint`, which a run of the same problem and analysis
+/// handed its observer ([`Observer::wants_checkpoint`]): the rows recorded from there on
+/// are those the uninterrupted run records, bit for bit (see [`super::checkpoint`]). The
+/// outcome's history holds only those rows.
+pub fn resume(
+    problem: Problem,
+    analysis: &Analysis,
+    checkpoint: &Checkpoint,
+    observer: &mut dyn Observer,
+) -> Result<Outcome, SolverError> {
+    if checkpoint.solver != analysis.solver_name() {
+        return Err(SolverError::Checkpoint(format!(
+            "the checkpoint was written by the {} solver, this run uses the {} one",
+            checkpoint.solver,
+            analysis.solver_name()
+        )));
+    }
+    run_from(problem, analysis, observer, Some(checkpoint))
+}
+
+fn run_from(
+    problem: Problem,
+    analysis: &Analysis,
+    observer: &mut dyn Observer,
+    from: Option<&Checkpoint>,
+) -> Result<Outcome, SolverError> {
     let Problem {
         mesh,
         parts,
@@ -90,23 +120,25 @@ pub fn run(
         interactions,
     } = problem;
     Ok(match analysis {
-        Analysis::Explicit(settings) => Outcome::Explicit(run_explicit_with(
+        Analysis::Explicit(settings) => Outcome::Explicit(explicit_run(
             mesh,
             parts,
             loads,
             interactions,
             settings,
             observer,
+            from,
         )?),
         Analysis::Implicit(settings) => {
             refuse_free_motion(mesh, loads, analysis, interactions.len())?;
-            Outcome::Implicit(run_implicit_with(
+            Outcome::Implicit(implicit_run(
                 mesh,
                 parts,
                 loads,
                 interactions,
                 settings,
                 observer,
+                from,
             )?)
         }
     })

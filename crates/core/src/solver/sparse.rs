@@ -281,6 +281,12 @@ impl SparseSystem {
         self.matrix.val_mut()
     }
 
+    /// Offer no earlier factor for reuse: the next solve factorizes afresh (after a
+    /// checkpoint, so that a run and its resumption take the same path).
+    pub fn forget_factorization(&mut self) {
+        self.cholesky_is_fresh = false;
+    }
+
     /// Solve K x = `rhs` in place. K symmetric, with `reuse` and the Cholesky factor of an
     /// earlier matrix of this pattern at hand and still fresh: by conjugate gradients
     /// preconditioned with it (see [`FactorReuse`]). Otherwise (or when that fails) a new

@@ -396,6 +396,23 @@ impl HistoryWriter {
         &self.rows
     }
 
+    /// The writer holding `rows` already (a resumed run's rows up to its checkpoint):
+    /// they are written with the next rewrite.
+    pub fn with_rows(mut self, rows: Vec<Vec<f64>>) -> Result<Self, OutputError> {
+        let columns = self.header.split(',').count();
+        if let Some(row) = rows.iter().find(|row| row.len() != columns) {
+            return Err(data(
+                &self.path,
+                format!(
+                    "a row of {} numbers, the header has {columns} columns",
+                    row.len()
+                ),
+            ));
+        }
+        self.rows = rows;
+        Ok(self)
+    }
+
     /// Append a row (as many numbers as header columns); rewrites the file when
     /// `flush_every` rows have come since the last rewrite, and at the first row.
     pub fn push(&mut self, row: Vec<f64>) -> Result<(), OutputError> {

@@ -13,8 +13,10 @@
 //! - [`run_directory`]: [`RunDirectory`], which lays all of these out in one directory
 //!   and keeps `result.pvd` listing complete frames only, and [`RunLog`];
 //! - [`lock`]: [`OutputLock`], one writer per output directory;
+//! - [`checkpoint`]: [`RunCheckpoint`], `checkpoint.bin`, what a stopped run resumes from;
 //! - [`frame_schedule`]: [`FrameSchedule`], which recorded instants get a frame.
 
+pub mod checkpoint;
 pub mod element_fields;
 pub mod frame;
 pub mod frame_schedule;
@@ -24,6 +26,7 @@ pub mod pvd;
 pub mod run_directory;
 pub mod vtu;
 
+pub use checkpoint::{CHECKPOINT_FILE, RunCheckpoint};
 pub use element_fields::ElementFieldArrays;
 pub use frame::{Field, FieldValues, Frame, voigt_to_vtk_symmetric, von_mises};
 pub use frame_schedule::FrameSchedule;

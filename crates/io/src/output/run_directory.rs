@@ -8,6 +8,8 @@
 //!   history.csv             reactions, energies, time step (see [`super::history`])
 //!   scene.toml              the scene file the run was started with, verbatim
 //!   run.log                 program version, settings, timings, frames written
+//!   checkpoint.bin          while the run goes: where it resumes from (see
+//!                           [`super::checkpoint`])
 //!   .musclefem.lock         while the run writes: its process (see [`super::lock`])
 //! ```
 //!
@@ -28,6 +30,7 @@ use musclefem_core::solver::implicit::ImplicitHistoryRow;
 use musclefem_core::solver::{Analysis, NodalField};
 use nalgebra::Vector3;
 
+use super::checkpoint::CHECKPOINT_FILE;
 use super::element_fields::ElementFieldArrays;
 use super::frame::Frame;
 use super::history::{
@@ -78,11 +81,17 @@ impl RunDirectory {
         let frames_dir = root.join(FRAMES_DIR);
         fs::create_dir_all(&frames_dir)
             .map_err(|e| OutputError::io("create the directory", &frames_dir, e))?;
-        let mut previous: Vec<PathBuf> = [PVD_FILE, HISTORY_FILE, SCENE_FILE, RUN_LOG_FILE]
-            .iter()
-            .map(|name| root.join(name))
-            .filter(|p| p.exists())
-            .collect();
+        let mut previous: Vec<PathBuf> = [
+            PVD_FILE,
+            HISTORY_FILE,
+            SCENE_FILE,
+            RUN_LOG_FILE,
+            CHECKPOINT_FILE,
+        ]
+        .iter()
+        .map(|name| root.join(name))
+        .filter(|p| p.exists())
+        .collect();
         let listing =
             fs::read_dir(&frames_dir).map_err(|e| OutputError::io("list", &frames_dir, e))?;
         for entry in listing {
@@ -114,6 +123,52 @@ impl RunDirectory {
             created: Instant::now(),
             _lock: lock,
         })
+    }
+
+    /// Reopen `root`, locked, to go on from a checkpoint that lists `frames`: the frame
+    /// files written after them are removed and `result.pvd` lists those frames again.
+    /// The history is the caller's (its rows are in the checkpoint).
+    pub fn resume(root: &Path, frames: Vec<PvdEntry>) -> Result<Self, OutputError> {
+        let lock = OutputLock::acquire(root)?;
+        let frames_dir = root.join(FRAMES_DIR);
+        let kept: std::collections::HashSet<&str> = frames
+            .iter()
+            .filter_map(|f| f.file.strip_prefix(&format!("{FRAMES_DIR}/")))
+            .collect();
+        let listing =
+            fs::read_dir(&frames_dir).map_err(|e| OutputError::io("list", &frames_dir, e))?;
+        let pvd = root.join(PVD_FILE);
+        write_pvd(&pvd, &frames)?;
+        for entry in listing {
+            let entry = entry.map_err(|e| OutputError::io("list", &frames_dir, e))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if is_frame_name(&name) && !kept.contains(name.as_str()) {
+                fs::remove_file(entry.path())
+                    .map_err(|e| OutputError::io("remove", entry.path(), e))?;
+            }
+        }
+        Ok(Self {
+            root: root.to_path_buf(),
+            frames,
+            created: Instant::now(),
+            _lock: lock,
+        })
+    }
+
+    /// Path of `checkpoint.bin`.
+    pub fn checkpoint_path(&self) -> PathBuf {
+        self.root.join(CHECKPOINT_FILE)
+    }
+
+    /// Remove `checkpoint.bin` (a complete run has nothing to resume).
+    pub fn remove_checkpoint(&self) -> Result<(), OutputError> {
+        let path = self.checkpoint_path();
+        match fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                Err(OutputError::io("remove", &path, e))
+            }
+            _ => Ok(()),
+        }
     }
 
     /// The directory.

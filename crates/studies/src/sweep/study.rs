@@ -4,6 +4,7 @@
 
 use anyhow::{Context, Result, bail};
 
+use musclefem_io::fingerprint::fnv1a;
 use musclefem_materials::MaterialLibrary;
 
 use super::run::{Outcome, run_elongation_sample, timed};
@@ -107,13 +108,6 @@ impl Study {
             Study::Scene(scene) => timed(|| scene.run(names, values)),
         }
     }
-}
-
-/// The 64-bit FNV-1a hash of `bytes`.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |hash, &b| {
-        (hash ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }
 
 fn describe(output: &HistoryOutput) -> String {
