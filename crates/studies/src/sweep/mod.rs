@@ -242,26 +242,36 @@ impl Plan {
         );
     }
 
+    /// The threads the runs share: `jobs` of them.
+    fn worker_pool(&self) -> Result<rayon::ThreadPool> {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(self.jobs)
+            .build()
+            .context("starting the worker threads")
+    }
+
+    /// Run number `run` of the design (a failure is an outcome, not an error).
+    fn run_one(&self, run: usize) -> Record {
+        Record {
+            run,
+            values: self.design[run].clone(),
+            outcome: self.study.run(&self.names, &self.design[run]),
+        }
+    }
+
     /// Run `runs`, `jobs` at a time, adding their records to `records`; with `write`,
     /// rewrite sweep.csv after each.
     fn run_share(&self, runs: &[usize], records: Vec<Record>, write: bool) -> Result<Vec<Record>> {
         let records = Mutex::new(records);
         let bar = progress_bar(runs.len());
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.jobs)
-            .build()
-            .context("starting the worker threads")?;
+        let pool = self.worker_pool()?;
         pool.install(|| {
             runs.par_iter()
                 .with_max_len(1)
                 .try_for_each(|&run| -> Result<()> {
-                    let outcome = self.study.run(&self.names, &self.design[run]);
+                    let record = self.run_one(run);
                     let mut records = records.lock().map_err(|_| anyhow!("a run panicked"))?;
-                    records.push(Record {
-                        run,
-                        values: self.design[run].clone(),
-                        outcome,
-                    });
+                    records.push(record);
                     if write {
                         self.write_table(&records)?;
                     }
