@@ -76,6 +76,8 @@ enum Command {
     /// Parametric study of the elongation tests: every combination (or a Latin-hypercube
     /// sample) of varied Hill parameters, several runs at a time; writes sweep.csv (one row
     /// per run, resumable) and the normalised sensitivities (sensitivity.csv, .png).
+    /// `sweep merge` joins the tables of shards (`--shard K/N`).
+    #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
     Sweep(musclefem_studies::sweep::SweepArgs),
     /// Least-squares fit of Hill parameters to a measured stress-strain curve through the
     /// elongation test; writes fit.csv (values, 95 % confidence intervals), fit_curve.csv,

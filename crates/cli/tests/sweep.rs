@@ -305,3 +305,87 @@ fn a_sweep_resumes_only_from_rows_of_the_same_base() {
     assert!(!edited.status.success());
     assert!(text(&edited.stderr).contains("another base"));
 }
+
+/// A job array without MPI: `--shard 1/2` and `--shard 2/2` each run half of the runs
+/// into their own directory, and `sweep merge` joins them into the table and the
+/// sensitivities of the whole sweep (the same as one local sweep's, but for wall times).
+/// Shards of different sweeps, or a merge missing a shard, are told apart.
+#[test]
+fn shards_merged_give_the_whole_sweep() {
+    let dir = test_dir("sweep", "shards");
+    let vary = ["--vary", "sigma0=5e5,7e5,9e5", "--vary", "b=12,18"];
+    for k in ["1/2", "2/2"] {
+        let out = format!("shard{}", &k[..1]);
+        let shard = sweep(&dir, &[&vary[..], &["--shard", k, "--out", &out]].concat());
+        assert!(shard.status.success(), "{}", text(&shard.stderr));
+        let stdout = text(&shard.stdout);
+        assert!(
+            stdout.contains(&format!("3 to run in shard {k}")),
+            "{stdout}"
+        );
+        assert!(stdout.contains("no sensitivities until the shards are merged"));
+    }
+    let whole = sweep(&dir, &[&vary[..], &["--out", "whole"]].concat());
+    assert!(whole.status.success(), "{}", text(&whole.stderr));
+    let merged = musclefem(
+        &dir,
+        &["sweep", "merge", "shard1", "shard2", "--out", "merged"],
+    );
+    assert!(merged.status.success(), "{}", text(&merged.stderr));
+    assert!(text(&merged.stdout).contains("merged 6 of the 6 runs from 2 shards"));
+    let without_wall_time = |rows: Vec<Vec<String>>| -> Vec<Vec<String>> {
+        rows.into_iter()
+            .map(|mut row| {
+                row.remove(4);
+                row
+            })
+            .collect()
+    };
+    assert_eq!(
+        without_wall_time(rows(&dir.join("merged/sweep.csv"))),
+        without_wall_time(rows(&dir.join("whole/sweep.csv")))
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("merged/sensitivity.csv")).unwrap(),
+        std::fs::read_to_string(dir.join("whole/sensitivity.csv")).unwrap()
+    );
+
+    // One shard alone: the missing runs are named.
+    let half = musclefem(&dir, &["sweep", "merge", "shard1", "--out", "half"]);
+    assert!(half.status.success(), "{}", text(&half.stderr));
+    assert!(
+        text(&half.stdout)
+            .contains("missing runs (rerun their shards, which resume, and merge again): 1, 3, 5"),
+        "{}",
+        text(&half.stdout)
+    );
+    // A shard of another sweep (another time step) is refused.
+    let mut args = vec!["sweep", "--base", "passive"];
+    args.extend_from_slice(&CHEAP_ELONGATION[..6]);
+    args.extend_from_slice(&["--time-step", "0.1"]);
+    args.extend_from_slice(&vary);
+    args.extend_from_slice(&["--shard", "2/2", "--out", "other"]);
+    let other = musclefem(&dir, &args);
+    assert!(other.status.success(), "{}", text(&other.stderr));
+    let mixed = musclefem(
+        &dir,
+        &["sweep", "merge", "shard1", "other", "--out", "mixed"],
+    );
+    assert!(!mixed.status.success());
+    assert!(
+        text(&mixed.stderr).contains("another base"),
+        "{}",
+        text(&mixed.stderr)
+    );
+    // K/N is checked.
+    let bad = sweep(
+        &dir,
+        &[&vary[..], &["--shard", "3/2", "--out", "bad"]].concat(),
+    );
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("1 <= K <= N"),
+        "{}",
+        text(&bad.stderr)
+    );
+}

@@ -15,6 +15,8 @@
 
 pub mod grid;
 pub mod latin_hypercube;
+pub mod merge;
+mod report;
 pub mod run;
 pub mod sensitivity;
 pub mod study;
@@ -34,17 +36,16 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 use musclefem_io::PendingFile;
-use musclefem_io::csv::format_number;
 use musclefem_io::output::OutputLock;
-use musclefem_io::plot::stage_bar_png;
 
 use crate::elongation::Activation;
 use crate::elongation::options::TestOptions;
 use crate::scene_study::SceneStudy;
-use run::Outcome;
+use report::{
+    DESIGN_SIZE, SENSITIVITY_CSV, SENSITIVITY_PNG, SWEEP_BASE, report, write_sensitivities,
+};
 use study::Study;
 use table::{Columns, Record, SWEEP_CSV};
-use vary::Axis;
 
 #[derive(Debug, clap::Args)]
 pub struct SweepArgs {
@@ -94,9 +95,63 @@ pub struct SweepArgs {
     /// Start afresh: discard the results of a previous sweep in the output directory.
     #[arg(long)]
     pub force: bool,
+    /// Run only shard K of N (K from 1): the runs whose number is K − 1 modulo N, for a
+    /// job array without MPI (each shard with its own --out); `musclefem sweep merge`
+    /// joins the shards' tables and computes the sensitivities.
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
+    pub shard: Option<Shard>,
+    #[command(subcommand)]
+    pub command: Option<SweepCommand>,
+}
+
+/// What `sweep` does besides running one.
+#[derive(Debug, clap::Subcommand)]
+pub enum SweepCommand {
+    /// Join the sweep.csv of shards (`sweep --shard K/N`) of one sweep into one table in
+    /// --out, and compute its sensitivities.
+    Merge(merge::MergeArgs),
+}
+
+/// Shard K of N of a sweep's runs (1 <= K <= N).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl Shard {
+    /// Whether run number `run` (from 0) belongs to this shard.
+    pub fn holds(&self, run: usize) -> bool {
+        run % self.count == self.index - 1
+    }
+}
+
+fn parse_shard(text: &str) -> Result<Shard, String> {
+    let (k, n) = text
+        .split_once('/')
+        .ok_or_else(|| format!("'{text}': expected K/N, e.g. 2/8"))?;
+    let number = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("'{text}': '{s}' is not a whole number"))
+    };
+    let (index, count) = (number(k)?, number(n)?);
+    if count == 0 || index == 0 || index > count {
+        return Err(format!("'{text}': K/N needs 1 <= K <= N"));
+    }
+    Ok(Shard { index, count })
 }
 
 pub fn sweep(args: &SweepArgs) -> Result<()> {
+    if let Some(SweepCommand::Merge(merge)) = &args.command {
+        return merge::merge(merge);
+    }
     let plan = Plan::new(args)?;
     #[cfg(feature = "mpi")]
     if let Some(universe) = distributed::start()? {
@@ -114,7 +169,6 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
 /// What a sweep runs: the base study, the varied parameters and the list of runs.
 pub struct Plan {
     study: Study,
-    axes: Vec<Axis>,
     names: Vec<String>,
     /// Parameter values of each run, in run order.
     design: Vec<Vec<f64>>,
@@ -122,6 +176,8 @@ pub struct Plan {
     jobs: usize,
     columns: Columns,
     table_path: PathBuf,
+    /// The shard this process runs (`--shard`), or all runs.
+    shard: Option<Shard>,
 }
 
 impl Plan {
@@ -177,11 +233,11 @@ impl Plan {
         Ok(Plan {
             study,
             names,
-            axes,
             design,
             jobs,
             columns,
             table_path: args.out.join(SWEEP_CSV),
+            shard: args.shard,
         })
     }
 
@@ -202,7 +258,11 @@ impl Plan {
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("creating the output directory {}", dir.display()))?;
         }
-        let base = self.study.fingerprint()?;
+        let base = format!(
+            "{}{DESIGN_SIZE}{}\n",
+            self.study.fingerprint()?,
+            self.design.len()
+        );
         let records = previous_records(&self.table_path, &self.columns, &self.design, force)?;
         let base_path = self.table_path.with_file_name(SWEEP_BASE);
         if !records.is_empty() {
@@ -225,16 +285,20 @@ impl Plan {
         Ok(records)
     }
 
-    /// The runs not in `done` (run numbers), in run order.
+    /// The runs not in `done` (run numbers) and in this process's shard, in run order.
     fn pending(&self, done: &[usize]) -> Vec<usize> {
         (0..self.design.len())
             .filter(|run| !done.contains(run))
+            .filter(|&run| self.shard.is_none_or(|shard| shard.holds(run)))
             .collect()
     }
 
     fn announce(&self, done: usize, pending: usize, processes: &str) {
+        let shard = self
+            .shard
+            .map_or(String::new(), |s| format!(" in shard {s}"));
         println!(
-            "{}: {} runs, {done} already in {}, {pending} to run{processes}, {} at a time",
+            "{}: {} runs, {done} already in {}, {pending} to run{shard}{processes}, {} at a time",
             self.study.title(),
             self.design.len(),
             self.table_path.display(),
@@ -292,7 +356,20 @@ impl Plan {
     /// The summary on the terminal and the sensitivities.
     fn finish(&self, args: &SweepArgs, records: &[Record]) -> Result<()> {
         report(records, &self.table_path);
-        write_sensitivities(args, &self.study, &self.axes, records)
+        if let Some(shard) = &args.shard {
+            println!(
+                "  shard {shard} of the sweep: no sensitivities until the shards are merged \
+                 (`musclefem sweep merge SHARD_DIR... --out DIR`)"
+            );
+            return Ok(());
+        }
+        write_sensitivities(
+            &args.out,
+            &self.study.title(),
+            &self.names,
+            self.study.outputs(),
+            records,
+        )
     }
 }
 
@@ -358,134 +435,6 @@ fn previous_records(
         }
     }
     Ok(records)
-}
-
-fn report(records: &[Record], table_path: &Path) {
-    let mut records: Vec<&Record> = records.iter().collect();
-    records.sort_by_key(|r| r.run);
-    let failed = records.iter().filter(|r| !r.outcome.is_finished()).count();
-    let wall: f64 = records.iter().map(|r| r.outcome.wall_time()).sum();
-    println!(
-        "{} runs ({} failed; {:.1} s of run time in all): {}",
-        records.len(),
-        failed,
-        wall,
-        table_path.display()
-    );
-    for record in records.iter().filter(|r| !r.outcome.is_finished()) {
-        if let Outcome::Failed { error, .. } = &record.outcome {
-            println!("  run {} failed: {error}", record.run);
-        }
-    }
-}
-
-/// Outputs whose magnitude stays below this fraction of the largest output's get no
-/// sensitivity (see `write_sensitivities`).
-const NEGLIGIBLE_OUTPUT: f64 = 1e-4;
-
-const SENSITIVITY_CSV: &str = "sensitivity.csv";
-/// What the rows of `sweep.csv` were made from ([`Study::fingerprint`]): a resumed sweep
-/// must have the same.
-const SWEEP_BASE: &str = "sweep_base.txt";
-const SENSITIVITY_PNG: &str = "sensitivity.png";
-
-/// `sensitivity.csv` (parameter, output, sensitivity) and `sensitivity.png` from the
-/// finished runs, and the ranking on the terminal.
-fn write_sensitivities(
-    args: &SweepArgs,
-    study: &Study,
-    axes: &[Axis],
-    records: &[Record],
-) -> Result<()> {
-    let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
-    if axes.iter().all(|a| a.values.len() < 2) {
-        println!("  no parameter takes two values: no sensitivities");
-        return Ok(());
-    }
-    // In run order, so that the regression's sums (and sensitivity.csv) do not depend on
-    // which run finished first.
-    let mut records: Vec<&Record> = records.iter().collect();
-    records.sort_by_key(|r| r.run);
-    let mut outputs = Vec::new();
-    let largest = |k: usize| {
-        records
-            .iter()
-            .filter_map(|r| match &r.outcome {
-                Outcome::Finished { outputs, .. } => outputs[k],
-                Outcome::Failed { .. } => None,
-            })
-            .fold(0.0, |m: f64, y| m.max(y.abs()))
-    };
-    let study_outputs = study.outputs();
-    let scale = (0..study_outputs.len()).map(largest).fold(0.0, f64::max);
-    for (k, output) in study_outputs.into_iter().enumerate() {
-        // A reaction on a symmetry plane is zero up to round-off: its relative changes are
-        // noise, not a sensitivity.
-        if largest(k) <= NEGLIGIBLE_OUTPUT * scale {
-            println!(
-                "  {}: at most {:.3e} in every run, below {NEGLIGIBLE_OUTPUT:e} of the largest \
-                 output ({scale:.3e}): no sensitivity reported",
-                output.description,
-                largest(k)
-            );
-            continue;
-        }
-        let runs: Vec<(Vec<f64>, f64)> = records
-            .iter()
-            .filter_map(|r| match &r.outcome {
-                Outcome::Finished { outputs, .. } => outputs[k].map(|y| (r.values.clone(), y)),
-                Outcome::Failed { .. } => None,
-            })
-            .collect();
-        match sensitivity::normalised_sensitivities(&runs) {
-            Some(s) => outputs.push((output.column, output.description, s)),
-            None => println!(
-                "  {}: {} finished runs cannot determine the sensitivities of {} parameters",
-                output.description,
-                runs.len(),
-                names.len()
-            ),
-        }
-    }
-    if outputs.is_empty() {
-        return Ok(());
-    }
-    let mut csv = String::from("parameter,output,sensitivity\n");
-    for (column, output, values) in &outputs {
-        let mut ranked: Vec<(&String, f64)> = names
-            .iter()
-            .zip(values)
-            .filter_map(|(n, s)| s.map(|s| (n, s)))
-            .collect();
-        ranked.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-        let text: Vec<String> = ranked.iter().map(|(n, s)| format!("{n} {s:+.3}")).collect();
-        println!("  sensitivity of the {output}: {}", text.join(", "));
-        for (name, s) in &ranked {
-            csv.push_str(&format!("{name},{column},{}\n", format_number(*s)));
-        }
-    }
-    let finished = records.iter().filter(|r| r.outcome.is_finished()).count();
-    let title = format!("{}, {finished} finished runs", study.title());
-    let series: Vec<(&str, Vec<Option<f64>>)> = outputs
-        .iter()
-        .map(|(_, name, s)| (name.as_str(), s.clone()))
-        .collect();
-    let chart = sensitivity::sensitivity_chart(&title, &names, &series);
-    let csv_path = args.out.join(SENSITIVITY_CSV);
-    let png_path = args.out.join(SENSITIVITY_PNG);
-    let staged = [
-        PendingFile::stage_bytes(&csv_path, csv.as_bytes())?,
-        stage_bar_png(&png_path, &chart)?,
-    ];
-    for file in staged {
-        file.commit()?;
-    }
-    println!(
-        "sensitivities: {} and {}",
-        csv_path.display(),
-        png_path.display()
-    );
-    Ok(())
 }
 
 fn progress_bar(runs: usize) -> ProgressBar {

@@ -52,6 +52,27 @@ pub fn header(columns: &Columns) -> String {
         .join(",")
 }
 
+/// The columns a table's `header` line names (run, parameters, status, wall_time_s,
+/// steps, outputs, error), or `None` if it is not a sweep table's header.
+pub fn columns_of(header: &str) -> Option<Columns> {
+    let cells: Vec<&str> = header.trim_end().split(',').collect();
+    let status = cells.iter().position(|&c| c == "status")?;
+    if cells.first() != Some(&"run")
+        || cells.get(status + 1) != Some(&"wall_time_s")
+        || cells.get(status + 2) != Some(&"steps")
+        || cells.last() != Some(&"error")
+    {
+        return None;
+    }
+    Some(Columns {
+        parameters: cells[1..status].iter().map(|c| c.to_string()).collect(),
+        outputs: cells[status + 3..cells.len() - 1]
+            .iter()
+            .map(|c| c.to_string())
+            .collect(),
+    })
+}
+
 /// The whole table, rows sorted by run.
 pub fn format_table(columns: &Columns, records: &[Record]) -> String {
     let mut sorted: Vec<&Record> = records.iter().collect();
