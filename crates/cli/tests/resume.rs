@@ -9,8 +9,10 @@ use std::process::Command;
 use support::run::{example, musclefem, test_dir, text};
 
 /// The scenes: the explicit Hill block held isometric (made longer), the implicit
-/// neo-Hookean cube (more increments) and the implicit peel of two bonded blocks
-/// (cohesive bonds that damage).
+/// neo-Hookean cube (more increments), the implicit peel of two bonded blocks (cohesive
+/// bonds that damage; also with bonds that slide along smooth normals), and the block
+/// pressed on the rigid sphere (penalty contact at the closest point and along smooth
+/// normals, implicit; and explicit).
 fn scenes() -> Vec<(&'static str, String)> {
     let read = |name: &str| std::fs::read_to_string(example(name)).unwrap();
     vec![
@@ -27,6 +29,35 @@ fn scenes() -> Vec<(&'static str, String)> {
         (
             "cohesive",
             read("bonded_blocks_peel.toml").replace("increments = 30", "increments = 60"),
+        ),
+        (
+            "sliding cohesive",
+            read("bonded_blocks_peel.toml")
+                .replace("increments = 30", "increments = 60")
+                .replace(
+                    "failure_separation = 0.004",
+                    "failure_separation = 0.004\ntangential = \"smooth-slide\"",
+                ),
+        ),
+        (
+            "contact",
+            read("block_on_rigid_sphere.toml")
+                .replace("increments = 10", "increments = 40")
+                .replace("output_interval = 0.1", "output_interval = 0.05"),
+        ),
+        (
+            "smooth contact",
+            read("block_on_rigid_sphere.toml")
+                .replace("increments = 10", "increments = 40")
+                .replace("output_interval = 0.1", "output_interval = 0.05")
+                .replace("main = \"ball\"", "main = \"ball\"\nsmooth_normals = true"),
+        ),
+        (
+            "explicit contact",
+            read("block_on_rigid_sphere.toml")
+                .replace("solver = \"implicit\"", "solver = \"explicit\"")
+                .replace("duration = 1.0", "duration = 0.002")
+                .replace("output_interval = 0.1", "output_interval = 0.0001"),
         ),
     ]
 }
@@ -63,7 +94,7 @@ fn results(root: &Path) -> Vec<(String, Vec<u8>)> {
 #[test]
 fn a_run_killed_at_a_random_frame_resumes_to_the_same_files_byte_for_byte() {
     for (name, scene) in scenes() {
-        let dir = test_dir("musclefem-resume", name);
+        let dir = test_dir("musclefem-resume", &name.replace(' ', "-"));
         std::fs::write(dir.join("scene.toml"), &scene).unwrap();
         let whole = musclefem(&dir, &["run", "scene.toml", "--out", "whole"]);
         assert!(whole.status.success(), "{}", text(&whole.stderr));

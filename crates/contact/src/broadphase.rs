@@ -128,6 +128,16 @@ impl Broadphase {
         }
     }
 
+    /// Forget the tree and the candidate lists: the next search builds and queries
+    /// afresh, as a new broadphase's first would (at a checkpoint, so that a run and its
+    /// resumption find the same candidates).
+    pub fn forget(&mut self) {
+        self.bvh = Bvh::new();
+        self.built_cost = 0.0;
+        self.queried_points.clear();
+        self.queried_main.clear();
+    }
+
     /// The search distance [m].
     pub fn search_distance(&self) -> f64 {
         self.search_distance

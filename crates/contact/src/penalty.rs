@@ -63,6 +63,7 @@
 //! stay ≪ h, and an explicit step or a Newton iteration moves a node by much less) nor past
 //! the middle of a thin main body.
 
+mod checkpoint;
 mod closest_point;
 mod smooth;
 mod stiffness;
@@ -70,7 +71,9 @@ mod stiffness;
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
-use musclefem_core::solver::{Interaction, InteractionReport, NodalField, SolverError};
+use musclefem_core::solver::{
+    CheckpointReader, CheckpointWriter, Interaction, InteractionReport, NodalField, SolverError,
+};
 
 use crate::broadphase::Broadphase;
 use crate::error::ContactError;
@@ -554,6 +557,36 @@ impl Interaction for PenaltyContact {
 
     /// Frictionless contact keeps no history: nothing to accept.
     fn commit(&mut self) {}
+
+    /// The closest features and the totals of the last evaluation (`penalty/checkpoint.rs`);
+    /// the broadphase starts afresh from here.
+    fn save_state(&mut self, out: &mut CheckpointWriter) -> Result<(), SolverError> {
+        checkpoint::save_contacts(&self.contacts, out);
+        if let Some(smooth) = &self.smooth {
+            checkpoint::save_smooth_contacts(&smooth.contacts, out);
+        }
+        out.matrices(&[self.report.force]);
+        out.u64(self.report.active_points as u64);
+        out.f64(self.report.active_area);
+        out.f64(self.report.stored_energy);
+        self.broadphase.forget();
+        Ok(())
+    }
+
+    fn restore_state(&mut self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        checkpoint::restore_contacts(&mut self.contacts, input)?;
+        if let Some(smooth) = &mut self.smooth {
+            checkpoint::restore_smooth_contacts(&mut smooth.contacts, input)?;
+        }
+        let mut force = [Vector3::zeros()];
+        input.matrices_into("contact force", &mut force)?;
+        self.report.force = force[0];
+        self.report.active_points = input.index()?;
+        self.report.active_area = input.f64()?;
+        self.report.stored_energy = input.f64()?;
+        self.broadphase.forget();
+        Ok(())
+    }
 
     fn report(&self) -> InteractionReport {
         self.report.clone()

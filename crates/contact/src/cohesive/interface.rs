@@ -379,7 +379,7 @@ impl Interaction for CohesiveInterface {
     }
 
     /// The bonds and their last evaluated states (`bond_checkpoint.rs`).
-    fn save_state(&self, out: &mut CheckpointWriter) -> Result<(), SolverError> {
+    fn save_state(&mut self, out: &mut CheckpointWriter) -> Result<(), SolverError> {
         save_bonds(&self.bonds, &self.states, out);
         Ok(())
     }

@@ -382,7 +382,7 @@ pub(super) fn explicit_run(
                     out.matrices(values);
                 }
                 runs.iter().for_each(|run| run.save_state(&mut out));
-                for interaction in interactions.iter() {
+                for interaction in interactions.iter_mut() {
                     interaction.save_state(&mut out)?;
                 }
                 Ok(Checkpoint {

@@ -317,7 +317,7 @@ pub(super) fn implicit_run(
                 if checkpoint_wanted {
                     model.system.forget_factorization();
                     let checkpoint = implicit_checkpoint(
-                        &model,
+                        &mut model,
                         time,
                         increment,
                         easy,
@@ -396,7 +396,7 @@ pub(super) fn implicit_run(
 /// (`increment`, `easy`), the energy books and the nodal `displacement`, internal and
 /// external forces (in that order), as [`implicit_run`] reads it back.
 fn implicit_checkpoint(
-    model: &Model,
+    model: &mut Model,
     time: f64,
     increment: f64,
     easy: usize,
@@ -420,7 +420,7 @@ fn implicit_checkpoint(
             .iter()
             .for_each(|chunk| chunk.save_state(&mut out));
     }
-    for interaction in model.interactions.iter() {
+    for interaction in model.interactions.iter_mut() {
         interaction.save_state(&mut out)?;
     }
     let pairs: Vec<u32> = model

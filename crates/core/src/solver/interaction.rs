@@ -61,8 +61,10 @@ pub trait Interaction: Send {
     /// Writes what a resumed run needs (see [`super::checkpoint`]): the committed
     /// history (bonds, damage) and whatever the last [`forces`](Self::forces) call left
     /// that the next [`report`](Self::report), [`nodal_fields`](Self::nodal_fields) or
-    /// search reads. By default an interaction cannot be checkpointed.
-    fn save_state(&self, _out: &mut CheckpointWriter) -> Result<(), SolverError> {
+    /// search reads. Caches that are cheap to rebuild (a broadphase tree) may be dropped
+    /// here rather than written, so that the run goes on as the resumed one will. By
+    /// default an interaction cannot be checkpointed.
+    fn save_state(&mut self, _out: &mut CheckpointWriter) -> Result<(), SolverError> {
         Err(SolverError::Checkpoint(format!(
             "interaction '{}' cannot write its state yet",
             self.name()
