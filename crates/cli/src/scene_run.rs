@@ -14,11 +14,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
-use musclefem_core::solver::{Checkpoint, Observer, Outcome, Record, Snapshot, SolverError};
+use musclefem_core::solver::{Outcome, Record, SolverError};
 use musclefem_io::OutputError;
+use musclefem_io::output::run_directory::HISTORY_FILE;
 use musclefem_io::output::{
-    CHECKPOINT_FILE, ExistingResults, FrameSchedule, HistoryWriter, RunCheckpoint, RunDirectory,
-    RunLog,
+    CHECKPOINT_FILE, ExistingResults, FrameSchedule, HistoryWriter, RunLog, RunProgress, RunStart,
+    RunWriter,
 };
 use musclefem_io::scene::{
     Analysis, Model, PluginPolicy, Trust, load_scene_trusting, locking_warning,
@@ -161,24 +162,12 @@ pub fn run(args: &RunArgs) -> Result<()> {
         let stem = args.scene.file_stem().unwrap_or_default();
         PathBuf::from("out").join(stem)
     });
-    let existing = if args.force {
-        ExistingResults::Replace
-    } else {
-        ExistingResults::Refuse
-    };
     let fingerprint = model.fingerprint(&scene_text, &model.analysis);
-    let resumed = if args.resume {
-        Some(read_checkpoint(&out, fingerprint)?)
-    } else {
-        None
+    let start = match (args.resume, args.force) {
+        (true, _) => RunStart::Resume,
+        (false, true) => RunStart::Fresh(ExistingResults::Replace),
+        (false, false) => RunStart::Fresh(ExistingResults::Refuse),
     };
-    let mut directory = match &resumed {
-        Some(checkpoint) => RunDirectory::resume(&out, checkpoint.frames.clone())?,
-        None => RunDirectory::create(&out, existing)
-            .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?,
-    };
-    directory.write_scene(&scene_text)?;
-    let columns = model.history_columns();
     let interrupted = Arc::new(AtomicBool::new(false));
     {
         let flag = interrupted.clone();
@@ -189,79 +178,61 @@ pub fn run(args: &RunArgs) -> Result<()> {
             }
         });
     }
+    let duration = model.analysis.end_time();
+    let mut progress = Progress {
+        model: &model,
+        bar: progress_bar(duration),
+        log_lines: !std::io::stderr().is_terminal(),
+        next_log: 0.0,
+        started: Instant::now(),
+        interrupted,
+        last_row: String::new(),
+    };
+    let history = HistoryWriter::for_analysis(
+        &out.join(HISTORY_FILE),
+        &model.history_columns(),
+        &model.analysis,
+    )?;
+    let frames = FrameSchedule::new(model.output_interval, duration, &[]);
+    let (mut writer, resumed) = RunWriter::open(
+        &out,
+        start,
+        &model.mesh,
+        history,
+        (frames, model.write_frames),
+        fingerprint,
+        &mut progress,
+    )
+    .map_err(|e| match e {
+        OutputError::Resume { .. } => anyhow::Error::from(e),
+        e => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
+    })?;
+    writer.directory().write_scene(&scene_text)?;
     // A log from the start: a run killed before its end leaves one that says so.
     let resumed_from = resumed.as_ref().map_or(String::new(), |c| {
-        format!(
-            "resumed = from the checkpoint at t = {:e} s\n",
-            c.solver.time
-        )
+        format!("resumed = from the checkpoint at t = {:e} s\n", c.time)
     });
-    directory.write_run_log(&RunLog::new(format!(
+    writer.directory().write_run_log(&RunLog::new(format!(
         "scene = {}\nsolver = {:?}\n{resumed_from}end = running (a run that ended rewrites \
          this line; this one was stopped without being able to)\n",
         args.scene.display(),
         model.analysis
     )))?;
     print!("{}", describe(&model));
-    let duration = model.analysis.end_time();
     let setup = started.elapsed();
     let solve_started = Instant::now();
-    let mut watcher = Watcher {
-        model: &model,
-        directory: &mut directory,
-        history: None,
-        write_frames: model.write_frames,
-        frames: FrameSchedule::new(model.output_interval, model.analysis.end_time(), &[]),
-        bar: progress_bar(duration),
-        log_lines: !std::io::stderr().is_terminal(),
-        next_log: 0.0,
-        started: Instant::now(),
-        interrupted: interrupted.clone(),
-        error: None,
-        fields_error: None,
-        last_row: String::new(),
-        fingerprint,
-        frame_due: false,
-        no_checkpoints: None,
-        abort_after_checkpoint: std::env::var(ABORT_AFTER_CHECKPOINT)
-            .ok()
-            .and_then(|k| k.parse().ok()),
-    };
-    let history = watcher.directory.history(&columns, &model.analysis)?;
-    let result = match resumed {
-        Some(checkpoint) => {
-            if checkpoint.history_header != history.header() {
-                bail!(
-                    "{}: the checkpoint's history has other columns than this scene's",
-                    out.display()
-                );
-            }
-            // The frame schedule is a function of the recorded times: replay them.
-            for row in &checkpoint.history_rows {
-                watcher.frames.due(row[0]);
-            }
-            watcher.history = Some(history.with_rows(checkpoint.history_rows)?);
-            model.resume_with(&model.analysis, &checkpoint.solver, &mut watcher)
-        }
-        None => {
-            watcher.history = Some(history);
-            model.run(&mut watcher)
-        }
+    let result = match &resumed {
+        Some(checkpoint) => model.resume_with(&model.analysis, checkpoint, &mut writer),
+        None => model.run(&mut writer),
     };
     let steps = result.as_ref().map_or(0, Outcome::steps);
     let outcome = result.map(|_| ());
     let solve = solve_started.elapsed();
-    watcher.bar.finish_and_clear();
-    let write_error = watcher.error.take();
-    let fields_error = watcher.fields_error.take();
-    let last_row = std::mem::take(&mut watcher.last_row);
-    let no_checkpoints = watcher.no_checkpoints.take();
-    if let Some(history) = watcher.history.take() {
-        history.finish()?;
-    }
-    drop(watcher);
+    let written = writer.finish()?;
+    progress.bar.finish_and_clear();
+    let directory = written.directory;
     // How the run ended, for whoever reads the directory later.
-    let end = match (&outcome, &write_error, &fields_error) {
+    let end = match (&outcome, &written.write_error, &written.fields_error) {
         (_, Some(error), _) => format!("failed writing the outputs: {error}"),
         (_, _, Some(error)) => format!("failed evaluating a frame's element fields: {error}"),
         (Ok(()), None, None) => format!("complete ({steps} steps)"),
@@ -270,7 +241,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         }
         (Err(error), ..) => format!("failed: {error}"),
     };
-    let checkpoints = match &no_checkpoints {
+    let checkpoints = match &written.no_checkpoints {
         Some(why) => format!("checkpoints = none: {}\n", why.replace('\n', "; ")),
         None => format!("checkpoints = at every frame, in {CHECKPOINT_FILE} until the end\n"),
     };
@@ -283,10 +254,10 @@ pub fn run(args: &RunArgs) -> Result<()> {
     .timing("setup", setup)
     .timing("solve", solve);
     directory.write_run_log(&log)?;
-    if let Some(error) = write_error {
+    if let Some(error) = written.write_error {
         return Err(error).context("writing the outputs failed; the run was stopped");
     }
-    if let Some(error) = fields_error {
+    if let Some(error) = written.fields_error {
         bail!(
             "{}: evaluating the element fields of a frame failed: {error}\n(the frames and \
              history up to there are in {})",
@@ -303,8 +274,8 @@ pub fn run(args: &RunArgs) -> Result<()> {
                 directory.frames().len(),
                 out.display()
             );
-            if !last_row.is_empty() {
-                println!("  at the end: {last_row}");
+            if !progress.last_row.is_empty() {
+                println!("  at the end: {}", progress.last_row);
             }
             Ok(())
         }
@@ -324,28 +295,6 @@ pub fn run(args: &RunArgs) -> Result<()> {
             out.display()
         ),
     }
-}
-
-/// The checkpoint in the run directory `out`, if it belongs to the model of
-/// `fingerprint`.
-fn read_checkpoint(out: &std::path::Path, fingerprint: u64) -> Result<RunCheckpoint> {
-    let path = out.join(CHECKPOINT_FILE);
-    if !path.exists() {
-        bail!(
-            "{}: no checkpoint to resume from (the run there completed, or stopped before \
-             its first frame); run without --resume, with --force, to start again",
-            path.display()
-        );
-    }
-    let checkpoint = RunCheckpoint::read(&path)?;
-    if checkpoint.fingerprint != fingerprint {
-        bail!(
-            "{}: the checkpoint was written by a run of another scene, mesh or solver \
-             setting; resume with the same ones, or start again with --force",
-            path.display()
-        );
-    }
-    Ok(checkpoint)
 }
 
 /// The other solver's default settings for the scene's duration and output interval.
@@ -368,7 +317,7 @@ fn switch_solver(model: &Model, choice: Solver) -> Analysis {
 }
 
 /// A bar over simulated time on a terminal; hidden otherwise (plain log lines are printed
-/// instead, see [`Watcher`]).
+/// instead, see [`Progress`]).
 fn progress_bar(duration: f64) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
@@ -385,15 +334,10 @@ fn progress_bar(duration: f64) -> ProgressBar {
     bar
 }
 
-/// Writes frames and history rows as the run goes, drives the bar, honours Ctrl-C.
-struct Watcher<'a> {
+/// Drives the bar (or plain log lines), keeps the last row's reactions for the summary,
+/// honours Ctrl-C.
+struct Progress<'a> {
     model: &'a Model,
-    directory: &'a mut RunDirectory,
-    history: Option<HistoryWriter>,
-    write_frames: bool,
-    /// Frames on the multiples of the scene's `output_interval` (the first row at or
-    /// after each), at t = 0 and at the end, whatever the solver's increments.
-    frames: FrameSchedule,
     bar: ProgressBar,
     /// Without a terminal: a plain log line on stderr every tenth of the duration and at
     /// the end.
@@ -401,53 +345,28 @@ struct Watcher<'a> {
     next_log: f64,
     started: Instant,
     interrupted: Arc<AtomicBool>,
-    error: Option<OutputError>,
-    /// A material failure while evaluating a frame's element fields.
-    fields_error: Option<SolverError>,
     last_row: String,
-    /// Of the model, written into every checkpoint.
-    fingerprint: u64,
-    /// Whether the last recorded row was a frame's: a checkpoint follows it.
-    frame_due: bool,
-    /// Why no checkpoint could be taken (an interaction that cannot write its state).
-    no_checkpoints: Option<String>,
-    /// Fault injection for the kill-and-resume tests ([`ABORT_AFTER_CHECKPOINT`]).
-    abort_after_checkpoint: Option<usize>,
 }
 
-/// The environment variable that makes a run abort (as if killed: no handler, no clean-up)
-/// right after writing checkpoint number K (from 1), for the kill-and-resume tests: a
-/// deterministic stand-in for a kill at a chosen frame.
-pub const ABORT_AFTER_CHECKPOINT: &str = "MUSCLEFEM_ABORT_AFTER_CHECKPOINT";
-
-impl Watcher<'_> {
-    /// The frame of `snapshot`, with its element fields, if frames are asked for and one
-    /// is due.
-    fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frame_due = self.frames.due(snapshot.time);
-        if self.write_frames && self.frame_due {
-            let parts = match snapshot.element_fields() {
-                Ok(parts) => parts,
-                Err(e) => {
-                    self.fields_error = Some(e);
-                    return ControlFlow::Break(());
-                }
-            };
-            if let Err(e) = self.directory.write_state_frame(
-                &self.model.mesh,
-                snapshot.time,
-                snapshot.displacement,
-                &parts,
-                &snapshot.nodal_fields(),
-            ) {
-                self.error = Some(e);
-                return ControlFlow::Break(());
-            }
-        }
-        self.tick(snapshot.time)
+impl RunProgress for Progress<'_> {
+    fn recorded(&mut self, record: &Record) -> ControlFlow<()> {
+        let newton = match record {
+            Record::Explicit(_) => String::new(),
+            Record::Implicit(row) => format!(" ({} Newton iterations)", row.iterations),
+        };
+        let reactions: Vec<String> = (self.model.displacement_names.iter())
+            .zip(record.reactions())
+            .map(|(name, r)| format!("{name} {r:.6e} N"))
+            .collect();
+        self.last_row = format!(
+            "t = {:.6e} s{newton}: {}",
+            record.time(),
+            reactions.join(", ")
+        );
+        ControlFlow::Continue(())
     }
 
-    fn tick(&mut self, time: f64) -> ControlFlow<()> {
+    fn reached(&mut self, time: f64) -> ControlFlow<()> {
         let duration = self.model.analysis.end_time();
         self.bar.set_position((1e6 * time / duration) as u64);
         self.bar.set_message(format!("{time:.4e} / {duration} s"));
@@ -462,87 +381,6 @@ impl Watcher<'_> {
         }
         if self.interrupted.load(Ordering::SeqCst) {
             ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    }
-
-    fn reactions_text(&self, reactions: &[f64]) -> String {
-        self.model
-            .displacement_names
-            .iter()
-            .zip(reactions)
-            .map(|(name, r)| format!("{name} {r:.6e} N"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    }
-}
-
-impl Observer for Watcher<'_> {
-    /// The implicit solver's initial state: the first frame.
-    fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frame(snapshot)
-    }
-
-    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_record(record)
-        {
-            self.error = Some(e);
-            return ControlFlow::Break(());
-        }
-        let newton = match record {
-            Record::Explicit(_) => String::new(),
-            Record::Implicit(row) => format!(" ({} Newton iterations)", row.iterations),
-        };
-        self.last_row = format!(
-            "t = {:.6e} s{newton}: {}",
-            record.time(),
-            self.reactions_text(record.reactions())
-        );
-        self.frame(snapshot)
-    }
-
-    fn wants_checkpoint(&mut self) -> bool {
-        self.no_checkpoints.is_none() && std::mem::take(&mut self.frame_due)
-    }
-
-    /// Written after every frame: the state and the outputs up to it.
-    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
-        let (solver, Some(history)) = (checkpoint, &self.history) else {
-            return ControlFlow::Continue(());
-        };
-        let solver = match solver {
-            Ok(solver) => solver,
-            Err(why) => {
-                eprintln!("warning: the run cannot be checkpointed: {why}");
-                self.no_checkpoints = Some(why.to_string());
-                return ControlFlow::Continue(());
-            }
-        };
-        let file = RunCheckpoint {
-            fingerprint: self.fingerprint,
-            history_header: history.header().to_string(),
-            history_rows: history.rows().to_vec(),
-            frames: self.directory.frames().to_vec(),
-            solver,
-        };
-        if let Err(e) = file.write(&self.directory.checkpoint_path()) {
-            self.error = Some(e);
-            return ControlFlow::Break(());
-        }
-        if let Some(k) = &mut self.abort_after_checkpoint {
-            *k = k.saturating_sub(1);
-            if *k == 0 {
-                std::process::abort();
-            }
-        }
-        ControlFlow::Continue(())
-    }
-
-    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
-        if steps.is_multiple_of(200) {
-            self.tick(time)
         } else {
             ControlFlow::Continue(())
         }

@@ -31,6 +31,9 @@ pub enum OutputError {
     /// per element that has the wrong length, a repeated name, a time going backwards).
     #[error("cannot write '{}': {message}", path.display())]
     Data { path: PathBuf, message: String },
+    /// A stopped run cannot be resumed from the checkpoint `path`.
+    #[error("cannot resume from '{}': {message}", path.display())]
+    Resume { path: PathBuf, message: String },
     /// The VTK library failed to encode or decode `path`.
     #[error("VTK error on '{}': {message}", path.display())]
     Vtk { path: PathBuf, message: String },

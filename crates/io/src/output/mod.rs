@@ -14,7 +14,9 @@
 //!   and keeps `result.pvd` listing complete frames only, and [`RunLog`];
 //! - [`lock`]: [`OutputLock`], one writer per output directory;
 //! - [`checkpoint`]: [`RunCheckpoint`], `checkpoint.bin`, what a stopped run resumes from;
-//! - [`frame_schedule`]: [`FrameSchedule`], which recorded instants get a frame.
+//! - [`frame_schedule`]: [`FrameSchedule`], which recorded instants get a frame;
+//! - [`run_writer`]: [`RunWriter`], the observer that writes all of these as a run goes,
+//!   checkpoints after every frame, and resumes a stopped run.
 
 pub mod checkpoint;
 pub mod element_fields;
@@ -24,6 +26,7 @@ pub mod history;
 pub mod lock;
 pub mod pvd;
 pub mod run_directory;
+pub mod run_writer;
 pub mod vtu;
 
 pub use checkpoint::{CHECKPOINT_FILE, RunCheckpoint};
@@ -34,4 +37,5 @@ pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_i
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
 pub use run_directory::{ExistingResults, RunDirectory, RunLog};
+pub use run_writer::{ABORT_AFTER_CHECKPOINT, RunProgress, RunStart, RunWriter, WrittenRun};
 pub use vtu::{encode_vtu, stage_vtu, vtk_cell_type, write_vtu};
