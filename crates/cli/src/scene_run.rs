@@ -21,9 +21,7 @@ use musclefem_io::output::{
     CHECKPOINT_FILE, ExistingResults, FrameSchedule, HistoryWriter, RunLog, RunProgress, RunStart,
     RunWriter,
 };
-use musclefem_io::scene::{
-    Analysis, Model, PluginPolicy, Trust, load_scene_trusting, locking_warning,
-};
+use musclefem_io::scene::{Analysis, Model, PluginPolicy, Trust, load_scene_trusting};
 use musclefem_materials::MaterialLibrary;
 
 use crate::commands::Interrupted;
@@ -48,7 +46,7 @@ pub fn check(args: &CheckArgs) -> Result<()> {
              parameters unchecked; `run --allow-plugins` loads it"
         );
     }
-    print!("{}", describe(&model));
+    print!("{}", model.describe());
     Ok(())
 }
 
@@ -62,56 +60,6 @@ fn refuse_free_body(model: &Model, scene: &std::path::Path) -> Result<()> {
         model.interactions.len(),
     )
     .with_context(|| format!("{}", scene.display()))
-}
-
-/// A few lines on the model: parts, loads, analysis.
-fn describe(model: &Model) -> String {
-    let mut text = String::new();
-    if !model.description.is_empty() {
-        text += &format!("  {}\n", model.description);
-    }
-    for (name, part) in model.part_names.iter().zip(&model.parts) {
-        let block = &model.mesh.blocks[part.block];
-        text += &format!(
-            "  part '{name}': {} {:?} elements, density {} kg/m3\n",
-            block.len(),
-            part.technology,
-            part.density
-        );
-        if let Some(warning) = locking_warning(part.technology, part.material.as_ref()) {
-            text += &format!("  warning: part '{name}': {warning}\n");
-        }
-    }
-    text += &format!(
-        "  {} nodes; {} prescribed displacement components, {} nodal forces, {} rigid ties\n",
-        model.mesh.nodes.len(),
-        model.loads.displacements.len(),
-        model.loads.forces.len(),
-        model.loads.rigid_ties.len()
-    );
-    for interaction in &model.interactions {
-        text += &format!("  interaction {}\n", interaction.describe());
-    }
-    text += &match &model.analysis {
-        Analysis::Explicit(s) => format!(
-            "  explicit, {} s, safety factor {}, output every {} s\n",
-            s.end_time, s.safety_factor, model.output_interval
-        ),
-        Analysis::Implicit(s) => format!(
-            "  implicit{}, {} s in {} increments, output every converged increment\n",
-            if s.dynamics.is_some() {
-                " (Newmark dynamics)"
-            } else {
-                " (quasi-static)"
-            },
-            s.end_time,
-            s.increments
-        ),
-    };
-    if let Some(why) = &model.solver_rationale {
-        text += &format!("  {why}\n");
-    }
-    text
 }
 
 /// Run the scene and write its run directory.
@@ -218,7 +166,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         args.scene.display(),
         model.analysis
     )))?;
-    print!("{}", describe(&model));
+    print!("{}", model.describe());
     let setup = started.elapsed();
     let solve_started = Instant::now();
     let result = match &resumed {

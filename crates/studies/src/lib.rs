@@ -10,6 +10,7 @@
 //!   the elongation tests or a scene (`musclefem fit`).
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`material_point`]: a material point driven in uniaxial stress (`musclefem point`).
 //! - [`scene_study`]: a scene file as the base of a sweep or a fit.
 //! - [`solver`]: the one solver choice of every study and command.
 //! - [`sweep`]: parametric studies of the elongation tests or of a scene (`musclefem sweep`).
@@ -20,6 +21,7 @@ pub mod elongation;
 pub mod fit;
 pub mod inertia;
 pub mod knee;
+pub mod material_point;
 pub mod scene_study;
 pub mod solver;
 pub mod sweep;
