@@ -203,7 +203,7 @@ fn run_one(
         test.mode.name(),
         test.shape.name(),
         test.element.name(),
-        1e3 * test.mesh_size,
+        musclefem_io::csv::format_number(1e3 * test.mesh_size),
         grips_name(test.grips),
     );
     println!("{label}");

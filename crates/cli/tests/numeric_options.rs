@@ -5,6 +5,8 @@
 //! fails with an error message or exits 0 with nothing but finite numbers in its CSV.
 //!
 //! Cases: 48 per run (`PROPTEST_CASES` changes it); the counts of each outcome are printed.
+//! A second property does the same over `musclefem elongate`'s mesh size, time step and
+//! frame interval.
 
 mod support;
 
@@ -154,6 +156,96 @@ fn random_numbers_on_the_command_line_never_panic_nor_give_non_finite_results() 
         Ok(())
     });
     println!("{cases} command lines: {:?}", outcomes.borrow());
+    if let Err(failure) = result {
+        panic!("{failure}");
+    }
+}
+
+/// The same over `musclefem elongate`'s numbers (the cheap passive cylinder with sliding
+/// grips): `--mesh-size` [mm], `--time-step` [s] and `--frame-interval` [s], ordinary
+/// mostly and wild now and then. A run ends in time, never panics, and either refuses with
+/// a message and no curve, or writes a curve of finite numbers.
+///
+/// Cases: 16 per run (`PROPTEST_CASES` changes it).
+#[test]
+fn random_elongation_options_never_panic_nor_give_non_finite_curves() {
+    let dir = test_dir("musclefem-numeric", "elongate");
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(16);
+    let mut runner = TestRunner::new(ProptestConfig {
+        cases,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    });
+    let outcomes = RefCell::new(BTreeMap::<&str, usize>::new());
+    let strategy = (
+        sometimes_wild(6.0f64..8.75),
+        sometimes_wild(0.1f64..0.4),
+        prop::option::of(sometimes_wild(0.1f64..1.0)),
+    );
+    let result = runner.run(&strategy, |(mesh_size, time_step, frame_interval)| {
+        let out = dir.join("curve");
+        let _ = std::fs::remove_dir_all(&out);
+        let mut command = Command::new(env!("CARGO_BIN_EXE_musclefem"));
+        command.current_dir(&dir).args([
+            "elongate",
+            "--mode",
+            "passive",
+            "--shape",
+            "cylinder",
+            "--grips",
+            "sliding",
+            "--mesh-size",
+            &mesh_size,
+            "--time-step",
+            &time_step,
+            "--out",
+            "curve",
+        ]);
+        if let Some(interval) = &frame_interval {
+            command.arg("--frame-interval").arg(interval);
+        }
+        let started = Instant::now();
+        let output = command.output().unwrap();
+        prop_assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "{command:?} took {:?}",
+            started.elapsed()
+        );
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+        prop_assert!(!stderr.contains("panicked"), "{command:?}: {stderr}");
+        let curve = out.join("curve.csv");
+        if output.status.success() {
+            let csv = std::fs::read_to_string(&curve).unwrap();
+            prop_assert!(csv.lines().count() > 5, "{command:?}: a curve of {csv}");
+            for line in csv.lines().skip(1) {
+                for value in line.split(',') {
+                    let number: f64 = value.trim().parse().unwrap_or(f64::NAN);
+                    prop_assert!(number.is_finite(), "{command:?} wrote '{value}' in: {line}");
+                }
+            }
+            *outcomes.borrow_mut().entry("ran, all finite").or_default() += 1;
+        } else {
+            prop_assert!(
+                matches!(output.status.code(), Some(1 | 2)),
+                "{command:?}: {:?}",
+                output.status
+            );
+            prop_assert!(
+                stderr.contains("error"),
+                "{command:?}: no message: {stderr}"
+            );
+            prop_assert!(!curve.exists(), "{command:?} failed but left a curve");
+            *outcomes
+                .borrow_mut()
+                .entry("refused with a message")
+                .or_default() += 1;
+        }
+        Ok(())
+    });
+    println!("{cases} elongation command lines: {:?}", outcomes.borrow());
     if let Err(failure) = result {
         panic!("{failure}");
     }

@@ -307,13 +307,13 @@ impl SpecimenSpec {
         let h = self.mesh_size;
         if !(h.is_finite() && h > 0.0) {
             return Err(invalid(format!(
-                "mesh size {h} m must be finite and positive"
+                "mesh size {h:e} m must be finite and positive"
             )));
         }
         let smallest = self.shape.min_radius();
         if h > smallest {
             return Err(invalid(format!(
-                "mesh size {h} m is larger than the specimen's smallest radius {smallest} m"
+                "mesh size {h:e} m is larger than the specimen's smallest radius {smallest:e} m"
             )));
         }
         let radius = self.shape.max_radius();
@@ -325,7 +325,7 @@ impl SpecimenSpec {
         let axial = even_at_least(self.shape.graded_length() / h).max(2.0);
         let too_many = || {
             invalid(format!(
-                "mesh size {h} m gives more than 2^32 nodes or elements"
+                "mesh size {h:e} m gives more than 2^32 nodes or elements"
             ))
         };
         if [per_side, radial, axial]

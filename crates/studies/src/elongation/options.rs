@@ -71,7 +71,7 @@ impl TestOptions {
             "{}, {}, {} mm, {} grips, {}",
             self.shape.name(),
             self.element.name(),
-            self.mesh_size,
+            musclefem_io::csv::format_number(self.mesh_size),
             name(self.grips.to_possible_value()),
             self.solver.name(),
         )

@@ -9,6 +9,7 @@ use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{self, ImplicitSettings};
 use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
+use musclefem_io::csv::format_number;
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 use super::protocol::{Activation, Grips};
@@ -151,19 +152,24 @@ pub fn check_time_step(test: &ElongationTest) -> Result<()> {
     };
     let duration = test.mode.duration();
     if !(step.is_finite() && step > 0.0) {
-        bail!("--time-step {step} s must be a positive number of seconds");
+        bail!(
+            "--time-step {} s must be a positive number of seconds",
+            format_number(step)
+        );
     }
     if step > duration / MIN_TEST_STEPS {
         bail!(
-            "--time-step {step} s is more than a fifth of the {} test's {duration} s: the \
+            "--time-step {} s is more than a fifth of the {} test's {duration} s: the \
              curve needs at least {MIN_TEST_STEPS} steps",
+            format_number(step),
             test.mode.name()
         );
     }
     if duration / step > implicit::MAX_INCREMENTS as f64 {
         bail!(
-            "--time-step {step} s would take {:.3e} steps over the {duration} s test, more \
+            "--time-step {} s would take {:.3e} steps over the {duration} s test, more \
              than the {} allowed",
+            format_number(step),
             duration / step,
             implicit::MAX_INCREMENTS
         );

@@ -57,7 +57,7 @@ pub fn specimen_mesh(shape: Shape, element: ElementChoice, mesh_size: f64) -> Re
         format!(
             "meshing the {} with {} mm elements",
             shape.name(),
-            1e3 * mesh_size
+            musclefem_io::csv::format_number(1e3 * mesh_size)
         )
     })?;
     Ok(SpecimenMesh {
