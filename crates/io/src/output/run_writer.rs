@@ -58,6 +58,10 @@ pub struct WrittenRun {
     pub fields_error: Option<SolverError>,
     /// Why no checkpoint could be taken, if none could.
     pub no_checkpoints: Option<String>,
+    /// `history.csv` as written: its header and every row (those before a checkpoint a
+    /// resumed run started from included).
+    pub history_header: String,
+    pub history_rows: Vec<Vec<f64>>,
 }
 
 /// Writes a run's directory as the run goes (see the module documentation).
@@ -142,12 +146,16 @@ impl<'a> RunWriter<'a> {
     /// Write the history a last time and hand back the directory with how the writing
     /// went (a complete run's checkpoint is the caller's to remove, once it has said so).
     pub fn finish(self) -> Result<WrittenRun, OutputError> {
+        let history_header = self.history.header().to_string();
+        let history_rows = self.history.rows().to_vec();
         self.history.finish()?;
         Ok(WrittenRun {
             directory: self.directory,
             write_error: self.write_error,
             fields_error: self.fields_error,
             no_checkpoints: self.no_checkpoints,
+            history_header,
+            history_rows,
         })
     }
 

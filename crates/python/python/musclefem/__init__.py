@@ -1,0 +1,30 @@
+"""musclefem: continuum simulation of active skeletal muscle, from Python.
+
+- ``materials()``: the material library, with every parameter's unit, default and range;
+- ``MaterialPoint(name, **params).uniaxial(times, stretches, dt)``: one material point in
+  uniaxial stress along its fiber;
+- ``Scene(path).describe()`` / ``.run(out=None)``: a scene file (docs/scene-format.md),
+  checked on reading, run in memory or into a run directory;
+- ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve.
+
+Results are dicts of NumPy arrays named as the CSV columns (units in the names); errors
+are ``MusclefemError`` with the command line's message (file, line, key, element, time).
+"""
+
+from ._musclefem import (
+    MaterialPoint,
+    MusclefemError,
+    Scene,
+    __version__,
+    elongate,
+    materials,
+)
+
+__all__ = [
+    "MaterialPoint",
+    "MusclefemError",
+    "Scene",
+    "__version__",
+    "elongate",
+    "materials",
+]

@@ -1,0 +1,42 @@
+//! musclefem from Python: `import musclefem`.
+//!
+//! The extension module `musclefem._musclefem` (re-exported by the package
+//! `python/musclefem`): the material library ([`material_point::materials`]), a material
+//! point in uniaxial stress ([`material_point::MaterialPoint`]), scene files
+//! ([`scene::Scene`]) and the single-muscle elongation tests ([`elongation::elongate`]).
+//! Results come back as dicts of NumPy arrays (one per column, with the units in the
+//! names as in the CSV files); every error is a `musclefem.MusclefemError` whose message is
+//! the command line's (file, line, element, time). Long runs release the GIL and stop on
+//! Ctrl-C (KeyboardInterrupt) with their files consistent. Built with maturin
+//! (`pip install ./crates/python`); see `docs/python.md`.
+
+use pyo3::prelude::*;
+
+mod columns;
+mod elongation;
+mod material_point;
+mod scene;
+
+pyo3::create_exception!(
+    musclefem,
+    MusclefemError,
+    pyo3::exceptions::PyException,
+    "A musclefem error: the message names the file, line, key, element or time where it can."
+);
+
+/// An error of the library as a `MusclefemError` with its whole chain ("context: cause").
+pub(crate) fn python_error(error: anyhow::Error) -> PyErr {
+    MusclefemError::new_err(format!("{error:#}"))
+}
+
+#[pymodule]
+#[pyo3(name = "_musclefem")]
+fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("MusclefemError", m.py().get_type::<MusclefemError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(material_point::materials, m)?)?;
+    m.add_class::<material_point::MaterialPoint>()?;
+    m.add_class::<scene::Scene>()?;
+    m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,127 @@
+"""`import musclefem`: the materials, a material point, a scene and the elongation test
+from Python, checked against closed forms and against the command line's files."""
+
+import csv
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import musclefem
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+CUBE = ROOT / "examples" / "neo_hookean_cube_stretch.toml"
+
+
+def neo_hookean_uniaxial(mu, d, stretch):
+    """Engineering stress P11 [Pa] of W = mu/2 (I1bar - 3) + (J - 1)^2 / D in uniaxial
+    stress at `stretch`: the lateral stretch t from sigma22 = 0 by bisection."""
+
+    def sigma(t):
+        j = stretch * t * t
+        trace = (stretch**2 + 2 * t * t) / 3
+        pressure = 2 * (j - 1) / d
+        deviatoric = mu / j * j ** (-2 / 3)
+        return deviatoric * (stretch**2 - trace) + pressure, deviatoric * (t * t - trace) + pressure
+
+    lo, hi = 0.3, 1.5
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if sigma(lo)[1] * sigma(mid)[1] <= 0:
+            hi = mid
+        else:
+            lo = mid
+    t = 0.5 * (lo + hi)
+    return stretch * t * t * sigma(t)[0] / stretch
+
+
+def test_the_materials_list_their_parameters_with_units():
+    materials = {m["name"]: m for m in musclefem.materials()}
+    assert {"hill", "neo-hookean", "tendon"} <= set(materials)
+    sigma0 = next(p for p in materials["hill"]["parameters"] if p["name"] == "sigma0")
+    assert sigma0["unit"] == "Pa" and sigma0["default"] == 7e5
+    assert sigma0["lower"] == 0.0
+
+
+def test_a_neo_hookean_point_follows_the_closed_form():
+    mu, d = 1e4, 2e-5
+    result = musclefem.MaterialPoint("neo-hookean", mu=mu, D=d).uniaxial(
+        [0.0, 1.0], [1.0, 1.5], dt=0.01
+    )
+    assert set(result) == {
+        "time_s",
+        "stretch",
+        "engineering_stress_pa",
+        "cauchy_stress_pa",
+        "volume_ratio",
+    }
+    assert isinstance(result["stretch"], np.ndarray)
+    for stretch, stress in zip(result["stretch"][1:], result["engineering_stress_pa"][1:]):
+        expected = neo_hookean_uniaxial(mu, d, stretch)
+        assert stress == pytest.approx(expected, rel=1e-6), stretch
+
+
+def test_bad_input_raises_the_command_lines_message():
+    with pytest.raises(musclefem.MusclefemError, match="sigma0"):
+        musclefem.MaterialPoint("hill", sigma0=-1.0)
+    with pytest.raises(musclefem.MusclefemError, match="no material|unknown"):
+        musclefem.MaterialPoint("steel")
+    point = musclefem.MaterialPoint("hill", n2=1.0)
+    with pytest.raises(musclefem.MusclefemError, match="one stretch per time"):
+        point.uniaxial([0.0, 1.0], [1.0])
+
+
+def test_a_scene_runs_in_memory_and_into_a_run_directory_as_the_command_line(tmp_path):
+    scene = musclefem.Scene(str(CUBE))
+    assert "part 'cube'" in scene.describe()
+    history = scene.run()
+    assert history["time_s"][-1] == 1.0
+    # The cube's end force against the closed form of the compressible neo-Hookean law.
+    force = history["reaction_cube.x1.x_n"][-1]
+    assert force == pytest.approx(neo_hookean_uniaxial(1e4, 2e-5, 1.5) * 1e-4, rel=1e-9)
+
+    written = scene.run(out=str(tmp_path / "run"))
+    for column, values in history.items():
+        np.testing.assert_array_equal(values, written[column], err_msg=column)
+    assert (tmp_path / "run" / "result.pvd").is_file()
+    assert not (tmp_path / "run" / "checkpoint.bin").exists()
+    # The same numbers as `musclefem run` writes, to the last digit.
+    cli = tmp_path / "cli"
+    binary = ROOT / "target" / "release" / "musclefem"
+    if binary.exists():
+        subprocess.run([str(binary), "run", str(CUBE), "--out", str(cli)], check=True)
+        with open(cli / "history.csv") as table:
+            rows = list(csv.DictReader(table))
+        np.testing.assert_array_equal(
+            [float(r["reaction_cube.x1.x_n"]) for r in rows], history["reaction_cube.x1.x_n"]
+        )
+    # An earlier run is not replaced without force.
+    with pytest.raises(musclefem.MusclefemError, match="already holds results"):
+        scene.run(out=str(tmp_path / "run"))
+
+
+def test_a_bad_scene_names_its_line(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(CUBE.read_text().replace('model = "neo-hookean"', 'model = "neo-hooke"'))
+    with pytest.raises(musclefem.MusclefemError, match=r"bad\.toml:16:9: unknown material model"):
+        musclefem.Scene(str(bad))
+
+
+def test_the_elongation_curve_is_the_command_lines(tmp_path):
+    options = dict(shape="cylinder", grips="sliding", mesh_size=8.75, time_step=0.2)
+    curve = musclefem.elongate("passive", **options)
+    assert curve["engineering_strain"][-1] == pytest.approx(0.2, abs=1e-12)
+    assert 0 < curve["stress_10pct_pa"] < curve["stress_20pct_pa"]
+    with pytest.raises(musclefem.MusclefemError, match="grips 'glued'"):
+        musclefem.elongate("passive", grips="glued")
+    binary = ROOT / "target" / "release" / "musclefem"
+    if binary.exists():
+        args = ["--shape", "cylinder", "--grips", "sliding", "--mesh-size", "8.75"]
+        args += ["--time-step", "0.2", "--mode", "passive", "--out", str(tmp_path / "e")]
+        subprocess.run([str(binary), "elongate", *args], check=True, capture_output=True)
+        with open(tmp_path / "e" / "curve.csv") as table:
+            rows = list(csv.DictReader(table))
+        np.testing.assert_array_equal(
+            [float(r["engineering_stress_pa"]) for r in rows], curve["engineering_stress_pa"]
+        )
