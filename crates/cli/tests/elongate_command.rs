@@ -90,8 +90,10 @@ fn a_time_step_that_cannot_give_the_curve_is_refused_before_any_output() {
         let stderr = text(&output.stderr);
         assert!(!output.status.success(), "--time-step {step} was accepted");
         assert!(
-            stderr.contains(&format!("--time-step {}", step.parse::<f64>().unwrap()))
-                && stderr.contains(expected),
+            stderr.contains(&format!(
+                "--time-step {}",
+                musclefem_io::csv::format_number(step.parse::<f64>().unwrap())
+            )) && stderr.contains(expected),
             "--time-step {step}: {stderr}"
         );
         assert!(!dir.join(&out).exists(), "--time-step {step} wrote output");

@@ -10,7 +10,8 @@ use pyo3::types::PyDict;
 use musclefem_core::solver::{Observer, Record, Snapshot, SolverError};
 use musclefem_io::output::run_directory::HISTORY_FILE;
 use musclefem_io::output::{
-    ExistingResults, FrameSchedule, HistoryColumns, HistoryWriter, RunProgress, RunStart, RunWriter,
+    ExistingResults, FrameSchedule, HistoryColumns, HistoryWriter, RunLog, RunProgress, RunStart,
+    RunWriter,
 };
 use musclefem_io::scene::{Model, PluginPolicy, Trust, load_scene_trusting};
 use musclefem_materials::MaterialLibrary;
@@ -249,11 +250,39 @@ fn run_into(
         .directory()
         .write_scene(scene_text)
         .map_err(anyhow::Error::from)?;
+    // A log from the start, rewritten with how the run ended (as `musclefem run`'s).
+    let settings = |end: &str| {
+        RunLog::new(format!(
+            "scene = (Python) musclefem.Scene\nsolver = {:?}\n{}end = {end}\n",
+            model.analysis,
+            resumed.as_ref().map_or(String::new(), |c| format!(
+                "resumed = from the checkpoint at t = {:e} s\n",
+                c.time
+            ))
+        ))
+    };
+    writer
+        .directory()
+        .write_run_log(&settings("running"))
+        .map_err(anyhow::Error::from)?;
     let outcome = match &resumed {
         Some(checkpoint) => model.resume_with(&model.analysis, checkpoint, &mut writer),
         None => model.run(&mut writer),
     };
     let written = writer.finish().map_err(anyhow::Error::from)?;
+    let end = match (&outcome, &written.write_error, &written.fields_error) {
+        (_, Some(error), _) => format!("failed writing the outputs: {error}"),
+        (_, _, Some(error)) => format!("failed evaluating a frame's element fields: {error}"),
+        (Ok(outcome), None, None) => format!("complete ({} steps)", outcome.steps()),
+        (Err(SolverError::Interrupted { time }), ..) => {
+            format!("interrupted at t = {time:e} s (KeyboardInterrupt)")
+        }
+        (Err(error), ..) => format!("failed: {error}"),
+    };
+    written
+        .directory
+        .write_run_log(&settings(&end.replace('\n', "; ")))
+        .map_err(anyhow::Error::from)?;
     if let Some(error) = written.write_error {
         return Err(anyhow::Error::from(error).into());
     }

@@ -125,3 +125,47 @@ def test_the_elongation_curve_is_the_command_lines(tmp_path):
         np.testing.assert_array_equal(
             [float(r["engineering_stress_pa"]) for r in rows], curve["engineering_stress_pa"]
         )
+
+
+def test_ctrl_c_stops_a_run_whose_directory_then_resumes_to_the_same_history(tmp_path):
+    """Ctrl-C (SIGINT) in a Python process running a long scene: KeyboardInterrupt, the
+    run directory holds complete frames and a checkpoint, and run(resume=True) in a new
+    process finishes with the history of a run never stopped."""
+    import signal
+    import sys
+    import time
+
+    long = tmp_path / "long.toml"
+    long.write_text(
+        CUBE.read_text()
+        .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
+        .replace("increments = 10 }", "increments = 400 }")
+        .replace("output_interval = 0.1", "output_interval = 0.01")
+    )
+    script = (
+        "import sys, musclefem\n"
+        "scene = musclefem.Scene(sys.argv[1])\n"
+        "try:\n"
+        "    scene.run(out=sys.argv[2], resume=sys.argv[3] == 'resume')\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted'); sys.exit(130)\n"
+        "print('complete')\n"
+    )
+    run = [sys.executable, "-c", script, str(long), str(tmp_path / "cut")]
+    child = subprocess.Popen(run + ["start"], stdout=subprocess.PIPE, text=True)
+    started = time.time()
+    while not (tmp_path / "cut" / "checkpoint.bin").exists():
+        assert time.time() - started < 120, "no checkpoint after 2 min"
+        assert child.poll() is None, "the run ended before it could be stopped"
+        time.sleep(0.05)
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=120)
+    assert child.returncode == 130 and "interrupted" in out, (child.returncode, out)
+    assert (tmp_path / "cut" / "checkpoint.bin").is_file()
+
+    resumed = subprocess.run(run + ["resume"], capture_output=True, text=True, timeout=600)
+    assert resumed.returncode == 0 and "complete" in resumed.stdout, resumed.stderr
+    whole = musclefem.Scene(str(long)).run(out=str(tmp_path / "whole"))
+    for name in ["history.csv", "result.pvd"]:
+        assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
+    assert len(whole["time_s"]) == 400

@@ -74,14 +74,7 @@ impl Model {
         analysis: &Analysis,
         observer: &mut dyn musclefem_core::solver::Observer,
     ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
-        let mut interactions: Vec<_> = self.interactions.iter().map(|i| i.boxed()).collect();
-        let problem = musclefem_core::solver::Problem {
-            mesh: &self.mesh,
-            parts: &self.parts,
-            loads: &self.loads,
-            interactions: &mut interactions,
-        };
-        musclefem_core::solver::run(problem, analysis, observer)
+        self.solve(analysis, None, observer)
     }
 
     /// Go on with the model under `analysis` from `checkpoint` (taken by a run of the
@@ -92,6 +85,16 @@ impl Model {
         checkpoint: &musclefem_core::solver::Checkpoint,
         observer: &mut dyn musclefem_core::solver::Observer,
     ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        self.solve(analysis, Some(checkpoint), observer)
+    }
+
+    /// The problem (with fresh interactions) run from the start or from `checkpoint`.
+    fn solve(
+        &self,
+        analysis: &Analysis,
+        checkpoint: Option<&musclefem_core::solver::Checkpoint>,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
         let mut interactions: Vec<_> = self.interactions.iter().map(|i| i.boxed()).collect();
         let problem = musclefem_core::solver::Problem {
             mesh: &self.mesh,
@@ -99,7 +102,12 @@ impl Model {
             loads: &self.loads,
             interactions: &mut interactions,
         };
-        musclefem_core::solver::resume(problem, analysis, checkpoint, observer)
+        match checkpoint {
+            Some(checkpoint) => {
+                musclefem_core::solver::resume(problem, analysis, checkpoint, observer)
+            }
+            None => musclefem_core::solver::run(problem, analysis, observer),
+        }
     }
 
     /// A fingerprint of what the model computes ([`crate::fingerprint::fnv1a`] of the
