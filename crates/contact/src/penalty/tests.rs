@@ -1,7 +1,7 @@
 //! The closest-point search against a brute-force search over all triangles.
 
 use musclefem_core::mesh::generate::box_of_hexes;
-use musclefem_core::solver::{RigidMotion, RigidRotation};
+use musclefem_core::solver::{Interaction, RigidMotion, RigidRotation};
 use musclefem_materials::Amplitude;
 use nalgebra::Unit;
 
