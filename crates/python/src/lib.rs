@@ -3,7 +3,8 @@
 //! The extension module `musclefem._musclefem` (re-exported by the package
 //! `python/musclefem`): the material library ([`material_point::materials`]), a material
 //! point in uniaxial stress ([`material_point::MaterialPoint`]), scene files
-//! ([`scene::Scene`]) and the single-muscle elongation tests ([`elongation::elongate`]).
+//! ([`scene::Scene`]), the single-muscle elongation tests ([`elongation::elongate`]) and
+//! fiber directions from the flow solver ([`fibers::fibers`]).
 //! Results come back as dicts of NumPy arrays (one per column, with the units in the
 //! names as in the CSV files); every error is a `musclefem.MusclefemError` whose message is
 //! the command line's (file, line, element, time). Long runs release the GIL and stop on
@@ -14,6 +15,7 @@ use pyo3::prelude::*;
 
 mod columns;
 mod elongation;
+mod fibers;
 mod material_point;
 mod scene;
 
@@ -38,5 +40,6 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<material_point::MaterialPoint>()?;
     m.add_class::<scene::Scene>()?;
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
+    m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
     Ok(())
 }

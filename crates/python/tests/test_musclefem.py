@@ -169,3 +169,47 @@ def test_ctrl_c_stops_a_run_whose_directory_then_resumes_to_the_same_history(tmp
     for name in ["history.csv", "result.pvd"]:
         assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
     assert len(whole["time_s"]) == 400
+
+
+def box_deck(path, nx=2, ny=2, nz=6, size=(0.01, 0.01, 0.03)):
+    """An Abaqus deck of a box of hex8 (C3D8), node sets ORIGIN (z = 0) and INSERTION
+    (z = L), element labels from 101."""
+    def node(i, j, k):
+        return 1 + i + (nx + 1) * (j + (ny + 1) * k)
+
+    lines = ["*NODE"]
+    for k in range(nz + 1):
+        for j in range(ny + 1):
+            for i in range(nx + 1):
+                x, y, z = (size[0] * i / nx, size[1] * j / ny, size[2] * k / nz)
+                lines.append(f"{node(i, j, k)}, {x}, {y}, {z}")
+    lines.append("*ELEMENT, TYPE=C3D8, ELSET=MUSCLE")
+    label = 101
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                corners = [
+                    node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
+                    node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
+                    node(i, j + 1, k + 1),
+                ]
+                lines.append(f"{label}, " + ", ".join(map(str, corners)))
+                label += 1
+    for name, k in [("ORIGIN", 0), ("INSERTION", nz)]:
+        lines.append(f"*NSET, NSET={name}")
+        lines.append(", ".join(str(node(i, j, k)) for j in range(ny + 1) for i in range(nx + 1)))
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_fibers_of_a_box_run_from_origin_to_insertion(tmp_path):
+    deck = tmp_path / "box.inp"
+    box_deck(deck)
+    field = musclefem.fibers(str(deck), ["ORIGIN"], ["INSERTION"])
+    assert field["direction"].shape == (24, 3) and field["centroid"].shape == (24, 3)
+    assert field["element"][0] == 101
+    # A uniform flow along the box: every fiber along +z, the potential linear in z.
+    np.testing.assert_allclose(field["direction"], np.tile([0.0, 0.0, 1.0], (24, 1)), atol=1e-8)
+    np.testing.assert_allclose(field["potential"], 1 - field["centroid"][:, 2] / 0.03, atol=1e-8)
+    assert field["inlet_flux"] == pytest.approx(field["outlet_flux"], rel=1e-8)
+    with pytest.raises(musclefem.MusclefemError, match="NOWHERE"):
+        musclefem.fibers(str(deck), ["NOWHERE"], ["INSERTION"])

@@ -5,7 +5,8 @@
   uniaxial stress along its fiber;
 - ``Scene(path).describe()`` / ``.run(out=None)``: a scene file (docs/scene-format.md),
   checked on reading, run in memory or into a run directory;
-- ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve.
+- ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve;
+- ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver.
 
 Results are dicts of NumPy arrays named as the CSV columns (units in the names); errors
 are ``MusclefemError`` with the command line's message (file, line, key, element, time).
@@ -17,6 +18,7 @@ from ._musclefem import (
     Scene,
     __version__,
     elongate,
+    fibers,
     materials,
 )
 
@@ -26,5 +28,6 @@ __all__ = [
     "Scene",
     "__version__",
     "elongate",
+    "fibers",
     "materials",
 ]
