@@ -14,8 +14,8 @@ use crate::commands::Interrupted;
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{ExistingResults, RunDirectory, RunLog};
+use musclefem_core::solver::observer::{Record, Snapshot};
+use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory, RunLog};
 use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
 use musclefem_studies::bench::{Problem, select};
 use musclefem_studies::elongation::options::TestOptions;
@@ -208,7 +208,15 @@ fn run_one(
     );
     println!("{label}");
     let setup = setup(test)?;
+    // The solver's history beside the curve, from the first row on (the reactions of
+    // every end condition, energies, Newton iterations).
+    let columns = HistoryColumns::new(setup.displacement_names.clone(), Vec::new());
+    let history = match test.solver {
+        Solver::Implicit => output.implicit_history(&columns)?,
+        Solver::Explicit => output.explicit_history(&columns)?,
+    };
     let mut watcher = FrameWriter {
+        history: Some(history),
         directory: &mut output,
         interval: args.frame_interval,
         next: 0.0,
@@ -221,8 +229,11 @@ fn run_one(
     };
     let result = run_on(test, &setup, &mut watcher);
     watcher.bar.finish_and_clear();
+    if let Some(history) = watcher.history.take() {
+        history.finish()?;
+    }
     if let Some(error) = watcher.error.take() {
-        return Err(error).context("writing a frame failed");
+        return Err(error).context("writing a frame or the history failed");
     }
     if interrupted.load(Ordering::SeqCst) {
         // The curve up to the last point, and a log that says where the test stopped.
@@ -295,8 +306,10 @@ fn print_summary(run: &ElongationRun) {
     }
 }
 
-/// Writes a frame with the element fields every `interval` of simulated time.
+/// Writes the history, and a frame with the element fields every `interval` of simulated
+/// time.
 struct FrameWriter<'a> {
+    history: Option<HistoryWriter>,
     directory: &'a mut RunDirectory,
     interval: f64,
     next: f64,
@@ -312,6 +325,14 @@ struct FrameWriter<'a> {
 }
 
 impl ElongationWatcher for FrameWriter<'_> {
+    fn history_row(&mut self, record: &Record) {
+        if let Some(history) = &mut self.history
+            && let Err(e) = history.push_record(record)
+        {
+            self.error.get_or_insert(e.into());
+        }
+    }
+
     fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()> {
         self.bar.set_position((1e3 * point.time) as u64);
         self.points.push(*point);

@@ -179,4 +179,61 @@ fn ctrl_c_keeps_the_curve_up_to_where_the_test_stopped() {
     assert!(last_time > 0.0 && last_time < 1.0, "{last_time}");
     let log = std::fs::read_to_string(dir.join("stopped/run.log")).unwrap();
     assert!(log.contains("end = interrupted at t = "), "{log}");
+    // The history up to there too.
+    let history = std::fs::read_to_string(dir.join("stopped/history.csv")).unwrap();
+    assert!(history.lines().count() >= 2, "{history}");
+}
+
+/// `elongate` writes the solver's history beside the curve: a reaction column per end
+/// condition (the pulled end's is the curve's force, row for row) and the energies.
+#[test]
+fn the_history_beside_the_curve_holds_every_reaction() {
+    let dir = test_dir("musclefem-elongate", "history");
+    let mut args = vec!["elongate", "--mode", "passive"];
+    args.extend_from_slice(&CHEAP_ELONGATION);
+    args.extend_from_slice(&["--out", "run"]);
+    let output = musclefem(&dir, &args);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let table = std::fs::read_to_string(dir.join("run/history.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    for column in [
+        "time_s",
+        "newton_iterations",
+        "reaction_insertion.z_n",
+        "reaction_origin.z_n",
+        "reaction_origin_axis.x_n",
+        "reaction_origin_axis.y_n",
+        "reaction_origin_edge.y_n",
+        "internal_energy_j",
+    ] {
+        assert!(header.contains(&column), "{column} not in {header:?}");
+    }
+    let pulled = header
+        .iter()
+        .position(|c| *c == "reaction_insertion.z_n")
+        .unwrap();
+    let history: Vec<Vec<f64>> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let curve = std::fs::read_to_string(dir.join("run/curve.csv")).unwrap();
+    // The curve starts with the stress-free point at t = 0, which the implicit history
+    // has no row for.
+    let forces: Vec<f64> = curve
+        .lines()
+        .skip(2)
+        .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(forces.len(), history.len());
+    for (row, force) in history.iter().zip(&forces) {
+        assert_eq!(row[pulled], *force);
+    }
+    // The two ends' axial reactions balance (no inertia in the quasi-static test).
+    let origin = header
+        .iter()
+        .position(|c| *c == "reaction_origin.z_n")
+        .unwrap();
+    let last = history.last().unwrap();
+    assert!((last[pulled] + last[origin]).abs() < 1e-8 * last[pulled].abs());
 }

@@ -16,6 +16,8 @@ use super::{ElongationTest, Solver};
 /// the progress (time [s]). Either may stop the run.
 pub trait ElongationWatcher {
     fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()>;
+    /// The solver's history row of a recorded instant (before its `point`).
+    fn history_row(&mut self, _record: &Record) {}
     fn progress(&mut self, _time: f64) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
@@ -162,6 +164,7 @@ impl Observer for Adapter<'_> {
     }
 
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.watcher.history_row(record);
         match record {
             Record::Explicit(row) => {
                 if row.time > self.hold && row.internal_energy > 0.0 {

@@ -25,6 +25,9 @@ pub struct Setup {
     pub parts: Vec<Part>,
     /// The pulled end's axial condition comes first: its reaction is the test's force.
     pub loads: Loads,
+    /// A name for each displacement condition, in order (`insertion.z`, `origin.z`, ...):
+    /// the reaction columns of `history.csv`.
+    pub displacement_names: Vec<String>,
     pub material: std::sync::Arc<dyn Material>,
 }
 
@@ -54,10 +57,11 @@ pub fn setup(test: &ElongationTest) -> Result<Setup> {
         material: material.clone(),
         density: MUSCLE_DENSITY,
     }];
-    let loads = grips(&specimen.mesh, test.mode, test.grips)?;
+    let (loads, displacement_names) = grips(&specimen.mesh, test.mode, test.grips)?;
     Ok(Setup {
         specimen,
         parts,
+        displacement_names,
         loads,
         material,
     })
@@ -66,8 +70,10 @@ pub fn setup(test: &ElongationTest) -> Result<Setup> {
 /// The end conditions: node set `insertion` pulled along z by the protocol, `origin` held.
 /// Fixed grips hold every other component of both ends; sliding grips only the axial ones,
 /// plus the lateral rigid-body motions: x and y of the origin node nearest the axis, and y
-/// of the origin node farthest along +x (no rotation about the axis).
-fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<Loads> {
+/// of the origin node farthest along +x (no rotation about the axis). With a name for each
+/// condition: `<set>.<component>` (`origin_axis` and `origin_edge` for the two nodes of
+/// the sliding grips).
+fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<(Loads, Vec<String>)> {
     let set = |name: &str| -> Result<Vec<u32>> {
         Ok(mesh
             .node_set(name)
@@ -75,21 +81,25 @@ fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<Loads> {
             .to_vec())
     };
     let held = || Amplitude::new(vec![(0.0, 0.0)]).expect("one knot");
-    let condition = |nodes: Vec<u32>, dof: usize, amplitude: Amplitude| PrescribedDisplacement {
-        nodes,
-        dof,
-        amplitude,
+    let mut names = Vec::new();
+    let mut condition = |name: &str, nodes: Vec<u32>, dof: usize, amplitude: Amplitude| {
+        names.push(format!("{name}.{}", ["x", "y", "z"][dof]));
+        PrescribedDisplacement {
+            nodes,
+            dof,
+            amplitude,
+        }
     };
     let (origin, insertion) = (set("origin")?, set("insertion")?);
     let mut conditions = vec![
-        condition(insertion.clone(), 2, mode.pulled_end()),
-        condition(origin.clone(), 2, held()),
+        condition("insertion", insertion.clone(), 2, mode.pulled_end()),
+        condition("origin", origin.clone(), 2, held()),
     ];
     match grips {
         Grips::Fixed => {
             for dof in 0..2 {
-                conditions.push(condition(origin.clone(), dof, held()));
-                conditions.push(condition(insertion.clone(), dof, held()));
+                conditions.push(condition("origin", origin.clone(), dof, held()));
+                conditions.push(condition("insertion", insertion.clone(), dof, held()));
             }
         }
         Grips::Sliding => {
@@ -111,12 +121,12 @@ fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<Loads> {
                     key(a).total_cmp(&key(b))
                 })
                 .context("the origin set is empty")?;
-            conditions.push(condition(vec![centre], 0, held()));
-            conditions.push(condition(vec![centre], 1, held()));
-            conditions.push(condition(vec![on_x], 1, held()));
+            conditions.push(condition("origin_axis", vec![centre], 0, held()));
+            conditions.push(condition("origin_axis", vec![centre], 1, held()));
+            conditions.push(condition("origin_edge", vec![on_x], 1, held()));
         }
     }
-    Ok(Loads::from(conditions))
+    Ok((Loads::from(conditions), names))
 }
 
 /// Default implicit increment [s]: resolves the activation rise (time constant 1/S =
