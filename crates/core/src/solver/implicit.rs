@@ -54,8 +54,9 @@
 
 use nalgebra::Vector3;
 
-use super::checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
+use super::checkpoint::{Checkpoint, CheckpointReader};
 use super::explicit::all_nodal_fields;
+use super::implicit_checkpoint::implicit_checkpoint;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
 use super::interaction::Interaction;
@@ -69,6 +70,7 @@ use super::implicit_dynamics::{Inertia, lumped_mass};
 pub use super::implicit_model::EvaluationTimes;
 pub use super::implicit_report::{CutAttempt, ImplicitHistoryRow, ImplicitResult, StepReport};
 pub use super::implicit_settings::{ImplicitSettings, StepCutting};
+use super::implicit_settings::{check_newmark, check_settings};
 pub use super::sparse::{FactorReuse, Factorization, LinearSolveStatistics};
 
 /// Why a step attempt failed.
@@ -390,96 +392,6 @@ pub(super) fn implicit_run(
         linear_solves: model.system.statistics().clone(),
         displacement_history,
     })
-}
-
-/// The state after a converged increment ending at `time`, with the step control
-/// (`increment`, `easy`), the energy books and the nodal `displacement`, internal and
-/// external forces (in that order), as [`implicit_run`] reads it back.
-fn implicit_checkpoint(
-    model: &mut Model,
-    time: f64,
-    increment: f64,
-    easy: usize,
-    energy: &EnergyBalance,
-    nodal: [&[Vector3<f64>]; 3],
-) -> Result<Checkpoint, SolverError> {
-    let mut out = CheckpointWriter::new();
-    out.f64(time);
-    out.f64(increment);
-    out.u64(easy as u64);
-    out.f64(energy.kinetic);
-    out.f64(energy.internal_work);
-    out.f64(energy.external_work);
-    nodal.iter().for_each(|values| out.matrices(values));
-    if let Some(inertia) = &model.inertia {
-        out.matrices(&inertia.velocity);
-        out.matrices(&inertia.acceleration);
-    }
-    for run in &model.runs {
-        run.chunks
-            .iter()
-            .for_each(|chunk| chunk.save_state(&mut out));
-    }
-    for interaction in model.interactions.iter_mut() {
-        interaction.save_state(&mut out)?;
-    }
-    let pairs: Vec<u32> = model
-        .coupled_pairs
-        .iter()
-        .flat_map(|&(a, b)| [a, b])
-        .collect();
-    out.u32s(&pairs);
-    Ok(Checkpoint {
-        solver: "implicit".to_string(),
-        time,
-        state: out.into_bytes(),
-    })
-}
-
-fn check_newmark(newmark: &Newmark) -> Result<(), SolverError> {
-    if !(newmark.beta > 0.0 && newmark.beta <= 0.5 && newmark.gamma >= 0.0 && newmark.gamma <= 1.0)
-    {
-        return Err(SolverError::InvalidImplicitSettings(format!(
-            "Newmark parameters beta = {}, gamma = {} must satisfy 0 < beta <= 1/2, 0 <= gamma <= 1",
-            newmark.beta, newmark.gamma
-        )));
-    }
-    Ok(())
-}
-
-fn check_settings(settings: &ImplicitSettings) -> Result<(), SolverError> {
-    let bad = |what: String| Err(SolverError::InvalidImplicitSettings(what));
-    if !(settings.end_time.is_finite() && settings.end_time > 0.0) {
-        return bad(format!("end time {} must be positive", settings.end_time));
-    }
-    if settings.increments == 0 {
-        return bad("at least one increment is needed".to_string());
-    }
-    if settings.increments > MAX_INCREMENTS {
-        return bad(format!(
-            "{} increments are more than the {MAX_INCREMENTS} a run may take (each is a \
-             history row): use a longer increment",
-            settings.increments
-        ));
-    }
-    if settings.max_iterations == 0 {
-        return bad("at least one Newton iteration is needed".to_string());
-    }
-    for (name, value) in [
-        ("residual tolerance", settings.residual_tolerance),
-        ("correction tolerance", settings.correction_tolerance),
-        ("round-off correction", settings.round_off_correction),
-    ] {
-        if !(value.is_finite() && value > 0.0) {
-            return bad(format!("{name} {value} must be positive"));
-        }
-    }
-    if let Some(cutting) = &settings.cutting
-        && !(cutting.growth.is_finite() && cutting.growth >= 1.0)
-    {
-        return bad(format!("growth factor {} must be >= 1", cutting.growth));
-    }
-    Ok(())
 }
 
 /// One attempt at the step from `time` to `time + step`: predictor, then Newton with line

@@ -1,6 +1,8 @@
 //! The settings of the implicit solver: increments, tolerances, step cutting, factor
 //! reuse and (optional) Newmark dynamics.
 
+use super::SolverError;
+use super::implicit::MAX_INCREMENTS;
 use super::implicit_dynamics::Newmark;
 use super::sparse::FactorReuse;
 
@@ -128,4 +130,50 @@ impl ImplicitSettings {
         self.cutting = Some(StepCutting::default());
         self
     }
+}
+
+pub(super) fn check_newmark(newmark: &Newmark) -> Result<(), SolverError> {
+    if !(newmark.beta > 0.0 && newmark.beta <= 0.5 && newmark.gamma >= 0.0 && newmark.gamma <= 1.0)
+    {
+        return Err(SolverError::InvalidImplicitSettings(format!(
+            "Newmark parameters beta = {}, gamma = {} must satisfy 0 < beta <= 1/2, 0 <= gamma <= 1",
+            newmark.beta, newmark.gamma
+        )));
+    }
+    Ok(())
+}
+
+pub(super) fn check_settings(settings: &ImplicitSettings) -> Result<(), SolverError> {
+    let bad = |what: String| Err(SolverError::InvalidImplicitSettings(what));
+    if !(settings.end_time.is_finite() && settings.end_time > 0.0) {
+        return bad(format!("end time {} must be positive", settings.end_time));
+    }
+    if settings.increments == 0 {
+        return bad("at least one increment is needed".to_string());
+    }
+    if settings.increments > MAX_INCREMENTS {
+        return bad(format!(
+            "{} increments are more than the {MAX_INCREMENTS} a run may take (each is a \
+             history row): use a longer increment",
+            settings.increments
+        ));
+    }
+    if settings.max_iterations == 0 {
+        return bad("at least one Newton iteration is needed".to_string());
+    }
+    for (name, value) in [
+        ("residual tolerance", settings.residual_tolerance),
+        ("correction tolerance", settings.correction_tolerance),
+        ("round-off correction", settings.round_off_correction),
+    ] {
+        if !(value.is_finite() && value > 0.0) {
+            return bad(format!("{name} {value} must be positive"));
+        }
+    }
+    if let Some(cutting) = &settings.cutting
+        && !(cutting.growth.is_finite() && cutting.growth >= 1.0)
+    {
+        return bad(format!("growth factor {} must be >= 1", cutting.growth));
+    }
+    Ok(())
 }

@@ -17,17 +17,15 @@ use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 use musclefem_core::solver::{
     Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
-use musclefem_materials::{
-    Amplitude, Material, MaterialLibrary, PointBlock, PointResponse, Tangent, VoigtStress,
-};
+use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
+use super::locking::small_strain_shear_modulus;
 use super::part_mesh::{append_part, part_mesh};
 use super::solver_choice::{AutoSolver, choose_solver};
 use super::trust::PluginPolicy;
-use crate::output::HistoryColumns;
 
 /// Element technologies by scene name ([`ElementKind::NAMES`]).
 pub const ELEMENT_NAMES: [&str; 6] = ElementKind::NAMES;
@@ -57,97 +55,6 @@ pub struct Model {
     /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
     /// "material (plugin file)".
     pub unchecked_plugins: Vec<String>,
-}
-
-impl Model {
-    /// Run the model under its own analysis, showing `observer` every recorded instant.
-    pub fn run(
-        &self,
-        observer: &mut dyn musclefem_core::solver::Observer,
-    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
-        self.run_with(&self.analysis, observer)
-    }
-
-    /// Run the model under `analysis` (another solver or step setting than its own).
-    pub fn run_with(
-        &self,
-        analysis: &Analysis,
-        observer: &mut dyn musclefem_core::solver::Observer,
-    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
-        self.solve(analysis, None, observer)
-    }
-
-    /// Go on with the model under `analysis` from `checkpoint` (taken by a run of the
-    /// same model and analysis; see `musclefem_core::solver::resume`).
-    pub fn resume_with(
-        &self,
-        analysis: &Analysis,
-        checkpoint: &musclefem_core::solver::Checkpoint,
-        observer: &mut dyn musclefem_core::solver::Observer,
-    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
-        self.solve(analysis, Some(checkpoint), observer)
-    }
-
-    /// The problem (with fresh interactions) run from the start or from `checkpoint`.
-    fn solve(
-        &self,
-        analysis: &Analysis,
-        checkpoint: Option<&musclefem_core::solver::Checkpoint>,
-        observer: &mut dyn musclefem_core::solver::Observer,
-    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
-        let mut interactions: Vec<_> = self.interactions.iter().map(|i| i.boxed()).collect();
-        let problem = musclefem_core::solver::Problem {
-            mesh: &self.mesh,
-            parts: &self.parts,
-            loads: &self.loads,
-            interactions: &mut interactions,
-        };
-        match checkpoint {
-            Some(checkpoint) => {
-                musclefem_core::solver::resume(problem, analysis, checkpoint, observer)
-            }
-            None => musclefem_core::solver::run(problem, analysis, observer),
-        }
-    }
-
-    /// A fingerprint of what the model computes ([`crate::fingerprint::fnv1a`] of the
-    /// scene text, the analysis as it will run, and the mesh's nodes and connectivity):
-    /// a checkpoint resumes only the model whose fingerprint it carries.
-    pub fn fingerprint(&self, scene_text: &str, analysis: &Analysis) -> u64 {
-        let mut bytes = scene_text.as_bytes().to_vec();
-        bytes.extend(format!("{analysis:?}").as_bytes());
-        for node in 0..self.mesh.nodes.len() {
-            let x = self.mesh.nodes.position(node);
-            x.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
-        }
-        for block in &self.mesh.blocks {
-            bytes.extend(block.name.as_bytes());
-            block
-                .connectivity
-                .iter()
-                .for_each(|id| bytes.extend(id.to_le_bytes()));
-        }
-        crate::fingerprint::fnv1a(&bytes)
-    }
-
-    /// The names of the columns of this model's `history.csv`: a reaction per prescribed
-    /// displacement, the rigid ties' forces and moments, and the interactions.
-    pub fn history_columns(&self) -> HistoryColumns {
-        HistoryColumns::new(
-            self.displacement_names.clone(),
-            self.loads
-                .rigid_ties
-                .iter()
-                .map(|t| t.name.clone())
-                .collect(),
-        )
-        .with_interactions(
-            self.interactions
-                .iter()
-                .map(|i| i.name().to_string())
-                .collect(),
-        )
-    }
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
@@ -643,42 +550,6 @@ pub fn element_technology(
         _ => None,
     };
     kind.technology(shear_modulus)
-}
-
-/// The material tangent ∂P/∂F at F = I, t = 0 (vec(F) column-major: F_ij sits at i + 3 j),
-/// or `None` when the material refuses the point.
-pub(super) fn small_strain_tangent(material: &dyn Material) -> Option<Tangent> {
-    let identity = [nalgebra::Matrix3::identity()];
-    let state = material.initial_state(1);
-    let points = PointBlock {
-        time: 0.0,
-        dt: 1e-3,
-        deformation_gradient_old: &identity,
-        deformation_gradient_new: &identity,
-        fiber_direction: &[Vector3::x()],
-        state_old: &state,
-    };
-    let mut stress = [VoigtStress::zeros()];
-    let mut state_new = state.clone();
-    let mut tangent = [Tangent::zeros()];
-    let mut response = PointResponse {
-        cauchy_stress: &mut stress,
-        state_new: &mut state_new,
-        tangent: Some(&mut tangent),
-    };
-    material.update(&points, &mut response).ok()?;
-    Some(tangent[0])
-}
-
-/// The smallest of ∂P_ij/∂F_ij (i ≠ j) at F = I, t = 0, from the material's tangent: the
-/// shear modulus μ of an isotropic material at small strain [Pa].
-pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
-    let tangent = small_strain_tangent(material)?;
-    let shear = [(0, 1), (1, 0), (1, 2), (2, 1), (0, 2), (2, 0)]
-        .iter()
-        .map(|&(i, j)| tangent[(i + 3 * j, i + 3 * j)])
-        .fold(f64::INFINITY, f64::min);
-    (shear.is_finite() && shear > 0.0).then_some(shear)
 }
 
 fn component_index(component: &str) -> Option<usize> {

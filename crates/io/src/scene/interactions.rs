@@ -12,9 +12,9 @@ use musclefem_contact::{
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Interaction, Part, RigidMotion};
 
-use super::build::small_strain_shear_modulus;
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{InteractionEntry, RigidBodyEntry};
+use super::locking::small_strain_shear_modulus;
 
 /// Subdivisions of a generated rigid surface by default.
 const DEFAULT_DIVISIONS: usize = 16;

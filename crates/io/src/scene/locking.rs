@@ -4,10 +4,10 @@
 //! nodally averaged tet4 and the tet10 do not lock (docs/stability.md has the measured
 //! stiffening).
 
-use musclefem_core::element::Technology;
-use musclefem_materials::Material;
+use nalgebra::Vector3;
 
-use super::build::{small_strain_shear_modulus, small_strain_tangent};
+use musclefem_core::element::Technology;
+use musclefem_materials::{Material, PointBlock, PointResponse, Tangent, VoigtStress};
 
 /// K/μ from which a locking element gets a warning (ν = (3K/μ − 2)/(6K/μ + 2) ≥ 0.476).
 /// Measured on the clamped cube at 3 elements per edge (`tests/stability.rs`): tet4 pulls
@@ -45,6 +45,42 @@ pub fn locking_warning(technology: Technology, material: &dyn Material) -> Optio
              tet4-nodal-average (explicit)"
         )
     })
+}
+
+/// The material tangent ∂P/∂F at F = I, t = 0 (vec(F) column-major: F_ij sits at i + 3 j),
+/// or `None` when the material refuses the point.
+pub(super) fn small_strain_tangent(material: &dyn Material) -> Option<Tangent> {
+    let identity = [nalgebra::Matrix3::identity()];
+    let state = material.initial_state(1);
+    let points = PointBlock {
+        time: 0.0,
+        dt: 1e-3,
+        deformation_gradient_old: &identity,
+        deformation_gradient_new: &identity,
+        fiber_direction: &[Vector3::x()],
+        state_old: &state,
+    };
+    let mut stress = [VoigtStress::zeros()];
+    let mut state_new = state.clone();
+    let mut tangent = [Tangent::zeros()];
+    let mut response = PointResponse {
+        cauchy_stress: &mut stress,
+        state_new: &mut state_new,
+        tangent: Some(&mut tangent),
+    };
+    material.update(&points, &mut response).ok()?;
+    Some(tangent[0])
+}
+
+/// The smallest of ∂P_ij/∂F_ij (i ≠ j) at F = I, t = 0, from the material's tangent: the
+/// shear modulus μ of an isotropic material at small strain [Pa].
+pub fn small_strain_shear_modulus(material: &dyn Material) -> Option<f64> {
+    let tangent = small_strain_tangent(material)?;
+    let shear = [(0, 1), (1, 0), (1, 2), (2, 1), (0, 2), (2, 0)]
+        .iter()
+        .map(|&(i, j)| tangent[(i + 3 * j, i + 3 * j)])
+        .fold(f64::INFINITY, f64::min);
+    (shear.is_finite() && shear > 0.0).then_some(shear)
 }
 
 #[cfg(test)]

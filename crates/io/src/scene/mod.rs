@@ -10,6 +10,7 @@ mod format;
 mod interactions;
 mod locking;
 pub mod memory;
+mod model_run;
 mod parse;
 mod part_mesh;
 mod solver_choice;
@@ -19,13 +20,13 @@ use std::path::Path;
 
 use musclefem_materials::MaterialLibrary;
 
-pub use build::{
-    Analysis, ELEMENT_NAMES, Model, build_model, element_technology, small_strain_shear_modulus,
-};
+pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, element_technology};
 pub use error::{Locator, SceneError};
 pub use format::{SCHEMA_VERSION, SceneFile};
 pub use interactions::InteractionModel;
-pub use locking::{LOCKING_BULK_TO_SHEAR, locking_warning, small_strain_bulk_modulus};
+pub use locking::{
+    LOCKING_BULK_TO_SHEAR, locking_warning, small_strain_bulk_modulus, small_strain_shear_modulus,
+};
 pub use parse::{parse_scene, read_scene_file};
 pub use solver_choice::{AutoSolver, SLOW_MOTION_RATIO, choose_solver, fastest_wave_speed};
 pub use trust::{PluginPolicy, Trust};

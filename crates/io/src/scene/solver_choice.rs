@@ -21,8 +21,8 @@
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::Part;
 
-use super::build::small_strain_shear_modulus;
 use super::locking::small_strain_bulk_modulus;
+use super::locking::small_strain_shear_modulus;
 
 /// T / t_wave from which a step counts as slow motion and runs implicitly.
 pub const SLOW_MOTION_RATIO: f64 = 100.0;

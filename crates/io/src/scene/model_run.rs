@@ -1,0 +1,97 @@
+//! Running a scene's [`Model`]: from the start or from a checkpoint, its fingerprint
+//! (what a checkpoint or a sweep row was made from) and its history's columns.
+
+use super::Analysis;
+use super::build::Model;
+use crate::output::HistoryColumns;
+
+impl Model {
+    /// Run the model under its own analysis, showing `observer` every recorded instant.
+    pub fn run(
+        &self,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        self.run_with(&self.analysis, observer)
+    }
+
+    /// Run the model under `analysis` (another solver or step setting than its own).
+    pub fn run_with(
+        &self,
+        analysis: &Analysis,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        self.solve(analysis, None, observer)
+    }
+
+    /// Go on with the model under `analysis` from `checkpoint` (taken by a run of the
+    /// same model and analysis; see `musclefem_core::solver::resume`).
+    pub fn resume_with(
+        &self,
+        analysis: &Analysis,
+        checkpoint: &musclefem_core::solver::Checkpoint,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        self.solve(analysis, Some(checkpoint), observer)
+    }
+
+    /// The problem (with fresh interactions) run from the start or from `checkpoint`.
+    fn solve(
+        &self,
+        analysis: &Analysis,
+        checkpoint: Option<&musclefem_core::solver::Checkpoint>,
+        observer: &mut dyn musclefem_core::solver::Observer,
+    ) -> Result<musclefem_core::solver::Outcome, musclefem_core::solver::SolverError> {
+        let mut interactions: Vec<_> = self.interactions.iter().map(|i| i.boxed()).collect();
+        let problem = musclefem_core::solver::Problem {
+            mesh: &self.mesh,
+            parts: &self.parts,
+            loads: &self.loads,
+            interactions: &mut interactions,
+        };
+        match checkpoint {
+            Some(checkpoint) => {
+                musclefem_core::solver::resume(problem, analysis, checkpoint, observer)
+            }
+            None => musclefem_core::solver::run(problem, analysis, observer),
+        }
+    }
+
+    /// A fingerprint of what the model computes ([`crate::fingerprint::fnv1a`] of the
+    /// scene text, the analysis as it will run, and the mesh's nodes and connectivity):
+    /// a checkpoint resumes only the model whose fingerprint it carries.
+    pub fn fingerprint(&self, scene_text: &str, analysis: &Analysis) -> u64 {
+        let mut bytes = scene_text.as_bytes().to_vec();
+        bytes.extend(format!("{analysis:?}").as_bytes());
+        for node in 0..self.mesh.nodes.len() {
+            let x = self.mesh.nodes.position(node);
+            x.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
+        }
+        for block in &self.mesh.blocks {
+            bytes.extend(block.name.as_bytes());
+            block
+                .connectivity
+                .iter()
+                .for_each(|id| bytes.extend(id.to_le_bytes()));
+        }
+        crate::fingerprint::fnv1a(&bytes)
+    }
+
+    /// The names of the columns of this model's `history.csv`: a reaction per prescribed
+    /// displacement, the rigid ties' forces and moments, and the interactions.
+    pub fn history_columns(&self) -> HistoryColumns {
+        HistoryColumns::new(
+            self.displacement_names.clone(),
+            self.loads
+                .rigid_ties
+                .iter()
+                .map(|t| t.name.clone())
+                .collect(),
+        )
+        .with_interactions(
+            self.interactions
+                .iter()
+                .map(|i| i.name().to_string())
+                .collect(),
+        )
+    }
+}
