@@ -16,7 +16,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
-use proptest::test_runner::TestRunner;
+use proptest::test_runner::{TestCaseError, TestRunner};
 
 use support::run::test_dir;
 
@@ -115,45 +115,7 @@ fn random_numbers_on_the_command_line_never_panic_nor_give_non_finite_results() 
             command.arg("--dt").arg(dt);
         }
         let _ = std::fs::remove_file(&out);
-        let started = Instant::now();
-        let output = command.output().unwrap();
-        prop_assert!(
-            started.elapsed() < Duration::from_secs(60),
-            "{command:?} took {:?}",
-            started.elapsed()
-        );
-        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
-        prop_assert!(!stderr.contains("panicked"), "{command:?}: {stderr}");
-        if output.status.success() {
-            let csv = std::fs::read_to_string(&out).unwrap();
-            for line in csv.lines().skip(1) {
-                for value in line.split(',') {
-                    let number: f64 = value.trim().parse().unwrap_or(f64::NAN);
-                    prop_assert!(number.is_finite(), "{command:?} wrote '{value}' in: {line}");
-                }
-            }
-            *outcomes.borrow_mut().entry("ran, all finite").or_default() += 1;
-        } else {
-            prop_assert!(
-                matches!(output.status.code(), Some(1 | 2)),
-                "{command:?}: {:?}",
-                output.status
-            );
-            prop_assert!(
-                stderr.contains("error"),
-                "{command:?}: no message: {stderr}"
-            );
-            prop_assert!(
-                !out.exists(),
-                "{command:?} failed but left {}",
-                out.display()
-            );
-            *outcomes
-                .borrow_mut()
-                .entry("refused with a message")
-                .or_default() += 1;
-        }
-        Ok(())
+        run_and_judge(&mut command, &out, 0, &outcomes)
     });
     println!("{cases} command lines: {:?}", outcomes.borrow());
     if let Err(failure) = result {
@@ -207,46 +169,64 @@ fn random_elongation_options_never_panic_nor_give_non_finite_curves() {
         if let Some(interval) = &frame_interval {
             command.arg("--frame-interval").arg(interval);
         }
-        let started = Instant::now();
-        let output = command.output().unwrap();
-        prop_assert!(
-            started.elapsed() < Duration::from_secs(60),
-            "{command:?} took {:?}",
-            started.elapsed()
-        );
-        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
-        prop_assert!(!stderr.contains("panicked"), "{command:?}: {stderr}");
-        let curve = out.join("curve.csv");
-        if output.status.success() {
-            let csv = std::fs::read_to_string(&curve).unwrap();
-            prop_assert!(csv.lines().count() > 5, "{command:?}: a curve of {csv}");
-            for line in csv.lines().skip(1) {
-                for value in line.split(',') {
-                    let number: f64 = value.trim().parse().unwrap_or(f64::NAN);
-                    prop_assert!(number.is_finite(), "{command:?} wrote '{value}' in: {line}");
-                }
-            }
-            *outcomes.borrow_mut().entry("ran, all finite").or_default() += 1;
-        } else {
-            prop_assert!(
-                matches!(output.status.code(), Some(1 | 2)),
-                "{command:?}: {:?}",
-                output.status
-            );
-            prop_assert!(
-                stderr.contains("error"),
-                "{command:?}: no message: {stderr}"
-            );
-            prop_assert!(!curve.exists(), "{command:?} failed but left a curve");
-            *outcomes
-                .borrow_mut()
-                .entry("refused with a message")
-                .or_default() += 1;
-        }
-        Ok(())
+        run_and_judge(&mut command, &out.join("curve.csv"), 5, &outcomes)
     });
     println!("{cases} elongation command lines: {:?}", outcomes.borrow());
     if let Err(failure) = result {
         panic!("{failure}");
     }
+}
+
+/// Runs `command` (at most 60 s) and checks its outcome: no panic, and either exit 0 with
+/// `csv` holding more than `min_rows` rows of finite numbers, or exit 1 or 2 with an
+/// error message and no `csv`. Counts the outcome in `outcomes`.
+fn run_and_judge(
+    command: &mut Command,
+    csv: &std::path::Path,
+    min_rows: usize,
+    outcomes: &RefCell<BTreeMap<&'static str, usize>>,
+) -> Result<(), TestCaseError> {
+    let started = Instant::now();
+    let output = command.output().unwrap();
+    prop_assert!(
+        started.elapsed() < Duration::from_secs(60),
+        "{command:?} took {:?}",
+        started.elapsed()
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+    prop_assert!(!stderr.contains("panicked"), "{command:?}: {stderr}");
+    if output.status.success() {
+        let table = std::fs::read_to_string(csv).unwrap();
+        prop_assert!(
+            table.lines().count() > min_rows,
+            "{command:?}: a table of {table}"
+        );
+        for line in table.lines().skip(1) {
+            for value in line.split(',') {
+                let number: f64 = value.trim().parse().unwrap_or(f64::NAN);
+                prop_assert!(number.is_finite(), "{command:?} wrote '{value}' in: {line}");
+            }
+        }
+        *outcomes.borrow_mut().entry("ran, all finite").or_default() += 1;
+    } else {
+        prop_assert!(
+            matches!(output.status.code(), Some(1 | 2)),
+            "{command:?}: {:?}",
+            output.status
+        );
+        prop_assert!(
+            stderr.contains("error"),
+            "{command:?}: no message: {stderr}"
+        );
+        prop_assert!(
+            !csv.exists(),
+            "{command:?} failed but left {}",
+            csv.display()
+        );
+        *outcomes
+            .borrow_mut()
+            .entry("refused with a message")
+            .or_default() += 1;
+    }
+    Ok(())
 }
