@@ -2,29 +2,34 @@
 //! muscle, with curve.csv, curve.png, VTU/PVD frames and the stress at 10 % and 20 %
 //! strain.
 
-use std::io::IsTerminal;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
-
-use crate::commands::Interrupted;
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem_core::solver::observer::{Record, Snapshot};
-use musclefem_io::output::{ExistingResults, HistoryColumns, HistoryWriter, RunDirectory, RunLog};
+use musclefem_core::solver::SolverError;
+use musclefem_io::csv::read_columns;
+use musclefem_io::output::run_directory::{HISTORY_FILE, SCENE_FILE};
+use musclefem_io::output::{CHECKPOINT_FILE, ExistingResults, RunStart};
 use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, stage_png};
+use musclefem_io::scene::{Model, load_scene};
+use musclefem_materials::MaterialLibrary;
 use musclefem_studies::bench::{Problem, select};
 use musclefem_studies::elongation::options::TestOptions;
-use musclefem_studies::elongation::run::run_on;
-use musclefem_studies::elongation::setup::{check_time_step, setup};
-use musclefem_studies::elongation::{
-    Activation, Curve, CurvePoint, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice,
-    ElongationRun, ElongationTest, ElongationWatcher, Grips, Shape, Solver,
+use musclefem_studies::elongation::scene::{
+    ElongationScene, SPECIMEN_MESH_FILE, elongation_scene, run_from_history,
 };
+use musclefem_studies::elongation::setup::check_time_step;
+use musclefem_studies::elongation::{
+    Activation, Curve, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
+    ElongationTest, Shape, Solver,
+};
+
+use crate::commands::Interrupted;
+use crate::scene_run::directory::{DirectoryRun, interrupt_flag, run_into_directory};
 
 /// Which tests to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -62,6 +67,10 @@ pub struct ElongateArgs {
     /// Replace the results of a previous run in the output directory.
     #[arg(long)]
     pub force: bool,
+    /// Go on with a stopped run from its last checkpoint (a test that completed is read
+    /// back, not rerun); the other options must be those of the stopped run.
+    #[arg(long, conflicts_with = "force")]
+    pub resume: bool,
     /// Choose solver, element, mesh size and step as the cheapest setting whose measured
     /// error (passive elongation, `musclefem bench`) is at most this [%]; overrides
     /// --solver, --element, --mesh-size and --time-step.
@@ -142,16 +151,8 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
     {
         println!("{DEFAULT_SETTING_RATIONALE}");
     }
-    // Ctrl-C stops the running test after its last point; a second one kills the process.
-    let interrupted = Arc::new(AtomicBool::new(false));
-    {
-        let flag = interrupted.clone();
-        let _ = ctrlc::set_handler(move || {
-            if flag.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-    }
+    // Ctrl-C stops the running test after its last frame; a second one kills the process.
+    let interrupted = interrupt_flag();
     let mut runs = Vec::new();
     for &mode in modes {
         let test = ElongationTest {
@@ -182,21 +183,16 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
     Ok(())
 }
 
-/// Run one test into `directory`: frames, curve.csv, run.log (and curve.png for a single
-/// mode), and print its summary.
+/// Run one test into `directory` as a scene: `scene.toml` and `specimen.inp` (what
+/// `musclefem run` reruns), frames, `history.csv`, `run.log` (through the scene runner),
+/// then `curve.csv` from the history; print its summary. With `--resume`, a test whose
+/// run completed earlier is read back from its history instead of rerun.
 fn run_one(
     test: &ElongationTest,
     directory: &Path,
     args: &ElongateArgs,
     interrupted: &Arc<AtomicBool>,
 ) -> Result<ElongationRun> {
-    let existing = if args.force {
-        ExistingResults::Replace
-    } else {
-        ExistingResults::Refuse
-    };
-    let mut output = RunDirectory::create(directory, existing)
-        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
     let label = format!(
         "{} {} elongation, {} {}, {} mm, {} grips",
         test.solver.name(),
@@ -204,79 +200,112 @@ fn run_one(
         test.shape.name(),
         test.element.name(),
         musclefem_io::csv::format_number(1e3 * test.mesh_size),
-        grips_name(test.grips),
+        test.grips.name(),
     );
     println!("{label}");
-    let setup = setup(test)?;
-    // The solver's history beside the curve, from the first row on (the reactions of
-    // every end condition, energies, Newton iterations).
-    let columns = HistoryColumns::new(setup.displacement_names.clone(), Vec::new());
-    let history = match test.solver {
-        Solver::Implicit => output.implicit_history(&columns)?,
-        Solver::Explicit => output.explicit_history(&columns)?,
+    let started = Instant::now();
+    let scene = elongation_scene(test, args.frame_interval)?;
+    let scene_path = directory.join(SCENE_FILE);
+    let history_path = directory.join(HISTORY_FILE);
+    let completed = args.resume
+        && !directory.join(CHECKPOINT_FILE).exists()
+        && history_path.exists()
+        && std::fs::read_to_string(directory.join(SCENE_FILE)).ok() == Some(scene.scene.clone());
+    if completed {
+        let run = run_from_history(
+            test,
+            &scene.specimen,
+            columns(&read_columns(&history_path)?),
+            None,
+            Duration::ZERO,
+        )?;
+        println!(
+            "  complete in an earlier run: read back from {}",
+            history_path.display()
+        );
+        print_summary(&run);
+        return Ok(run);
+    }
+    let model = load_staged(&scene, test.mode)?;
+    let start = match (args.resume, args.force) {
+        (true, _) => RunStart::Resume,
+        (false, true) => RunStart::Fresh(ExistingResults::Replace),
+        (false, false) => RunStart::Fresh(ExistingResults::Refuse),
     };
-    let mut watcher = FrameWriter {
-        history: Some(history),
-        directory: &mut output,
-        interval: args.frame_interval,
-        next: 0.0,
-        end_time: test.mode.duration(),
-        mesh: &setup.specimen.mesh,
-        error: None,
-        bar: progress_bar(test.mode.duration()),
-        interrupted: interrupted.clone(),
-        points: Vec::new(),
-    };
-    let result = run_on(test, &setup, &mut watcher);
-    watcher.bar.finish_and_clear();
-    if let Some(history) = watcher.history.take() {
-        history.finish()?;
+    let report = run_into_directory(
+        &model,
+        DirectoryRun {
+            scene: &scene_path,
+            scene_text: &scene.scene,
+            beside: &[(SPECIMEN_MESH_FILE, &scene.mesh)],
+            out: directory,
+            start,
+            log_header: format!(
+                "test = {label}\nelements = {}\nnodes = {}\n",
+                scene.specimen.mesh.element_count(),
+                scene.specimen.mesh.node_count()
+            ),
+            setup_time: started.elapsed(),
+            interrupted: interrupted.clone(),
+        },
+    )?;
+    if let Some(time) = report.resumed_from {
+        println!("  resumed from the checkpoint at t = {time:e} s");
     }
-    if let Some(error) = watcher.error.take() {
-        return Err(error).context("writing a frame or the history failed");
-    }
-    if interrupted.load(Ordering::SeqCst) {
-        // The curve up to the last point, and a log that says where the test stopped.
-        let time = watcher.points.last().map_or(0.0, |p| p.time);
-        let mut points = std::mem::take(&mut watcher.points);
-        if points.first().is_none_or(|p| p.time > 0.0) {
-            // As a finished run's curve: the implicit solver records converged increments
-            // only, and the test starts stress-free.
-            points.insert(
-                0,
-                CurvePoint {
-                    time: 0.0,
-                    strain: 0.0,
-                    force: 0.0,
-                    stress: 0.0,
-                },
-            );
-        }
-        let curve = Curve { points };
-        curve.stage_csv(&directory.join("curve.csv"))?.commit()?;
-        let log = RunLog::new(format!(
-            "test = {label}\nend = interrupted at t = {time:e} s (Ctrl-C)\n"
-        ));
-        output.write_run_log(&log)?;
-        return Err(Interrupted(format!(
-            "stopped at t = {time:.6e} s on request; the curve up to there is in {} (run.log \
-             says so)",
-            directory.join("curve.csv").display()
-        ))
-        .into());
-    }
-    let run = result?;
+    // The curve from the history as written (a resumed run's rows before the checkpoint
+    // included), committed whatever the outcome: up to the stop if stopped.
+    let run = run_from_history(
+        test,
+        &scene.specimen,
+        columns(&read_columns(&history_path)?),
+        report.outcome.as_ref().ok(),
+        report.solve_time,
+    )?;
     run.curve
         .stage_csv(&directory.join("curve.csv"))?
         .commit()?;
-    let log = RunLog::new(format!(
-        "test = {label}\nelements = {}\nnodes = {}\nsteps = {}\nend = complete\n",
-        run.elements, run.nodes, run.steps
-    ))
-    .timing("solve", run.solve_time);
-    output.write_run_log(&log)?;
-    print_summary(&run);
-    Ok(run)
+    match report.outcome {
+        Ok(_) => {
+            print_summary(&run);
+            Ok(run)
+        }
+        Err(SolverError::Interrupted { time }) => Err(Interrupted(format!(
+            "stopped at t = {time:.6e} s on request; the curve up to there is in {} (run.log \
+             says so); the same command with --resume goes on from the last frame",
+            directory.join("curve.csv").display()
+        ))
+        .into()),
+        Err(error) => Err(anyhow::Error::from(error).context(format!(
+            "{label} (the frames, history and curve up to the failure are in {})",
+            directory.display()
+        ))),
+    }
+}
+
+/// The scene read back from a private staging folder (the run directory is not touched
+/// before the run refuses or replaces what it holds).
+fn load_staged(scene: &ElongationScene, mode: Activation) -> Result<Model> {
+    let staging = std::env::temp_dir().join(format!(
+        "musclefem-elongate-{}-{}",
+        std::process::id(),
+        mode.name()
+    ));
+    std::fs::create_dir_all(&staging).with_context(|| format!("creating {}", staging.display()))?;
+    let loaded = (|| -> Result<Model> {
+        std::fs::write(staging.join(SCENE_FILE), &scene.scene)?;
+        std::fs::write(staging.join(SPECIMEN_MESH_FILE), &scene.mesh)?;
+        Ok(load_scene(
+            &staging.join(SCENE_FILE),
+            &mut MaterialLibrary::with_builtins(),
+        )?)
+    })();
+    let _ = std::fs::remove_dir_all(&staging);
+    loaded.context("the elongation test's scene")
+}
+
+/// Borrowed names and columns of a read table.
+fn columns(table: &(Vec<String>, Vec<Vec<f64>>)) -> (&[String], &[Vec<f64>]) {
+    (&table.0, &table.1)
 }
 
 fn print_summary(run: &ElongationRun) {
@@ -304,83 +333,6 @@ fn print_summary(run: &ElongationRun) {
             None => println!("  {:.0} % strain was not reached", 100.0 * strain),
         }
     }
-}
-
-/// Writes the history, and a frame with the element fields every `interval` of simulated
-/// time.
-struct FrameWriter<'a> {
-    history: Option<HistoryWriter>,
-    directory: &'a mut RunDirectory,
-    interval: f64,
-    next: f64,
-    /// The last point always gets a frame [s].
-    end_time: f64,
-    mesh: &'a musclefem_core::mesh::Mesh,
-    error: Option<anyhow::Error>,
-    bar: ProgressBar,
-    /// Set by Ctrl-C: stop after the current point.
-    interrupted: Arc<AtomicBool>,
-    /// The curve so far (written whole if the test is interrupted).
-    points: Vec<CurvePoint>,
-}
-
-impl ElongationWatcher for FrameWriter<'_> {
-    fn history_row(&mut self, record: &Record) {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_record(record)
-        {
-            self.error.get_or_insert(e.into());
-        }
-    }
-
-    fn point(&mut self, point: &CurvePoint, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.bar.set_position((1e3 * point.time) as u64);
-        self.points.push(*point);
-        if self.interrupted.load(Ordering::SeqCst) {
-            return ControlFlow::Break(());
-        }
-        let at_end = point.time >= self.end_time - 1e-9;
-        if self.interval <= 0.0 || (point.time < self.next - 1e-12 && !at_end) {
-            return ControlFlow::Continue(());
-        }
-        self.next = point.time + self.interval;
-        let mesh = self.mesh;
-        let written = snapshot
-            .element_fields()
-            .map_err(anyhow::Error::from)
-            .and_then(|parts| {
-                self.directory
-                    .write_state_frame(mesh, point.time, snapshot.displacement, &parts, &[])
-                    .map_err(anyhow::Error::from)
-            });
-        match written {
-            Ok(_) => ControlFlow::Continue(()),
-            Err(e) => {
-                self.error = Some(e);
-                ControlFlow::Break(())
-            }
-        }
-    }
-
-    fn progress(&mut self, time: f64) -> ControlFlow<()> {
-        self.bar.set_position((1e3 * time) as u64);
-        if self.interrupted.load(Ordering::SeqCst) {
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    }
-}
-
-fn progress_bar(duration: f64) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new((1e3 * duration) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos} / {len} ms [{elapsed_precise}, ETA {eta}]")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
 }
 
 /// Engineering stress [kPa] against strain [%] of every run on one chart.
@@ -416,11 +368,4 @@ fn curve_points(curve: &Curve) -> Vec<(f64, f64)> {
         .iter()
         .map(|p| (100.0 * p.strain, 1e-3 * p.stress))
         .collect()
-}
-
-fn grips_name(grips: Grips) -> &'static str {
-    match grips {
-        Grips::Fixed => "fixed",
-        Grips::Sliding => "sliding",
-    }
 }

@@ -199,18 +199,18 @@ fn the_history_beside_the_curve_holds_every_reaction() {
     for column in [
         "time_s",
         "newton_iterations",
-        "reaction_insertion.z_n",
-        "reaction_origin.z_n",
-        "reaction_origin_axis.x_n",
-        "reaction_origin_axis.y_n",
-        "reaction_origin_edge.y_n",
+        "reaction_specimen.insertion.z_n",
+        "reaction_specimen.origin.z_n",
+        "reaction_specimen.origin_axis.x_n",
+        "reaction_specimen.origin_axis.y_n",
+        "reaction_specimen.origin_edge.y_n",
         "internal_energy_j",
     ] {
         assert!(header.contains(&column), "{column} not in {header:?}");
     }
     let pulled = header
         .iter()
-        .position(|c| *c == "reaction_insertion.z_n")
+        .position(|c| *c == "reaction_specimen.insertion.z_n")
         .unwrap();
     let history: Vec<Vec<f64>> = table
         .lines()
@@ -232,8 +232,86 @@ fn the_history_beside_the_curve_holds_every_reaction() {
     // The two ends' axial reactions balance (no inertia in the quasi-static test).
     let origin = header
         .iter()
-        .position(|c| *c == "reaction_origin.z_n")
+        .position(|c| *c == "reaction_specimen.origin.z_n")
         .unwrap();
     let last = history.last().unwrap();
     assert!((last[pulled] + last[origin]).abs() < 1e-8 * last[pulled].abs());
+}
+
+/// `elongate` writes its test as a scene (`scene.toml` and `specimen.inp` beside the
+/// results): `musclefem run` on it reproduces `history.csv`, `result.pvd` and every frame
+/// byte for byte.
+#[test]
+fn musclefem_run_reproduces_the_test_from_its_scene() {
+    let dir = test_dir("musclefem-elongate", "scene");
+    let mut args = vec!["elongate", "--mode", "active", "--frame-interval", "0.5"];
+    args.extend_from_slice(&CHEAP_ELONGATION);
+    args.extend_from_slice(&["--param", "sigma0=4e5", "--out", "test"]);
+    let tested = musclefem(&dir, &args);
+    assert!(tested.status.success(), "{}", text(&tested.stderr));
+    assert!(dir.join("test/specimen.inp").is_file());
+    let scene = std::fs::read_to_string(dir.join("test/scene.toml")).unwrap();
+    assert!(scene.contains("sigma0 = 400000.0"), "{scene}");
+    let rerun = musclefem(&dir, &["run", "test/scene.toml", "--out", "rerun"]);
+    assert!(rerun.status.success(), "{}", text(&rerun.stderr));
+    let files = results(&dir.join("test"));
+    assert!(files.len() >= 5, "{} files", files.len());
+    assert_eq!(files, results(&dir.join("rerun")));
+}
+
+/// An elongation test killed right after a checkpoint goes on with `--resume` to the
+/// files of a test never stopped: history, frames and curve byte for byte.
+#[cfg(unix)]
+#[test]
+fn a_killed_test_resumes_to_the_same_curve() {
+    use std::process::Command;
+    let dir = test_dir("musclefem-elongate", "resume");
+    let mut args = vec!["elongate", "--mode", "passive", "--frame-interval", "0.25"];
+    args.extend_from_slice(&CHEAP_ELONGATION);
+    let whole = musclefem(&dir, &[&args[..], &["--out", "whole"]].concat());
+    assert!(whole.status.success(), "{}", text(&whole.stderr));
+    let killed = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args([&args[..], &["--out", "cut"]].concat())
+        .env("MUSCLEFEM_ABORT_AFTER_CHECKPOINT", "3")
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(killed.status.code().is_none(), "{:?}", killed.status);
+    assert!(dir.join("cut/checkpoint.bin").is_file());
+    let resumed = musclefem(&dir, &[&args[..], &["--out", "cut", "--resume"]].concat());
+    assert!(resumed.status.success(), "{}", text(&resumed.stderr));
+    assert!(
+        text(&resumed.stdout).contains("resumed from the checkpoint at t = "),
+        "{}",
+        text(&resumed.stdout)
+    );
+    let mut expected = results(&dir.join("whole"));
+    let mut found = results(&dir.join("cut"));
+    for (files, root) in [(&mut expected, "whole"), (&mut found, "cut")] {
+        let curve = std::fs::read(dir.join(root).join("curve.csv")).unwrap();
+        files.push(("curve.csv".to_string(), curve));
+    }
+    assert_eq!(expected, found);
+    // A completed test is read back, not rerun.
+    let again = musclefem(&dir, &[&args[..], &["--out", "cut", "--resume"]].concat());
+    assert!(again.status.success(), "{}", text(&again.stderr));
+    assert!(text(&again.stdout).contains("complete in an earlier run"));
+}
+
+/// The files of a run that do not hold timings: history, frame index and frames.
+fn results(root: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut names = vec!["history.csv".to_string(), "result.pvd".to_string()];
+    let mut frames: Vec<String> = std::fs::read_dir(root.join("frames"))
+        .unwrap()
+        .map(|e| format!("frames/{}", e.unwrap().file_name().to_string_lossy()))
+        .collect();
+    frames.sort();
+    names.extend(frames);
+    names
+        .into_iter()
+        .map(|name| {
+            let bytes = std::fs::read(root.join(&name)).unwrap();
+            (name, bytes)
+        })
+        .collect()
 }

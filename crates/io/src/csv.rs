@@ -76,6 +76,26 @@ pub fn read_table(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, OutputErro
         .collect())
 }
 
+/// A numeric table with any header (a run's `history.csv`, say): the column names and
+/// the columns [one `Vec` per name]. Errors name the file and the line.
+pub fn read_columns(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>), OutputError> {
+    let text = std::fs::read_to_string(path).map_err(|e| OutputError::io("read", path, e))?;
+    let header = text
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .trim_end()
+        .to_string();
+    let names: Vec<String> = header.split(',').map(str::to_string).collect();
+    let mut columns = vec![Vec::new(); names.len()];
+    for (_, row) in read_table_lines(path, &header)? {
+        for (column, value) in columns.iter_mut().zip(row) {
+            column.push(value);
+        }
+    }
+    Ok((names, columns))
+}
+
 /// [`read_table`] with the 1-based line of each row, for checks that name the line.
 pub fn read_table_lines(path: &Path, header: &str) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io("read", path, e))?;

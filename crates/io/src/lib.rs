@@ -11,6 +11,8 @@
 //!   copy and the run log, laid out in a run directory;
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
 //!   labels with units, legend) drawn with a bundled font, so no system font is needed;
+//! - [`mesh_export`]: meshes as Abaqus `.inp` text that [`mesh_import`] reads back
+//!   unchanged (a study's generated mesh handed to a scene file);
 //! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` 4.1 files, with file and
 //!   line in every error;
 //! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built
@@ -27,6 +29,7 @@ pub mod csv;
 pub mod error;
 pub mod fiber_csv;
 pub mod fingerprint;
+pub mod mesh_export;
 pub mod mesh_import;
 #[cfg(feature = "results")]
 pub mod output;

@@ -204,7 +204,7 @@ fn run_in_memory(
         rows: Vec::new(),
         error: None,
         steps: 0,
-        frames: FrameSchedule::new(model.output_interval, model.analysis.end_time(), &[]),
+        frames: FrameSchedule::new(model.frame_interval, model.analysis.end_time(), &[]),
         frame_due: false,
     };
     let outcome = model.run(&mut observer);
@@ -234,7 +234,7 @@ fn run_into(
         &model.analysis,
     )
     .map_err(anyhow::Error::from)?;
-    let frames = FrameSchedule::new(model.output_interval, model.analysis.end_time(), &[]);
+    let frames = FrameSchedule::new(model.frame_interval, model.analysis.end_time(), &[]);
     let mut signals = Signals;
     let (mut writer, resumed) = RunWriter::open(
         root,

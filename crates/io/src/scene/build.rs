@@ -47,8 +47,10 @@ pub struct Model {
     pub analysis: Analysis,
     /// Why `solver = "auto"` chose the analysis's solver (`None`: the scene named it).
     pub solver_rationale: Option<String>,
-    /// Time between output rows and frames [s].
+    /// Time between output rows (explicit history) [s].
     pub output_interval: f64,
+    /// Time between frames [s] (`[output] frame_interval`, default `output_interval`).
+    pub frame_interval: f64,
     pub write_frames: bool,
     /// Contact and cohesion between surfaces, in the order of the scene file.
     pub interactions: Vec<InteractionModel>,
@@ -363,6 +365,16 @@ pub fn build_model(
         Some(v) => *v.get_ref(),
         None => duration / 100.0,
     };
+    let frame_interval = match &scene.output.frame_interval {
+        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() > 0.0) => {
+            return Err(at(
+                v.span(),
+                format!("frame_interval {} s must be positive", v.get_ref()),
+            ));
+        }
+        Some(v) => *v.get_ref(),
+        None => output_interval,
+    };
     let solver_span = step
         .solver
         .as_ref()
@@ -470,6 +482,7 @@ pub fn build_model(
         analysis,
         solver_rationale,
         output_interval,
+        frame_interval,
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,
         unchecked_plugins,

@@ -36,8 +36,8 @@ impl Model {
         }
         text += &match &self.analysis {
             Analysis::Explicit(s) => format!(
-                "  explicit, {} s, safety factor {}, output every {} s\n",
-                s.end_time, s.safety_factor, self.output_interval
+                "  explicit, {} s, safety factor {}, history every {} s, frames every {} s\n",
+                s.end_time, s.safety_factor, self.output_interval, self.frame_interval
             ),
             Analysis::Implicit(s) => format!(
                 "  implicit{}, {} s in {} increments, history every converged increment, frames \
@@ -49,7 +49,7 @@ impl Model {
                 },
                 s.end_time,
                 s.increments,
-                self.output_interval
+                self.frame_interval
             ),
         };
         if let Some(why) = &self.solver_rationale {

@@ -341,4 +341,6 @@ pub struct ImplicitEntry {
 pub struct OutputEntry {
     /// Write VTU frames (ParaView); default true.
     pub frames: Option<bool>,
+    /// Time between frames [s]; default the step's `output_interval`.
+    pub frame_interval: Option<Spanned<f64>>,
 }

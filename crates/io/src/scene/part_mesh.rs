@@ -213,7 +213,7 @@ fn generate_box(
     Ok(mesh)
 }
 
-/// One block of a mesh file, with only its nodes (renumbered), the node sets, element sets
+/// One block of a mesh file, with only its nodes (renumbered in the file's order), the node sets, element sets
 /// and surfaces restricted to it, and the file's label of each element.
 fn read_block(
     entry: &PartEntry,
@@ -256,14 +256,19 @@ fn read_block(
         }
     };
     let mut block = mesh.blocks[index].clone();
+    // The block's nodes keep the file's order (a mesh written by a study reads back with
+    // its own numbering, and with it the implicit solver's ordering and round-off).
+    let mut used = vec![false; mesh.nodes.len()];
+    for &id in &block.connectivity {
+        used[id as usize] = true;
+    }
     let mut new_id = vec![u32::MAX; mesh.nodes.len()];
     let mut nodes = musclefem_core::mesh::Nodes::new();
+    for old in (0..mesh.nodes.len()).filter(|&old| used[old]) {
+        new_id[old] = nodes.push(mesh.nodes.position(old));
+    }
     for id in block.connectivity.iter_mut() {
-        let old = *id as usize;
-        if new_id[old] == u32::MAX {
-            new_id[old] = nodes.push(mesh.nodes.position(old));
-        }
-        *id = new_id[old];
+        *id = new_id[*id as usize];
     }
     let mut part = Mesh::new(nodes, vec![block]);
     for (name, set) in &mesh.node_sets {

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use musclefem_io::PendingFile;
 use musclefem_io::csv::format_table;
+use musclefem_materials::Amplitude;
 
 /// Header of `curve.csv`, exactly.
 pub const CURVE_CSV_HEADER: &str =
@@ -21,6 +22,45 @@ pub struct CurvePoint {
     pub force: f64,
     /// Reaction force / reference mid-belly cross-section area [Pa].
     pub stress: f64,
+}
+
+/// What turns a test's recorded rows (time, reaction of the pulled end) into curve
+/// points: the pulled end's displacement against time and the specimen's reference
+/// length and mid-belly area.
+#[derive(Debug, Clone)]
+pub struct CurveScale {
+    /// Displacement of the pulled end [m] against time [s].
+    pub pulled: Amplitude,
+    /// Reference length L [m].
+    pub length: f64,
+    /// Reference mid-belly area π r_mid² [m²].
+    pub area: f64,
+}
+
+impl CurveScale {
+    /// The point at `time` [s] with the pulled end's reaction `force` [N]: strain u(t)/L,
+    /// stress F/A.
+    pub fn point(&self, time: f64, force: f64) -> CurvePoint {
+        CurvePoint {
+            time,
+            strain: self.pulled.value_at(time) / self.length,
+            force,
+            stress: force / self.area,
+        }
+    }
+
+    /// The curve of recorded (time, force) rows, starting stress-free at t = 0 when the
+    /// first row is later (the implicit solver records converged increments only).
+    pub fn curve(&self, rows: impl IntoIterator<Item = (f64, f64)>) -> Curve {
+        let mut points: Vec<CurvePoint> = rows
+            .into_iter()
+            .map(|(time, force)| self.point(time, force))
+            .collect();
+        if points.first().is_none_or(|p| p.time > 0.0) {
+            points.insert(0, self.point(0.0, 0.0));
+        }
+        Curve { points }
+    }
 }
 
 /// The points of a run in time order.

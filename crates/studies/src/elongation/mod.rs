@@ -9,6 +9,7 @@
 //! - [`specimen`]: the specimen meshes and their reference length and area;
 //! - [`setup`]: the mesh, the Hill muscle part, the end conditions and solver settings;
 //! - [`run`]: [`run_elongation`], which runs one test and returns its [`Curve`];
+//! - [`scene`]: the test as a scene file (what `musclefem elongate` writes and runs);
 //! - [`curve`]: the curve, `curve.csv`, and the stress at a strain;
 //! - [`options`]: the command-line choice of specimen, mesh and solver for `sweep` and `fit`.
 
@@ -16,6 +17,7 @@ pub mod curve;
 pub mod options;
 pub mod protocol;
 pub mod run;
+pub mod scene;
 pub mod setup;
 pub mod specimen;
 
@@ -27,7 +29,7 @@ use musclefem_core::element::{ElementKind, Technology};
 use musclefem_io::scene::element_technology;
 use musclefem_materials::Material;
 
-pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint};
+pub use curve::{CURVE_CSV_HEADER, Curve, CurvePoint, CurveScale};
 pub use protocol::{Activation, Grips};
 pub use run::{ElongationRun, ElongationWatcher, Unwatched, run_elongation};
 pub use specimen::Shape;

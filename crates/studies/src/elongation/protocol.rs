@@ -86,6 +86,16 @@ pub enum Grips {
     Sliding,
 }
 
+impl Grips {
+    /// `fixed` or `sliding` (as on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            Grips::Fixed => "fixed",
+            Grips::Sliding => "sliding",
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,7 +8,7 @@ use anyhow::{Context, Result};
 
 use musclefem_core::solver::{Analysis, Observer, Outcome, Problem, Record, Snapshot, run};
 
-use super::curve::{Curve, CurvePoint};
+use super::curve::{Curve, CurvePoint, CurveScale};
 use super::setup::{Setup, explicit_settings, implicit_settings, setup};
 use super::{ElongationTest, Solver};
 
@@ -65,9 +65,7 @@ pub fn run_on(
     watcher: &mut dyn ElongationWatcher,
 ) -> Result<ElongationRun> {
     let mut adapter = Adapter {
-        length: setup.specimen.length,
-        area: setup.specimen.reference_area,
-        pulled: test.mode.pulled_end(),
+        scale: setup.curve_scale(test),
         curve: Curve::default(),
         watcher,
         kinetic_to_internal: 0.0,
@@ -107,20 +105,10 @@ pub fn run_on(
             Some(result.added_mass_fraction),
         ),
     };
-    let mut curve = std::mem::take(&mut adapter.curve);
-    if curve.points.first().is_none_or(|p| p.time > 0.0) {
-        // The implicit solver records converged increments only: the test starts
-        // stress-free.
-        curve.points.insert(
-            0,
-            CurvePoint {
-                time: 0.0,
-                strain: 0.0,
-                force: 0.0,
-                stress: 0.0,
-            },
-        );
-    }
+    let points = std::mem::take(&mut adapter.curve.points);
+    let curve = adapter
+        .scale
+        .curve(points.iter().map(|p| (p.time, p.force)));
     Ok(ElongationRun {
         solve_time: started.elapsed(),
         elements: mesh.element_count(),
@@ -135,9 +123,7 @@ pub fn run_on(
 
 /// Turns the solvers' history rows into curve points.
 struct Adapter<'w> {
-    length: f64,
-    area: f64,
-    pulled: musclefem_materials::Amplitude,
+    scale: CurveScale,
     curve: Curve,
     watcher: &'w mut dyn ElongationWatcher,
     kinetic_to_internal: f64,
@@ -146,12 +132,7 @@ struct Adapter<'w> {
 
 impl Adapter<'_> {
     fn add(&mut self, time: f64, force: f64, snapshot: &Snapshot) -> ControlFlow<()> {
-        let point = CurvePoint {
-            time,
-            strain: self.pulled.value_at(time) / self.length,
-            force,
-            stress: force / self.area,
-        };
+        let point = self.scale.point(time, force);
         self.curve.points.push(point);
         self.watcher.point(&point, snapshot)
     }

@@ -12,6 +12,7 @@ use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
 use musclefem_io::csv::format_number;
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
+use super::curve::CurveScale;
 use super::protocol::{Activation, Grips};
 use super::specimen::{Shape, SpecimenMesh, specimen_mesh};
 use super::{ElongationTest, Solver};
@@ -29,6 +30,13 @@ pub struct Setup {
     /// the reaction columns of `history.csv`.
     pub displacement_names: Vec<String>,
     pub material: std::sync::Arc<dyn Material>,
+}
+
+impl Setup {
+    /// What turns `test`'s rows into its curve (see [`CurveScale`]).
+    pub fn curve_scale(&self, test: &ElongationTest) -> CurveScale {
+        self.specimen.curve_scale(test.mode)
+    }
 }
 
 /// The Hill muscle of `test`: its parameters, then the mode's activation.
@@ -103,30 +111,33 @@ fn grips(mesh: &Mesh, mode: Activation, grips: Grips) -> Result<(Loads, Vec<Stri
             }
         }
         Grips::Sliding => {
-            let radius = |n: &u32| {
-                let p = mesh.nodes.position(*n as usize);
-                (p.x * p.x + p.y * p.y).sqrt()
-            };
-            let centre = *origin
-                .iter()
-                .min_by(|a, b| radius(a).total_cmp(&radius(b)))
-                .context("the origin set is empty")?;
-            let on_x = *origin
-                .iter()
-                .max_by(|a, b| {
-                    let key = |n: &u32| {
-                        let p = mesh.nodes.position(*n as usize);
-                        p.x - p.y.abs()
-                    };
-                    key(a).total_cmp(&key(b))
-                })
-                .context("the origin set is empty")?;
+            let (centre, on_x) = sliding_grip_nodes(mesh)?;
             conditions.push(condition("origin_axis", vec![centre], 0, held()));
             conditions.push(condition("origin_axis", vec![centre], 1, held()));
             conditions.push(condition("origin_edge", vec![on_x], 1, held()));
         }
     }
     Ok((Loads::from(conditions), names))
+}
+
+/// The two origin nodes that hold the sliding grips' lateral rigid-body motion: the one
+/// nearest the axis (x and y held) and the one farthest along +x (y held).
+pub fn sliding_grip_nodes(mesh: &Mesh) -> Result<(u32, u32)> {
+    let origin = mesh
+        .node_set("origin")
+        .context("the specimen mesh has no node set 'origin'")?;
+    let position = |n: &u32| mesh.nodes.position(*n as usize);
+    let radius = |n: &u32| position(n).xy().norm();
+    let along_x = |n: &u32| position(n).x - position(n).y.abs();
+    let centre = *origin
+        .iter()
+        .min_by(|a, b| radius(a).total_cmp(&radius(b)))
+        .context("the origin set is empty")?;
+    let on_x = *origin
+        .iter()
+        .max_by(|a, b| along_x(a).total_cmp(&along_x(b)))
+        .context("the origin set is empty")?;
+    Ok((centre, on_x))
 }
 
 /// Default implicit increment [s]: resolves the activation rise (time constant 1/S =

@@ -35,6 +35,17 @@ pub struct SpecimenMesh {
     pub mesh_area: f64,
 }
 
+impl SpecimenMesh {
+    /// What turns the rows of a test of `mode` on this specimen into its curve.
+    pub fn curve_scale(&self, mode: super::Activation) -> super::curve::CurveScale {
+        super::curve::CurveScale {
+            pulled: mode.pulled_end(),
+            length: self.length,
+            area: self.reference_area,
+        }
+    }
+}
+
 /// Mesh `shape` with `element`s of target size `mesh_size` [m].
 pub fn specimen_mesh(shape: Shape, element: ElementChoice, mesh_size: f64) -> Result<SpecimenMesh> {
     let solid = match shape {

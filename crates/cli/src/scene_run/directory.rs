@@ -1,0 +1,257 @@
+//! A scene's model run into a run directory: the one loop behind `musclefem run` and
+//! `musclefem elongate` (which writes its test as a scene and runs it here). Frames,
+//! `result.pvd`, `history.csv`, checkpoints, the scene copy (with the files it names
+//! beside it) and `run.log` are written by `musclefem_io::output::RunWriter`; a progress
+//! bar (or, without a terminal, a log line every tenth of the run) follows the
+//! simulated time, and Ctrl-C stops the run after its last complete frame.
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::Result;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use musclefem_core::solver::{Outcome, Record, SolverError};
+use musclefem_io::OutputError;
+use musclefem_io::output::run_directory::HISTORY_FILE;
+use musclefem_io::output::{
+    CHECKPOINT_FILE, FrameSchedule, HistoryWriter, RunDirectory, RunLog, RunProgress, RunStart,
+    RunWriter,
+};
+use musclefem_io::scene::Model;
+use musclefem_io::write_atomically;
+
+/// What a run into a directory needs besides the model.
+pub struct DirectoryRun<'a> {
+    /// The scene file the run log and messages name.
+    pub scene: &'a Path,
+    /// Its text (copied into the directory as `scene.toml`; part of the fingerprint a
+    /// resumed run must match).
+    pub scene_text: &'a str,
+    /// Files the scene names, written beside its copy: (file name, text).
+    pub beside: &'a [(&'a str, &'a str)],
+    pub out: &'a Path,
+    pub start: RunStart,
+    /// Lines at the top of `run.log` (each ending in a newline).
+    pub log_header: String,
+    /// Time spent reading and building the model (logged).
+    pub setup_time: Duration,
+    /// Set by Ctrl-C: the run stops after its last complete frame.
+    pub interrupted: Arc<AtomicBool>,
+}
+
+/// How a run into a directory went.
+pub struct DirectoryReport {
+    /// The solver's outcome: `Err(SolverError::Interrupted)` after Ctrl-C.
+    pub outcome: Result<Outcome, SolverError>,
+    pub directory: RunDirectory,
+    /// Time of the checkpoint the run went on from.
+    pub resumed_from: Option<f64>,
+    pub solve_time: Duration,
+    /// The last history row's time and reactions, for a summary line.
+    pub last_row: String,
+}
+
+impl DirectoryReport {
+    /// Steps (explicit) or increments (implicit) of a completed run, else 0.
+    pub fn steps(&self) -> usize {
+        self.outcome.as_ref().map_or(0, Outcome::steps)
+    }
+}
+
+/// Run `model` into `job.out`. Writing errors (frames, history, log) are errors; how the
+/// solver ended is in the report. A completed run's checkpoint is removed.
+pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<DirectoryReport> {
+    let duration = model.analysis.end_time();
+    let mut progress = Progress {
+        model,
+        bar: progress_bar(duration),
+        log_lines: !std::io::stderr().is_terminal(),
+        next_log: 0.0,
+        started: Instant::now(),
+        interrupted: job.interrupted,
+        last_row: String::new(),
+    };
+    let history = HistoryWriter::for_analysis(
+        &job.out.join(HISTORY_FILE),
+        &model.history_columns(),
+        &model.analysis,
+    )?;
+    let frames = FrameSchedule::new(model.frame_interval, duration, &[]);
+    let fingerprint = model.fingerprint(job.scene_text, &model.analysis);
+    let (mut writer, resumed) = RunWriter::open(
+        job.out,
+        job.start,
+        &model.mesh,
+        history,
+        (frames, model.write_frames),
+        fingerprint,
+        &mut progress,
+    )
+    .map_err(|e| match e {
+        OutputError::Resume { .. } => anyhow::Error::from(e),
+        e => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
+    })?;
+    for (name, text) in job.beside {
+        write_atomically(&job.out.join(name), text.as_bytes())?;
+    }
+    writer.directory().write_scene(job.scene_text)?;
+    let resumed_from = resumed.as_ref().map(|c| c.time);
+    let resumed_line = resumed_from.map_or(String::new(), |time| {
+        format!("resumed = from the checkpoint at t = {time:e} s\n")
+    });
+    let head = format!(
+        "{}scene = {}\nsolver = {:?}\n{resumed_line}",
+        job.log_header,
+        job.scene.display(),
+        model.analysis
+    );
+    // A log from the start: a run killed before its end leaves one that says so.
+    writer.directory().write_run_log(&RunLog::new(format!(
+        "{head}end = running (a run that ended rewrites this line; this one was stopped \
+         without being able to)\n"
+    )))?;
+    let solve_started = Instant::now();
+    let outcome = match &resumed {
+        Some(checkpoint) => model.resume_with(&model.analysis, checkpoint, &mut writer),
+        None => model.run(&mut writer),
+    };
+    let solve_time = solve_started.elapsed();
+    let written = writer.finish()?;
+    progress.bar.finish_and_clear();
+    let directory = written.directory;
+    let steps = outcome.as_ref().map_or(0, Outcome::steps);
+    // How the run ended, for whoever reads the directory later.
+    let end = match (&outcome, &written.write_error, &written.fields_error) {
+        (_, Some(error), _) => format!("failed writing the outputs: {error}"),
+        (_, _, Some(error)) => format!("failed evaluating a frame's element fields: {error}"),
+        (Ok(_), None, None) => format!("complete ({steps} steps)"),
+        (Err(SolverError::Interrupted { time }), ..) => {
+            format!("interrupted at t = {time:e} s (Ctrl-C)")
+        }
+        (Err(error), ..) => format!("failed: {error}"),
+    };
+    let checkpoints = match &written.no_checkpoints {
+        Some(why) => format!("checkpoints = none: {}\n", why.replace('\n', "; ")),
+        None => format!("checkpoints = at every frame, in {CHECKPOINT_FILE} until the end\n"),
+    };
+    let log = RunLog::new(format!(
+        "{head}{checkpoints}end = {}\n",
+        end.replace('\n', "; ")
+    ))
+    .timing("setup", job.setup_time)
+    .timing("solve", solve_time);
+    directory.write_run_log(&log)?;
+    if let Some(error) = written.write_error {
+        return Err(
+            anyhow::Error::from(error).context("writing the outputs failed; the run was stopped")
+        );
+    }
+    if let Some(error) = written.fields_error {
+        anyhow::bail!(
+            "{}: evaluating the element fields of a frame failed: {error}\n(the frames and \
+             history up to there are in {})",
+            job.scene.display(),
+            job.out.display()
+        );
+    }
+    if outcome.is_ok() {
+        directory.remove_checkpoint()?;
+    }
+    Ok(DirectoryReport {
+        outcome,
+        directory,
+        resumed_from,
+        solve_time,
+        last_row: progress.last_row,
+    })
+}
+
+/// A bar over simulated time on a terminal; hidden otherwise (plain log lines are printed
+/// instead, see [`Progress`]).
+fn progress_bar(duration: f64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(1_000_000);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {percent:>3}% t = {msg} [{elapsed_precise}, ETA {eta_precise}]",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(format!("0 / {duration} s"));
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}
+
+/// Drives the bar (or plain log lines), keeps the last row's reactions for the summary,
+/// honours Ctrl-C.
+struct Progress<'a> {
+    model: &'a Model,
+    bar: ProgressBar,
+    /// Without a terminal: a plain log line on stderr every tenth of the duration and at
+    /// the end.
+    log_lines: bool,
+    next_log: f64,
+    started: Instant,
+    interrupted: Arc<AtomicBool>,
+    last_row: String,
+}
+
+impl RunProgress for Progress<'_> {
+    fn recorded(&mut self, record: &Record) -> ControlFlow<()> {
+        let newton = match record {
+            Record::Explicit(_) => String::new(),
+            Record::Implicit(row) => format!(" ({} Newton iterations)", row.iterations),
+        };
+        let reactions: Vec<String> = (self.model.displacement_names.iter())
+            .zip(record.reactions())
+            .map(|(name, r)| format!("{name} {r:.6e} N"))
+            .collect();
+        self.last_row = format!(
+            "t = {:.6e} s{newton}: {}",
+            record.time(),
+            reactions.join(", ")
+        );
+        ControlFlow::Continue(())
+    }
+
+    fn reached(&mut self, time: f64) -> ControlFlow<()> {
+        let duration = self.model.analysis.end_time();
+        self.bar.set_position((1e6 * time / duration) as u64);
+        self.bar.set_message(format!("{time:.4e} / {duration} s"));
+        let at_end = time >= duration * (1.0 - 1e-12);
+        if self.log_lines && (time >= self.next_log || at_end) {
+            eprintln!(
+                "t = {time:.6e} s of {duration} s ({:.0} %), {:.2?} elapsed",
+                100.0 * time / duration,
+                self.started.elapsed()
+            );
+            self.next_log = time + 0.1 * duration;
+        }
+        if self.interrupted.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+/// A flag that Ctrl-C sets (the run then stops after its last complete frame); a second
+/// Ctrl-C while the first is being honoured kills the process as usual. Install once per
+/// process.
+pub fn interrupt_flag() -> Arc<AtomicBool> {
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    interrupted
+}
