@@ -1,6 +1,8 @@
 //! `musclefem elongate`: the paper's passive and active elongation tests of the fusiform
-//! muscle, with curve.csv, curve.png, VTU/PVD frames and the stress at 10 % and 20 %
-//! strain.
+//! muscle. Each test is written as a scene (`scene.toml`, `specimen.inp`) into its
+//! directory and run through the scene runner (frames, history, checkpoints, run.log);
+//! curve.csv and curve.png come from the history, and the stress at 10 % and 20 % strain
+//! is printed.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -24,8 +26,8 @@ use musclefem_studies::elongation::scene::{
 };
 use musclefem_studies::elongation::setup::check_time_step;
 use musclefem_studies::elongation::{
-    Activation, Curve, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE, ElementChoice, ElongationRun,
-    ElongationTest, Shape, Solver,
+    Activation, Curve, DEFAULT_FRAME_INTERVAL, DEFAULT_MESH_SIZE, DEFAULT_SETTING_RATIONALE,
+    ElementChoice, ElongationRun, ElongationTest, Shape, Solver,
 };
 
 use crate::commands::Interrupted;
@@ -60,7 +62,7 @@ pub struct ElongateArgs {
     #[arg(
         long,
         value_name = "SECONDS",
-        default_value_t = 0.25,
+        default_value_t = DEFAULT_FRAME_INTERVAL,
         allow_negative_numbers = true
     )]
     pub frame_interval: f64,
@@ -164,6 +166,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
             grips: args.test.grips,
             parameters: parameters.clone(),
             time_step,
+            frame_interval: args.frame_interval,
             ..ElongationTest::recommended(mode)
         };
         // Refused before any directory is made (the run's own checks come later).
@@ -204,7 +207,7 @@ fn run_one(
     );
     println!("{label}");
     let started = Instant::now();
-    let scene = elongation_scene(test, args.frame_interval)?;
+    let scene = elongation_scene(test)?;
     let scene_path = directory.join(SCENE_FILE);
     let history_path = directory.join(HISTORY_FILE);
     let completed = args.resume

@@ -106,7 +106,15 @@ pub struct ElongationTest {
     pub time_step: Option<f64>,
     /// Explicit: time between curve points [s] (implicit: every increment).
     pub output_interval: f64,
+    /// Time between frames [s] (0: none). A run takes its checkpoints there (every
+    /// `output_interval` without frames), and a checkpoint makes the implicit solver
+    /// factorize afresh: the in-memory test asks for them at the same instants, so its
+    /// numbers are those of `musclefem elongate` with the same interval to the last digit.
+    pub frame_interval: f64,
 }
+
+/// Default time between frames [s] (`musclefem elongate --frame-interval`).
+pub const DEFAULT_FRAME_INTERVAL: f64 = 0.25;
 
 /// Default element size [m]: 4 mm, 576 F-bar hex8, both modes in about 20 s on a loaded
 /// 2-core machine. It is 5 % above the mesh-converged passive stress at 20 % strain
@@ -124,6 +132,16 @@ pub const DEFAULT_SETTING_RATIONALE: &str = "implicit F-bar hex8 at 4 mm, the de
     mass scaling (2-100 % off in 2.7-257 s); --tolerance PERCENT picks from a chart";
 
 impl ElongationTest {
+    /// The instants' spacing of frames and checkpoints [s]: `frame_interval`, or
+    /// `output_interval` without frames (as a scene's `[output]` defaults).
+    pub fn checkpoint_interval(&self) -> f64 {
+        if self.frame_interval > 0.0 {
+            self.frame_interval
+        } else {
+            self.output_interval
+        }
+    }
+
     /// The recommended test of `mode`: implicit, F-bar hex8, fusiform, fixed grips, the
     /// default mesh size.
     pub fn recommended(mode: Activation) -> Self {
@@ -137,6 +155,7 @@ impl ElongationTest {
             parameters: BTreeMap::new(),
             time_step: None,
             output_interval: 0.025,
+            frame_interval: DEFAULT_FRAME_INTERVAL,
         }
     }
 }

@@ -45,8 +45,8 @@ pub struct ElongationScene {
     pub specimen: SpecimenMesh,
 }
 
-/// The scene of `test`, with a frame every `frame_interval` [s] (0: no frames).
-pub fn elongation_scene(test: &ElongationTest, frame_interval: f64) -> Result<ElongationScene> {
+/// The scene of `test` (frames every `test.frame_interval`; none for 0).
+pub fn elongation_scene(test: &ElongationTest) -> Result<ElongationScene> {
     check_time_step(test)?;
     let mut specimen = specimen_mesh(test.shape, test.element, test.mesh_size)?;
     if test.grips == Grips::Sliding {
@@ -93,7 +93,7 @@ pub fn elongation_scene(test: &ElongationTest, frame_interval: f64) -> Result<El
         knots.join(", ")
     );
     write_grips(&mut scene, test.grips);
-    write_step(&mut scene, test, frame_interval);
+    write_step(&mut scene, test);
     Ok(ElongationScene {
         scene,
         mesh,
@@ -148,7 +148,7 @@ fn write_grips(scene: &mut String, grips: Grips) {
 }
 
 /// `[step]` and `[output]`: the solver's settings as [`super::setup`] makes them.
-fn write_step(scene: &mut String, test: &ElongationTest, frame_interval: f64) {
+fn write_step(scene: &mut String, test: &ElongationTest) {
     let duration = test.mode.duration();
     let _ = write!(
         scene,
@@ -175,15 +175,12 @@ fn write_step(scene: &mut String, test: &ElongationTest, frame_interval: f64) {
             );
         }
     }
-    if frame_interval > 0.0 {
-        let _ = write!(
-            scene,
-            "\n[output]\nframes = true\nframe_interval = {}\n",
-            number(frame_interval)
-        );
-    } else {
-        scene.push_str("\n[output]\nframes = false\n");
-    }
+    let _ = write!(
+        scene,
+        "\n[output]\nframes = {}\nframe_interval = {}\n",
+        test.frame_interval > 0.0,
+        number(test.checkpoint_interval())
+    );
 }
 
 /// A test's result from the `history.csv` its scene run wrote (`names` and `columns` as
@@ -260,6 +257,7 @@ mod tests {
     use std::ops::ControlFlow;
 
     use musclefem_core::solver::{Observer, Record, Snapshot};
+    use musclefem_io::output::FrameSchedule;
     use musclefem_io::scene::load_scene;
     use musclefem_materials::MaterialLibrary;
 
@@ -271,10 +269,28 @@ mod tests {
     #[derive(Default)]
     struct Rows(Vec<(f64, f64)>);
 
-    impl Observer for Rows {
-        fn record(&mut self, record: &Record, _snapshot: &Snapshot) -> ControlFlow<()> {
-            self.0.push((record.time(), record.reactions()[0]));
+    /// [`Rows`] of a scene run that asks for a checkpoint where `musclefem run` takes
+    /// one (at the frame instants), as the in-memory test does.
+    struct SceneRows {
+        rows: Rows,
+        frames: FrameSchedule,
+        frame_due: bool,
+    }
+
+    impl Observer for SceneRows {
+        fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+            self.frames.due(snapshot.time);
             ControlFlow::Continue(())
+        }
+
+        fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+            self.frame_due = self.frames.due(snapshot.time);
+            self.rows.0.push((record.time(), record.reactions()[0]));
+            ControlFlow::Continue(())
+        }
+
+        fn wants_checkpoint(&mut self) -> bool {
+            std::mem::take(&mut self.frame_due)
         }
     }
 
@@ -295,7 +311,7 @@ mod tests {
             std::process::id()
         ));
         std::fs::create_dir_all(&directory).unwrap();
-        let scene = elongation_scene(test, 0.0).unwrap();
+        let scene = elongation_scene(test).unwrap();
         std::fs::write(directory.join("scene.toml"), &scene.scene).unwrap();
         std::fs::write(directory.join(SPECIMEN_MESH_FILE), &scene.mesh).unwrap();
         let model = load_scene(
@@ -304,8 +320,13 @@ mod tests {
         )
         .unwrap_or_else(|e| panic!("{e}\n{}", scene.scene));
         std::fs::remove_dir_all(&directory).unwrap();
-        let mut from_scene = Rows::default();
+        let mut from_scene = SceneRows {
+            rows: Rows::default(),
+            frames: FrameSchedule::new(model.frame_interval, model.analysis.end_time(), &[]),
+            frame_due: false,
+        };
         model.run(&mut from_scene).unwrap();
+        let from_scene = from_scene.rows;
         let mut in_memory = Rows::default();
         run_elongation(test, &mut in_memory).unwrap();
         assert!(
@@ -323,6 +344,7 @@ mod tests {
             grips: Grips::Sliding,
             mesh_size: 0.00875,
             time_step: Some(0.41),
+            frame_interval: 0.5,
             parameters: BTreeMap::from([("sigma0".to_string(), 3e5), ("b".to_string(), 12.5)]),
             ..ElongationTest::recommended(Activation::Passive)
         };
