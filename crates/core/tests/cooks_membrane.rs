@@ -12,11 +12,14 @@
 //! 0.09 % (6.911 and 6.929 mm at 16 and 32 per side). So a converging element must land
 //! within a few percent of 6.89 mm at 16 per side, and a locking one far below.
 
-#[path = "common/cooks_membrane_setup.rs"]
-mod setup;
+mod common {
+    pub mod cooks_membrane_setup;
+}
 
+use common::cooks_membrane_setup::{
+    LITERATURE_TIP_DISPLACEMENT, Outcome, POISSON, solve, technologies,
+};
 use musclefem_core::element::Technology;
-use setup::{LITERATURE_TIP_DISPLACEMENT, Outcome, POISSON, solve, technologies};
 
 const INCREMENTS: usize = 5;
 

@@ -12,10 +12,11 @@ use musclefem_materials::{
 };
 use nalgebra::{Matrix3, Vector3};
 
-#[path = "support/plugin_builds.rs"]
-mod plugin_builds;
+mod support {
+    pub mod plugin_builds;
+}
 
-use plugin_builds::{C_PLUGIN, RUST_PLUGIN, out_dir, plugins};
+use support::plugin_builds::{C_PLUGIN, RUST_PLUGIN, out_dir, plugins};
 
 /// A library with both neo-Hookean plugins loaded.
 fn library_with_neo_hookean_plugins() -> MaterialLibrary {
