@@ -6,13 +6,12 @@ use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
 use musclefem_core::solver::explicit::ExplicitSettings;
-use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
 use musclefem_core::solver::{Outcome, Record, SolverError};
 use musclefem_io::OutputError;
@@ -27,7 +26,10 @@ use musclefem_materials::MaterialLibrary;
 use crate::commands::Interrupted;
 use crate::{CheckArgs, RunArgs};
 use musclefem_studies::bench::scene::{SceneProblem, scene_name};
+use musclefem_studies::progress::{LINE_EVERY, progress_line, show_time, simulated_time_bar};
+use musclefem_studies::scene_check::{check_report, refuse_free_body};
 use musclefem_studies::solver::Solver;
+use musclefem_studies::threads::worker_threads;
 
 mod tolerance;
 
@@ -38,43 +40,16 @@ pub fn check(args: &CheckArgs) -> Result<()> {
         outside_paths: args.allow_outside_paths,
     };
     let model = load_scene_trusting(&args.scene, &mut MaterialLibrary::with_builtins(), trust)?;
-    refuse_free_body(&model, &args.scene)?;
-    println!("{}: ok", args.scene.display());
-    for material in &model.unchecked_plugins {
-        println!(
-            "  material {material}: plugin not loaded (check runs no foreign code), its \
-             parameters unchecked; `run --allow-plugins` loads it"
-        );
-    }
-    print!("{}", model.describe());
+    print!("{}", check_report(&model, &args.scene)?);
     Ok(())
-}
-
-/// An error naming the scene if a body of a quasi-static model can move freely (see
-/// `musclefem_core::solver::free_motion`).
-fn refuse_free_body(model: &Model, scene: &std::path::Path) -> Result<()> {
-    refuse_free_motion(
-        &model.mesh,
-        &model.loads,
-        &model.analysis,
-        model.interactions.len(),
-    )
-    .with_context(|| format!("{}", scene.display()))
 }
 
 /// Run the scene and write its run directory.
 pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(requested) = args.threads {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        if requested == 0 {
-            bail!("--threads 0: at least one thread must run");
-        }
-        // More threads than cores only add switching (100 000 of them never started).
-        let threads = requested.min(cores);
-        if threads < requested {
-            eprintln!(
-                "warning: --threads {requested} is more than the {cores} cores; using {cores}"
-            );
+        let (threads, warning) = worker_threads(requested, "--threads")?;
+        if let Some(warning) = warning {
+            eprintln!("warning: {warning}");
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -270,16 +245,7 @@ fn progress_bar(duration: f64) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::new(1_000_000);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {percent:>3}% t = {msg} [{elapsed_precise}, ETA {eta_precise}]",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar.set_message(format!("0 / {duration} s"));
-    bar.enable_steady_tick(Duration::from_millis(200));
-    bar
+    simulated_time_bar(duration)
 }
 
 /// Drives the bar (or plain log lines), keeps the last row's reactions for the summary,
@@ -316,16 +282,11 @@ impl RunProgress for Progress<'_> {
 
     fn reached(&mut self, time: f64) -> ControlFlow<()> {
         let duration = self.model.analysis.end_time();
-        self.bar.set_position((1e6 * time / duration) as u64);
-        self.bar.set_message(format!("{time:.4e} / {duration} s"));
+        show_time(&self.bar, time, duration);
         let at_end = time >= duration * (1.0 - 1e-12);
         if self.log_lines && (time >= self.next_log || at_end) {
-            eprintln!(
-                "t = {time:.6e} s of {duration} s ({:.0} %), {:.2?} elapsed",
-                100.0 * time / duration,
-                self.started.elapsed()
-            );
-            self.next_log = time + 0.1 * duration;
+            eprintln!("{}", progress_line(time, duration, self.started.elapsed()));
+            self.next_log = time + LINE_EVERY * duration;
         }
         if self.interrupted.load(Ordering::SeqCst) {
             ControlFlow::Break(())
