@@ -12,9 +12,12 @@ Results are dicts of NumPy arrays named as the CSV columns (units in the names);
 are ``MusclefemError`` with the command line's message (file, line, key, element, time).
 """
 
+import collections.abc
+
 from ._musclefem import (
     MaterialPoint,
     MusclefemError,
+    Result,
     Scene,
     __version__,
     elongate,
@@ -22,9 +25,13 @@ from ._musclefem import (
     materials,
 )
 
+# A Result reads as the mapping of its history's columns (result["time_s"]).
+collections.abc.Mapping.register(Result)
+
 __all__ = [
     "MaterialPoint",
     "MusclefemError",
+    "Result",
     "Scene",
     "__version__",
     "elongate",
