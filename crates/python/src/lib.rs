@@ -17,6 +17,7 @@ mod background;
 mod columns;
 mod elongation;
 mod fibers;
+mod fit;
 mod frames;
 mod library;
 mod material_point;
@@ -50,5 +51,6 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run_result::RunResult>()?;
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
     m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     Ok(())
 }

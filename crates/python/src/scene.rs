@@ -53,6 +53,18 @@ impl Scene {
     fn load(&self) -> anyhow::Result<Model> {
         self.source.load(self.trust)
     }
+
+    /// The scene's file and permissions, for the studies that read a scene file
+    /// themselves (`fit(scene=...)`); an error for a scene from a dict.
+    pub(crate) fn file_and_trust(&self) -> PyResult<(PathBuf, Trust)> {
+        match self.source.dict {
+            None => Ok((self.source.path.clone(), self.trust)),
+            Some(_) => Err(crate::MusclefemError::new_err(
+                "a scene from a dict has no file to fit: write scene.toml to a file and pass \
+                 its path",
+            )),
+        }
+    }
 }
 
 #[pymethods]

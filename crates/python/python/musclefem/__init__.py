@@ -6,7 +6,8 @@
 - ``Scene(path).describe()`` / ``.run(out=None)``: a scene file (docs/scene-format.md),
   checked on reading, run in memory or into a run directory;
 - ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve;
-- ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver.
+- ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver;
+- ``fit(data, params, ...)``: ``musclefem fit``, material parameters fitted to a curve.
 
 Results are dicts of NumPy arrays named as the CSV columns (units in the names); errors
 are ``MusclefemError`` with the command line's message (file, line, key, element, time).
@@ -22,6 +23,7 @@ from ._musclefem import (
     __version__,
     elongate,
     fibers,
+    fit,
     materials,
 )
 
@@ -36,5 +38,6 @@ __all__ = [
     "__version__",
     "elongate",
     "fibers",
+    "fit",
     "materials",
 ]
