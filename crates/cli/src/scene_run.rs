@@ -8,7 +8,6 @@ use anyhow::{Context, Result, bail};
 
 use musclefem_core::solver::SolverError;
 use musclefem_core::solver::explicit::ExplicitSettings;
-use musclefem_core::solver::free_motion::refuse_free_motion;
 use musclefem_core::solver::implicit::ImplicitSettings;
 use musclefem_io::output::{ExistingResults, RunStart};
 use musclefem_io::scene::{Analysis, Model, PluginPolicy, Trust, load_scene_trusting};
@@ -17,7 +16,9 @@ use musclefem_materials::MaterialLibrary;
 use crate::commands::Interrupted;
 use crate::{CheckArgs, RunArgs};
 use musclefem_studies::bench::scene::{SceneProblem, scene_name};
+use musclefem_studies::scene_check::{check_report, refuse_free_body};
 use musclefem_studies::solver::Solver;
+use musclefem_studies::threads::worker_threads;
 
 pub mod directory;
 mod tolerance;
@@ -31,43 +32,16 @@ pub fn check(args: &CheckArgs) -> Result<()> {
         outside_paths: args.allow_outside_paths,
     };
     let model = load_scene_trusting(&args.scene, &mut MaterialLibrary::with_builtins(), trust)?;
-    refuse_free_body(&model, &args.scene)?;
-    println!("{}: ok", args.scene.display());
-    for material in &model.unchecked_plugins {
-        println!(
-            "  material {material}: plugin not loaded (check runs no foreign code), its \
-             parameters unchecked; `run --allow-plugins` loads it"
-        );
-    }
-    print!("{}", model.describe());
+    print!("{}", check_report(&model, &args.scene)?);
     Ok(())
-}
-
-/// An error naming the scene if a body of a quasi-static model can move freely (see
-/// `musclefem_core::solver::free_motion`).
-fn refuse_free_body(model: &Model, scene: &std::path::Path) -> Result<()> {
-    refuse_free_motion(
-        &model.mesh,
-        &model.loads,
-        &model.analysis,
-        model.interactions.len(),
-    )
-    .with_context(|| format!("{}", scene.display()))
 }
 
 /// Run the scene and write its run directory.
 pub fn run(args: &RunArgs) -> Result<()> {
     if let Some(requested) = args.threads {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        if requested == 0 {
-            bail!("--threads 0: at least one thread must run");
-        }
-        // More threads than cores only add switching (100 000 of them never started).
-        let threads = requested.min(cores);
-        if threads < requested {
-            eprintln!(
-                "warning: --threads {requested} is more than the {cores} cores; using {cores}"
-            );
+        let (threads, warning) = worker_threads(requested, "--threads")?;
+        if let Some(warning) = warning {
+            eprintln!("warning: {warning}");
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -13,11 +13,20 @@
 
 use pyo3::prelude::*;
 
+mod background;
 mod columns;
 mod elongation;
 mod fibers;
+mod fit;
+mod frames;
+mod library;
 mod material_point;
+mod progress;
+mod run_result;
 mod scene;
+mod scene_run;
+mod scene_source;
+mod toml_text;
 
 pyo3::create_exception!(
     musclefem,
@@ -39,7 +48,9 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material_point::materials, m)?)?;
     m.add_class::<material_point::MaterialPoint>()?;
     m.add_class::<scene::Scene>()?;
+    m.add_class::<run_result::RunResult>()?;
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
     m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     Ok(())
 }

@@ -6,10 +6,11 @@ use std::collections::BTreeMap;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use musclefem_materials::{Bound as Limit, MaterialLibrary};
+use musclefem_materials::Bound as Limit;
 use musclefem_studies::material_point::run_point;
 
 use crate::columns::column_dict;
+use crate::library::material_library;
 use crate::{MusclefemError, python_error};
 
 /// The built-in materials: a list of dicts with `name`, `description` and `parameters`
@@ -18,7 +19,7 @@ use crate::{MusclefemError, python_error};
 #[pyfunction]
 pub fn materials(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let list = PyList::empty(py);
-    for info in MaterialLibrary::with_builtins().materials() {
+    for info in material_library().materials() {
         let parameters = PyList::empty(py);
         for spec in &info.parameters {
             let parameter = PyDict::new(py);
@@ -72,7 +73,7 @@ impl MaterialPoint {
                 parameters.insert(key.extract::<String>()?, value.extract::<f64>()?);
             }
         }
-        MaterialLibrary::with_builtins()
+        material_library()
             .create(&name, &parameters)
             .map_err(|e| MusclefemError::new_err(e.to_string()))?;
         Ok(MaterialPoint { name, parameters })
@@ -107,15 +108,7 @@ impl MaterialPoint {
         let history = history.join(",");
         let (name, parameters) = (&self.name, &self.parameters);
         let run = py
-            .detach(|| {
-                run_point(
-                    &MaterialLibrary::with_builtins(),
-                    name,
-                    parameters,
-                    &history,
-                    dt,
-                )
-            })
+            .detach(|| run_point(&material_library(), name, parameters, &history, dt))
             .map_err(python_error)?;
         let names = [
             "time_s",

@@ -1,5 +1,6 @@
 """`import musclefem`: the materials, a material point, a scene and the elongation test
-from Python, checked against closed forms and against the command line's files."""
+from Python, checked against closed forms and against the command line's files. The
+scene's constructors, check, Result, frames and progress are in test_scene.py."""
 
 import csv
 import pathlib
@@ -10,30 +11,7 @@ import pytest
 
 import musclefem
 
-ROOT = pathlib.Path(__file__).resolve().parents[3]
-CUBE = ROOT / "examples" / "neo_hookean_cube_stretch.toml"
-
-
-def neo_hookean_uniaxial(mu, d, stretch):
-    """Engineering stress P11 [Pa] of W = mu/2 (I1bar - 3) + (J - 1)^2 / D in uniaxial
-    stress at `stretch`: the lateral stretch t from sigma22 = 0 by bisection."""
-
-    def sigma(t):
-        j = stretch * t * t
-        trace = (stretch**2 + 2 * t * t) / 3
-        pressure = 2 * (j - 1) / d
-        deviatoric = mu / j * j ** (-2 / 3)
-        return deviatoric * (stretch**2 - trace) + pressure, deviatoric * (t * t - trace) + pressure
-
-    lo, hi = 0.3, 1.5
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if sigma(lo)[1] * sigma(mid)[1] <= 0:
-            hi = mid
-        else:
-            lo = mid
-    t = 0.5 * (lo + hi)
-    return stretch * t * t * sigma(t)[0] / stretch
+from helpers import CLI, CUBE, box_deck, neo_hookean_uniaxial
 
 
 def test_the_materials_list_their_parameters_with_units():
@@ -88,9 +66,8 @@ def test_a_scene_runs_in_memory_and_into_a_run_directory_as_the_command_line(tmp
     assert not (tmp_path / "run" / "checkpoint.bin").exists()
     # The same numbers as `musclefem run` writes, to the last digit.
     cli = tmp_path / "cli"
-    binary = ROOT / "target" / "release" / "musclefem"
-    if binary.exists():
-        subprocess.run([str(binary), "run", str(CUBE), "--out", str(cli)], check=True)
+    if CLI.exists():
+        subprocess.run([str(CLI), "run", str(CUBE), "--out", str(cli)], check=True)
         with open(cli / "history.csv") as table:
             rows = list(csv.DictReader(table))
         np.testing.assert_array_equal(
@@ -115,11 +92,10 @@ def test_the_elongation_curve_is_the_command_lines(tmp_path):
     assert 0 < curve["stress_10pct_pa"] < curve["stress_20pct_pa"]
     with pytest.raises(musclefem.MusclefemError, match="grips 'glued'"):
         musclefem.elongate("passive", grips="glued")
-    binary = ROOT / "target" / "release" / "musclefem"
-    if binary.exists():
+    if CLI.exists():
         args = ["--shape", "cylinder", "--grips", "sliding", "--mesh-size", "8.75"]
         args += ["--time-step", "0.2", "--mode", "passive", "--out", str(tmp_path / "e")]
-        subprocess.run([str(binary), "elongate", *args], check=True, capture_output=True)
+        subprocess.run([str(CLI), "elongate", *args], check=True, capture_output=True)
         with open(tmp_path / "e" / "curve.csv") as table:
             rows = list(csv.DictReader(table))
         np.testing.assert_array_equal(
@@ -169,36 +145,6 @@ def test_ctrl_c_stops_a_run_whose_directory_then_resumes_to_the_same_history(tmp
     for name in ["history.csv", "result.pvd"]:
         assert (tmp_path / "cut" / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
     assert len(whole["time_s"]) == 400
-
-
-def box_deck(path, nx=2, ny=2, nz=6, size=(0.01, 0.01, 0.03)):
-    """An Abaqus deck of a box of hex8 (C3D8), node sets ORIGIN (z = 0) and INSERTION
-    (z = L), element labels from 101."""
-    def node(i, j, k):
-        return 1 + i + (nx + 1) * (j + (ny + 1) * k)
-
-    lines = ["*NODE"]
-    for k in range(nz + 1):
-        for j in range(ny + 1):
-            for i in range(nx + 1):
-                x, y, z = (size[0] * i / nx, size[1] * j / ny, size[2] * k / nz)
-                lines.append(f"{node(i, j, k)}, {x}, {y}, {z}")
-    lines.append("*ELEMENT, TYPE=C3D8, ELSET=MUSCLE")
-    label = 101
-    for k in range(nz):
-        for j in range(ny):
-            for i in range(nx):
-                corners = [
-                    node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k),
-                    node(i, j, k + 1), node(i + 1, j, k + 1), node(i + 1, j + 1, k + 1),
-                    node(i, j + 1, k + 1),
-                ]
-                lines.append(f"{label}, " + ", ".join(map(str, corners)))
-                label += 1
-    for name, k in [("ORIGIN", 0), ("INSERTION", nz)]:
-        lines.append(f"*NSET, NSET={name}")
-        lines.append(", ".join(str(node(i, j, k)) for j in range(ny + 1) for i in range(nx + 1)))
-    path.write_text("\n".join(lines) + "\n")
 
 
 def test_fibers_of_a_box_run_from_origin_to_insertion(tmp_path):

@@ -11,9 +11,13 @@
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
 //! - [`material_point`]: a material point driven in uniaxial stress (`musclefem point`).
+//! - [`progress`]: a run's progress over simulated time (bar or plain lines).
+//! - [`scene_check`]: what `musclefem check` says of a scene, and the free-body check of
+//!   `run`.
 //! - [`scene_study`]: a scene file as the base of a sweep or a fit.
 //! - [`solver`]: the one solver choice of every study and command.
 //! - [`sweep`]: parametric studies of the elongation tests or of a scene (`musclefem sweep`).
+//! - [`threads`]: how many worker threads a run may use.
 
 pub mod activation;
 pub mod bench;
@@ -22,9 +26,12 @@ pub mod fit;
 pub mod inertia;
 pub mod knee;
 pub mod material_point;
+pub mod progress;
+pub mod scene_check;
 pub mod scene_study;
 pub mod solver;
 pub mod sweep;
+pub mod threads;
 
 /// The README's examples, compiled and run by `cargo test --doc`.
 #[doc = include_str!("../README.md")]

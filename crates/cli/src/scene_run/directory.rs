@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 
 use musclefem_core::solver::{Outcome, Record, SolverError};
 use musclefem_io::OutputError;
@@ -24,6 +24,7 @@ use musclefem_io::output::{
 };
 use musclefem_io::scene::Model;
 use musclefem_io::write_atomically;
+use musclefem_studies::progress::{LINE_EVERY, progress_line, show_time, simulated_time_bar};
 
 /// What a run into a directory needs besides the model.
 pub struct DirectoryRun<'a> {
@@ -177,16 +178,7 @@ fn progress_bar(duration: f64) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
-    let bar = ProgressBar::new(1_000_000);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {percent:>3}% t = {msg} [{elapsed_precise}, ETA {eta_precise}]",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar.set_message(format!("0 / {duration} s"));
-    bar.enable_steady_tick(Duration::from_millis(200));
-    bar
+    simulated_time_bar(duration)
 }
 
 /// Drives the bar (or plain log lines), keeps the last row's reactions for the summary,
@@ -223,16 +215,11 @@ impl RunProgress for Progress<'_> {
 
     fn reached(&mut self, time: f64) -> ControlFlow<()> {
         let duration = self.model.analysis.end_time();
-        self.bar.set_position((1e6 * time / duration) as u64);
-        self.bar.set_message(format!("{time:.4e} / {duration} s"));
+        show_time(&self.bar, time, duration);
         let at_end = time >= duration * (1.0 - 1e-12);
         if self.log_lines && (time >= self.next_log || at_end) {
-            eprintln!(
-                "t = {time:.6e} s of {duration} s ({:.0} %), {:.2?} elapsed",
-                100.0 * time / duration,
-                self.started.elapsed()
-            );
-            self.next_log = time + 0.1 * duration;
+            eprintln!("{}", progress_line(time, duration, self.started.elapsed()));
+            self.next_log = time + LINE_EVERY * duration;
         }
         if self.interrupted.load(Ordering::SeqCst) {
             ControlFlow::Break(())

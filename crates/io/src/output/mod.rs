@@ -36,6 +36,6 @@ pub use frame_schedule::FrameSchedule;
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
-pub use run_directory::{ExistingResults, RunDirectory, RunLog};
+pub use run_directory::{ExistingResults, RunDirectory, RunLog, state_frame};
 pub use run_writer::{ABORT_AFTER_CHECKPOINT, RunProgress, RunStart, RunWriter, WrittenRun};
 pub use vtu::{encode_vtu, stage_vtu, vtk_cell_type, write_vtu};

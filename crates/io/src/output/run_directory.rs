@@ -214,11 +214,7 @@ impl RunDirectory {
         nodal: &[NodalField],
     ) -> Result<PathBuf, OutputError> {
         let fields = ElementFieldArrays::gather(mesh, parts);
-        let mut frame = Frame::new(time, mesh, displacement);
-        for field in nodal {
-            frame = frame.with_point_components(&field.name, field.components, &field.values);
-        }
-        self.write_frame(&fields.attach(frame))
+        self.write_frame(&state_frame(mesh, time, displacement, &fields, nodal))
     }
 
     /// Write `frame` as the next VTU file, then rewrite `result.pvd` to list it. Times
@@ -312,6 +308,24 @@ fn is_frame_name(name: &str) -> bool {
     name.strip_prefix("frame_")
         .and_then(|rest| rest.strip_suffix(".vtu"))
         .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// The frame of a solver's recorded state as [`RunDirectory::write_state_frame`] writes
+/// it: the displacement of every node [m], the interactions' per-node fields, then the
+/// element fields gathered from the parts (stress, fibers, state, activation). Also what
+/// the Python module's in-memory frames hold.
+pub fn state_frame<'a>(
+    mesh: &'a Mesh,
+    time: f64,
+    displacement: &'a [Vector3<f64>],
+    fields: &'a ElementFieldArrays,
+    nodal: &'a [NodalField],
+) -> Frame<'a> {
+    let mut frame = Frame::new(time, mesh, displacement);
+    for field in nodal {
+        frame = frame.with_point_components(&field.name, field.components, &field.values);
+    }
+    fields.attach(frame)
 }
 
 /// What `run.log` says about a run. The file is plain text:

@@ -6,28 +6,38 @@
 - ``Scene(path).describe()`` / ``.run(out=None)``: a scene file (docs/scene-format.md),
   checked on reading, run in memory or into a run directory;
 - ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve;
-- ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver.
+- ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver;
+- ``fit(data, params, ...)``: ``musclefem fit``, material parameters fitted to a curve.
 
 Results are dicts of NumPy arrays named as the CSV columns (units in the names); errors
 are ``MusclefemError`` with the command line's message (file, line, key, element, time).
 """
 
+import collections.abc
+
 from ._musclefem import (
     MaterialPoint,
     MusclefemError,
+    Result,
     Scene,
     __version__,
     elongate,
     fibers,
+    fit,
     materials,
 )
+
+# A Result reads as the mapping of its history's columns (result["time_s"]).
+collections.abc.Mapping.register(Result)
 
 __all__ = [
     "MaterialPoint",
     "MusclefemError",
+    "Result",
     "Scene",
     "__version__",
     "elongate",
     "fibers",
+    "fit",
     "materials",
 ]

@@ -10,44 +10,49 @@
 //! - [`data`]: reading the measured curve;
 //! - [`model`]: the elongation test or the scene as a function of the fitted parameters;
 //! - `view`, `report`: how the curve is named and drawn, and the fitted numbers;
-//! - [`levenberg_marquardt`]: the bounded least-squares solver.
+//! - [`levenberg_marquardt`]: the bounded least-squares solver;
+//! - `unknowns`, [`outputs`]: the fitted parameters' starts and bounds, and the files.
+//!
+//! [`fit_curve`] is the fit without printing or files (the Python module's
+//! `musclefem.fit`); [`fit`] is the command around it.
 
 pub mod data;
 pub mod levenberg_marquardt;
 pub mod model;
+pub mod outputs;
 mod report;
+mod unknowns;
 mod view;
 
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::DVector;
 
-use musclefem_io::PendingFile;
 use musclefem_io::csv::{format_number, format_table};
-use musclefem_io::output::OutputLock;
-use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, SeriesStyle, stage_png};
-use musclefem_materials::MaterialLibrary;
-use musclefem_materials::{Bound, ParameterSpec};
+use musclefem_io::plot::{Figure, LegendPosition, Panel, Series, SeriesStyle};
 
 use crate::elongation::options::TestOptions;
 use musclefem_core::mesh::generate::SpecimenShape;
 
 use crate::elongation::protocol::{Activation, PULL_ELONGATION};
 use crate::scene_study::SceneStudy;
-use data::{Columns, Range, read_curve};
-use levenberg_marquardt::{Settings, minimise};
+use data::{Columns, MeasuredCurve, Range, parse_curve, read_curve};
+use levenberg_marquardt::{Settings, Stop, minimise};
 use model::{ElongationModel, FitModel, SceneModel};
+use outputs::Outputs;
 use report::Report;
+use unknowns::unknowns;
 use view::View;
 
 /// Two-sided 95 % quantile of the normal distribution: the confidence intervals are the
 /// asymptotic ones, fitted value ± 1.96 standard errors.
-const Z_95: f64 = 1.959963984540054;
+pub const Z_95: f64 = 1.959963984540054;
 
 #[derive(Debug, clap::Args)]
 pub struct FitArgs {
@@ -114,21 +119,129 @@ pub struct FitArgs {
     pub force: bool,
 }
 
-/// One fitted parameter: name, start and bounds.
-struct Unknown {
-    name: String,
-    start: f64,
-    lower: f64,
-    upper: f64,
-}
-
 /// What the fit runs and how its curve is named and drawn.
 enum Base {
     Elongation(Box<crate::elongation::ElongationTest>),
     Scene(Box<SceneStudy>),
 }
 
+/// What a fit found, with the texts and the chart of its files.
+pub struct Fitted {
+    /// The fitted parameters, in the order of `--params`.
+    pub names: Vec<String>,
+    pub start: Vec<f64>,
+    pub lower: Vec<f64>,
+    pub upper: Vec<f64>,
+    /// The fitted values.
+    pub values: Vec<f64>,
+    /// Standard error of each value (`None` for one on its bound, and for all when the
+    /// parameters are not identifiable together: JᵀJ singular).
+    pub standard_errors: Vec<Option<f64>>,
+    pub at_bound: Vec<bool>,
+    /// The data used, in SI units (engineering strain [1] and stress [Pa], or the scene's
+    /// history columns), and the points left out.
+    pub measured: MeasuredCurve,
+    /// The fitted model at the measured abscissae.
+    pub fitted_at_data: Vec<f64>,
+    /// The model's whole curve (x, y) with the start and with the fitted values.
+    pub start_curve: Vec<(f64, f64)>,
+    pub fitted_curve: Vec<(f64, f64)>,
+    /// RMS residual (in the data's unit) and R².
+    pub rms: f64,
+    pub r_squared: f64,
+    /// Accepted steps, runs of the model, and why the solver stopped.
+    pub iterations: usize,
+    pub evaluations: usize,
+    pub stop: Stop,
+    /// fit.txt, fit.csv, fit_curve.csv (whose header names the curve's columns) and
+    /// fit.png's chart.
+    pub summary: String,
+    pub table: String,
+    pub curve_table: String,
+    pub figure: Figure,
+}
+
+/// What a caller sees of a fit as it goes.
+pub trait FitWatch {
+    /// The data are read and the parameters checked; `announcement` is the line `fit`
+    /// prints. An error here ends the fit before its first run (the command checks its
+    /// output directory here).
+    fn starting(&mut self, announcement: &str) -> Result<()>;
+    /// An accepted step: its number and the RMS residual, in `unit`.
+    fn iteration(&mut self, iteration: usize, rms: f64, unit: &str);
+    /// The least-squares solver ended (the curves for the chart are computed next).
+    fn solved(&mut self) {}
+}
+
+/// Why a fit stopped before its end: its `stop` flag was set.
+#[derive(Debug)]
+pub struct FitStopped;
+
+impl std::fmt::Display for FitStopped {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the fit was stopped on request")
+    }
+}
+
+impl std::error::Error for FitStopped {}
+
+/// `musclefem fit`: the fit, printed and written to `--out`.
 pub fn fit(args: &FitArgs) -> Result<()> {
+    let mut terminal = Terminal {
+        args,
+        outputs: None,
+        bar: ProgressBar::hidden(),
+    };
+    let fitted = fit_curve(args, None, &mut terminal, &AtomicBool::new(false))?;
+    print!("{}", fitted.summary);
+    let outputs = terminal
+        .outputs
+        .context("the output directory was not opened")?;
+    outputs.write(&fitted)?;
+    println!(
+        "results: {}/{{{}}}",
+        outputs.dir().display(),
+        outputs::FILES.join(",")
+    );
+    Ok(())
+}
+
+/// The command's view of a fit: its output directory, opened before the first run, and
+/// a spinner with the residual.
+struct Terminal<'a> {
+    args: &'a FitArgs,
+    outputs: Option<Outputs>,
+    bar: ProgressBar,
+}
+
+impl FitWatch for Terminal<'_> {
+    fn starting(&mut self, announcement: &str) -> Result<()> {
+        self.outputs = Some(Outputs::new(&self.args.out, self.args.force)?);
+        println!("{announcement}");
+        self.bar = spinner();
+        Ok(())
+    }
+
+    fn iteration(&mut self, iteration: usize, rms: f64, unit: &str) {
+        self.bar.set_message(format!(
+            "iteration {iteration}: RMS residual {rms:.4e} {unit}"
+        ));
+    }
+
+    fn solved(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// The fit `args` asks for, to the data of `args.data` or, when given, to the CSV text
+/// `data` (`args.data` then only names it in messages); `stop` stops it between two runs
+/// of the model (the error is then [`FitStopped`]).
+pub fn fit_curve(
+    args: &FitArgs,
+    data: Option<&str>,
+    watch: &mut dyn FitWatch,
+    stop: &AtomicBool,
+) -> Result<Fitted> {
     let base = match &args.scene {
         Some(path) => {
             crate::sweep::check_no_test_options(&args.options)?;
@@ -203,7 +316,10 @@ pub fn fit(args: &FitArgs) -> Result<()> {
             (View::scene(study, &args.x, &y_column), range)
         }
     };
-    let measured = read_curve(&args.data, &columns, range)?;
+    let measured = match data {
+        None => read_curve(&args.data, &columns, range)?,
+        Some(text) => parse_curve(text, &args.data, &columns, range)?,
+    };
     let within = view.range_text(range);
     if measured.strain.len() <= unknowns.len() {
         bail!(
@@ -214,22 +330,23 @@ pub fn fit(args: &FitArgs) -> Result<()> {
             unknowns.len()
         );
     }
-    let outputs = Outputs::new(args)?;
-    println!(
+    watch.starting(&format!(
         "fitting {} to {} points of {} ({} outside {within} left out), {}",
         names.join(", "),
         measured.strain.len(),
         args.data.display(),
         measured.left_out,
         view.what,
-    );
+    ))?;
     let data = DVector::from_vec(measured.stress.clone());
     let residuals = |x: &[f64]| -> Result<DVector<f64>> {
+        if stop.load(Ordering::SeqCst) {
+            return Err(FitStopped.into());
+        }
         Ok(DVector::from_vec(model.predict(x, &measured.strain)?) - &data)
     };
     let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
     let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
-    let bar = spinner();
     let points = measured.strain.len() as f64;
     let started = Instant::now();
     let solution = minimise(
@@ -239,14 +356,14 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         &upper,
         &Settings::default(),
         &mut |iteration, cost| {
-            bar.set_message(format!(
-                "iteration {iteration}: RMS residual {:.4e} {}",
-                (2.0 * cost / points).sqrt(),
-                view.y_unit
-            ));
+            watch.iteration(iteration, (2.0 * cost / points).sqrt(), view.y_unit)
         },
-    )?;
-    bar.finish_and_clear();
+    );
+    watch.solved();
+    let solution = match solution {
+        Err(_) if stop.load(Ordering::SeqCst) => return Err(FitStopped.into()),
+        solution => solution?,
+    };
     let elapsed = started.elapsed();
 
     let (start_curve, fitted_curve) =
@@ -267,14 +384,13 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         report.text(),
         elapsed.as_secs_f64()
     );
-    print!("{summary}");
     let fitted_stress: Vec<f64> = measured
         .stress
         .iter()
         .zip(solution.residuals.iter())
         .map(|(y, r)| y + r)
         .collect();
-    let curve_csv = format_table(
+    let curve_table = format_table(
         &view.curve_header,
         (0..measured.strain.len())
             .map(|i| [measured.strain[i], measured.stress[i], fitted_stress[i]]),
@@ -305,8 +421,9 @@ pub fn fit(args: &FitArgs) -> Result<()> {
         )
         .with_style(SeriesStyle::Dots),
     );
-    for (label, curve) in [("fitted", fitted_curve), ("start", start_curve)] {
-        let curve = curve.with_context(|| format!("the {label} curve for fit.png"))?;
+    let fitted_curve = fitted_curve.context("the fitted curve for fit.png")?;
+    let start_curve = start_curve.context("the start curve for fit.png")?;
+    for (label, curve) in [("fitted", &fitted_curve), ("start", &start_curve)] {
         panel = panel.with_series(Series::new(
             label,
             curve
@@ -314,177 +431,32 @@ pub fn fit(args: &FitArgs) -> Result<()> {
                 .map(|&(x, y)| (view.x_scale * x, view.y_scale * y)),
         ));
     }
-    let figure = Figure::new("musclefem fit").with_panel(panel);
-    outputs.write(report.csv(), curve_csv, summary, &figure)
-}
-
-/// The fitted parameters with their starts and bounds, checked against the parameter
-/// table of the Hill material (elongation) or of the scene's material.
-fn unknowns(args: &FitArgs, base: &Base) -> Result<Vec<Unknown>> {
-    let hill = MaterialLibrary::with_builtins().info("hill")?;
-    // The table entry of a fitted name and the start it has unless --start says otherwise.
-    let lookup = |name: &str| -> Result<(ParameterSpec, Option<f64>)> {
-        match base {
-            Base::Elongation(_) => {
-                if name == "n2" || name == "t0" {
-                    bail!(
-                        "--params {name}: the test sets the activation (passive n2 = 0, active n2 = 1)"
-                    );
-                }
-                let Some(spec) = hill.parameters.iter().find(|p| p.name == name) else {
-                    let known: Vec<&str> =
-                        hill.parameters.iter().map(|p| p.name.as_ref()).collect();
-                    bail!(
-                        "--params {name}: the Hill muscle has no parameter '{name}' (it has {})",
-                        known.join(", ")
-                    );
-                };
-                Ok((spec.clone(), spec.default))
-            }
-            Base::Scene(study) => {
-                let (spec, given) = study.parameter(name).context("--params")?;
-                let start = given.or(spec.default);
-                Ok((spec, start))
-            }
-        }
-    };
-    let mut starts = name_values(&args.starts, "--start")?;
-    let mut bounds = name_values(&args.bounds, "--bound")?;
-    let mut unknowns: Vec<Unknown> = Vec::new();
-    for name in &args.params {
-        let name = name.trim();
-        let (spec, default_start) = lookup(name)?;
-        let spec = &spec;
-        if unknowns.iter().any(|u| u.name == name) {
-            bail!("--params: '{name}' is given more than once");
-        }
-        let start = match starts.remove(name) {
-            Some(text) => parse_number(&text, "--start", name)?,
-            None => default_start
-                .with_context(|| format!("--params {name}: give --start {name}=VALUE"))?,
-        };
-        let (lower, upper) = match bounds.remove(name) {
-            Some(text) => {
-                let (lo, hi) = text
-                    .split_once(':')
-                    .with_context(|| format!("--bound {name}={text}: expected NAME=LO:HI"))?;
-                let (lo, hi) = (
-                    parse_number(lo, "--bound", name)?,
-                    parse_number(hi, "--bound", name)?,
-                );
-                if lo >= hi {
-                    bail!("--bound {name}={text}: LO must be below HI");
-                }
-                (lo, hi)
-            }
-            None => valid_range(spec, start),
-        };
-        let acceptable = |bound: f64| bound.is_infinite() || spec.accepts(bound);
-        if !(lower..=upper).contains(&start) || !acceptable(lower) || !acceptable(upper) {
-            bail!(
-                "--params {name}: the start {start} and bounds [{lower}, {upper}] must lie in \
-                 the valid range of '{name}' with the start between the bounds"
-            );
-        }
-        unknowns.push(Unknown {
-            name: name.to_string(),
-            start,
-            lower,
-            upper,
-        });
-    }
-    for (flag, left) in [("--start", starts), ("--bound", bounds)] {
-        if let Some(name) = left.keys().next() {
-            bail!("{flag} {name}: '{name}' is not among --params");
-        }
-    }
-    Ok(unknowns)
-}
-
-/// NAME=TEXT tokens of `flag` by name.
-fn name_values(tokens: &[String], flag: &str) -> Result<BTreeMap<String, String>> {
-    let mut map = BTreeMap::new();
-    for token in tokens {
-        let (name, value) = token
-            .split_once('=')
-            .with_context(|| format!("{flag} '{token}': expected NAME=..."))?;
-        if map
-            .insert(name.trim().to_string(), value.trim().to_string())
-            .is_some()
-        {
-            bail!(
-                "{flag} '{token}': '{}' is given more than once",
-                name.trim()
-            );
-        }
-    }
-    Ok(map)
-}
-
-fn parse_number(text: &str, flag: &str, name: &str) -> Result<f64> {
-    text.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|x| x.is_finite())
-        .with_context(|| format!("{flag} {name}: '{}' is not a finite number", text.trim()))
-}
-
-/// The parameter's valid range as closed bounds: an open end at l is moved inside by
-/// 10⁻⁶ of the start value; an unbounded side stays infinite.
-fn valid_range(spec: &ParameterSpec, start: f64) -> (f64, f64) {
-    let inset = 1e-6 * start.abs().max(f64::MIN_POSITIVE);
-    let lower = match spec.lower {
-        Bound::Unbounded => f64::NEG_INFINITY,
-        Bound::Inclusive(l) => l,
-        Bound::Exclusive(l) => l + inset,
-    };
-    let upper = match spec.upper {
-        Bound::Unbounded => f64::INFINITY,
-        Bound::Inclusive(u) => u,
-        Bound::Exclusive(u) => u - inset,
-    };
-    (lower, upper)
-}
-
-/// The output files, checked before the fit starts (so a long fit does not end in a
-/// refusal) and written together at its end.
-struct Outputs {
-    dir: PathBuf,
-    /// Held while the fit runs: one writer per output directory.
-    _lock: OutputLock,
-}
-
-const FILES: [&str; 4] = ["fit.csv", "fit_curve.csv", "fit.txt", "fit.png"];
-
-impl Outputs {
-    fn new(args: &FitArgs) -> Result<Self> {
-        let dir = args.out.clone();
-        let existing = FILES.iter().map(|f| dir.join(f)).find(|p| p.exists());
-        if let (false, Some(existing)) = (args.force, existing) {
-            bail!(
-                "{} exists: a previous fit is in {} (use --force to replace it)",
-                existing.display(),
-                dir.display()
-            );
-        }
-        // Creates the directory; a second fit into it is refused while this one runs.
-        let lock = OutputLock::acquire(&dir)?;
-        Ok(Outputs { dir, _lock: lock })
-    }
-
-    fn write(&self, csv: String, curve: String, summary: String, figure: &Figure) -> Result<()> {
-        let staged = [
-            PendingFile::stage_bytes(&self.dir.join(FILES[0]), csv.as_bytes())?,
-            PendingFile::stage_bytes(&self.dir.join(FILES[1]), curve.as_bytes())?,
-            PendingFile::stage_bytes(&self.dir.join(FILES[2]), summary.as_bytes())?,
-            stage_png(&self.dir.join(FILES[3]), figure)?,
-        ];
-        for file in staged {
-            file.commit()?;
-        }
-        println!("results: {}/{{{}}}", self.dir.display(), FILES.join(","));
-        Ok(())
-    }
+    let (rms, r_squared) = report.residual();
+    let standard_errors = report
+        .standard_errors()
+        .unwrap_or_else(|| vec![None; unknowns.len()]);
+    Ok(Fitted {
+        at_bound: (0..unknowns.len()).map(|j| report.at_bound(j)).collect(),
+        table: report.csv(),
+        names,
+        start,
+        lower,
+        upper,
+        values: solution.x.clone(),
+        standard_errors,
+        fitted_at_data: fitted_stress,
+        start_curve,
+        fitted_curve,
+        rms,
+        r_squared,
+        iterations: solution.iterations,
+        evaluations: solution.evaluations,
+        stop: solution.stop,
+        summary,
+        curve_table,
+        figure: Figure::new("musclefem fit").with_panel(panel),
+        measured,
+    })
 }
 
 /// `x` rounded to `digits` significant digits, as text.

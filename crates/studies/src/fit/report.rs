@@ -3,8 +3,9 @@
 
 use musclefem_io::csv::format_number;
 
+use super::Z_95;
 use super::levenberg_marquardt::Solution;
-use super::{Unknown, Z_95};
+use super::unknowns::Unknown;
 
 /// The fit's numbers for the terminal, fit.txt and fit.csv.
 pub(super) struct Report<'a> {
@@ -19,7 +20,7 @@ pub(super) struct Report<'a> {
 
 impl Report<'_> {
     /// RMS residual [Pa] and coefficient of determination R² = 1 − Σr² / Σ(y − ȳ)².
-    fn residual(&self) -> (f64, f64) {
+    pub(super) fn residual(&self) -> (f64, f64) {
         let m = self.measured_stress.len() as f64;
         let squares = self.solution.residuals.norm_squared();
         let mean = self.measured_stress.iter().sum::<f64>() / m;
@@ -32,13 +33,13 @@ impl Report<'_> {
     }
 
     /// Whether fitted parameter `j` ended on one of its bounds.
-    fn at_bound(&self, j: usize) -> bool {
+    pub(super) fn at_bound(&self, j: usize) -> bool {
         let x = self.solution.x[j];
         x == self.unknowns[j].lower || x == self.unknowns[j].upper
     }
 
     /// Standard errors of the parameters not on a bound.
-    fn standard_errors(&self) -> Option<Vec<Option<f64>>> {
+    pub(super) fn standard_errors(&self) -> Option<Vec<Option<f64>>> {
         let fixed: Vec<bool> = (0..self.unknowns.len()).map(|j| self.at_bound(j)).collect();
         self.solution.standard_errors(&fixed)
     }
