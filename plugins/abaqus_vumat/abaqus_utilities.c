@@ -1,0 +1,107 @@
+/*
+ * abaqus_utilities.c — the guarded VUMAT call and the Abaqus/Explicit utility routines a
+ * VUMAT may call to report errors:
+ *
+ *   CALL XPLB_ABQERR(LOP, STRING, INTV, REALV, CHARV)
+ *     STRING with %I, %R, %S replaced by the next entries of INTV, REALV, CHARV
+ *     (CHARACTER*8); LOP = 1 information and -1 warning (printed on stderr), -2 error (the
+ *     block fails after the VUMAT returns), -3 error that stops at once;
+ *   CALL XPLB_EXIT
+ *     stops at once.
+ *
+ * "At once" is a longjmp from the utility back to vumat_call_guarded, across the VUMAT's
+ * Fortran frames (which hold no C++ objects; memory the VUMAT ALLOCATEd on the way is not
+ * freed). The jump never leaves the plugin: update() returns an error code to the host.
+ * The context is thread-local, since the host calls update() from several threads.
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "musclefem_vumat.h"
+
+static _Thread_local VumatCall* current_call = NULL;
+
+int vumat_call_guarded(VumatCall* call, const VumatArguments* a) {
+    static const int ndir = 3, nshr = 3, nfieldv = 0, lanneal = 0;
+    call->failed = 0;
+    call->message[0] = '\0';
+    VumatCall* previous = current_call;
+    current_call = call;
+    if (setjmp(call->jump) == 0) {
+        vumat_(&a->nblock, &ndir, &nshr, &a->nstatev, &nfieldv, &a->nprops, &lanneal,
+               &a->step_time, &a->total_time, &a->dt, a->cmname, a->coord_mp, a->char_length,
+               a->props, a->density, a->strain_inc, a->rel_spin_inc, a->temp_old,
+               a->stretch_old, a->defgrad_old, a->field_old, a->stress_old, a->state_old,
+               a->ener_intern_old, a->ener_inelas_old, a->temp_new, a->stretch_new,
+               a->defgrad_new, a->field_new, a->stress_new, a->state_new, a->ener_intern_new,
+               a->ener_inelas_new, (size_t)80);
+    }
+    current_call = previous;
+    return call->failed;
+}
+
+/* Length of a blank-padded Fortran string without its trailing blanks. */
+static size_t trimmed_length(const char* text, size_t length) {
+    while (length > 0 && (text[length - 1] == ' ' || text[length - 1] == '\0')) --length;
+    return length;
+}
+
+/* STRING with its %I, %R and %S replaced, cut to fit `capacity`. */
+static void format_message(const char* string, size_t string_length, const int* intv,
+                           const double* realv, const char* charv, size_t charv_length,
+                           char* out, size_t capacity) {
+    size_t used = 0, n = trimmed_length(string, string_length);
+    int next_int = 0, next_real = 0, next_char = 0;
+    out[0] = '\0';
+    for (size_t i = 0; i < n && used + 1 < capacity; ++i) {
+        char piece[64];
+        const char* text = piece;
+        size_t length = 0;
+        char code = (i + 1 < n && string[i] == '%') ? string[i + 1] : '\0';
+        if (code == 'I' || code == 'i') {
+            length = (size_t)snprintf(piece, sizeof piece, "%d", intv[next_int++]);
+            ++i;
+        } else if (code == 'R' || code == 'r') {
+            length = (size_t)snprintf(piece, sizeof piece, "%.9g", realv[next_real++]);
+            ++i;
+        } else if (code == 'S' || code == 's') {
+            text = charv + charv_length * (size_t)next_char++;
+            length = trimmed_length(text, charv_length);
+            ++i;
+        } else {
+            piece[0] = string[i];
+            length = 1;
+        }
+        if (length > capacity - 1 - used) length = capacity - 1 - used;
+        memcpy(out + used, text, length);
+        used += length;
+        out[used] = '\0';
+    }
+}
+
+void xplb_abqerr_(const int* lop, const char* string, const int* intv, const double* realv,
+                  const char* charv, size_t string_length, size_t charv_length) {
+    char text[480];
+    format_message(string, string_length, intv, realv, charv, charv_length, text, sizeof text);
+    VumatCall* call = current_call;
+    if (*lop >= 0 || *lop == -1 || call == NULL) {
+        fprintf(stderr, "VUMAT %s: %s\n", *lop >= 0 ? "info" : (*lop == -1 ? "warning" : "error"),
+                text);
+        return;
+    }
+    if (!call->failed) {
+        snprintf(call->message, sizeof call->message, "XPLB_ABQERR (lop = %d): %s", *lop, text);
+        call->failed = 1;
+    }
+    if (*lop <= -3) longjmp(call->jump, 1);
+}
+
+void xplb_exit_(void) {
+    VumatCall* call = current_call;
+    if (call == NULL) return;
+    if (!call->failed) {
+        snprintf(call->message, sizeof call->message, "the VUMAT called XPLB_EXIT");
+        call->failed = 1;
+    }
+    longjmp(call->jump, 1);
+}

@@ -1,0 +1,203 @@
+/*
+ * kinematics.c — the tensors the VUMAT adapter hands to Abaqus/Explicit's VUMAT: polar
+ * decomposition, material basis, strain and spin increments, and the component orders.
+ * See musclefem_vumat.h for each function's contract and docs/vumat.md for the choices.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "musclefem_vumat.h"
+
+void mat_from_column_major(const double* f, double m[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) m[i][j] = f[i + 3 * j];
+}
+
+void mat_mul(const double a[3][3], const double b[3][3], double out[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+}
+
+void mat_mul_tn(const double a[3][3], const double b[3][3], double out[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out[i][j] = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
+}
+
+void mat_mul_nt(const double a[3][3], const double b[3][3], double out[3][3]) {
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) out[i][j] = a[i][0] * b[j][0] + a[i][1] * b[j][1] + a[i][2] * b[j][2];
+}
+
+double mat_det(const double a[3][3]) {
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
+double mat_inverse(const double a[3][3], double out[3][3]) {
+    double det = mat_det(a);
+    if (det == 0.0) return 0.0;
+    double s = 1.0 / det;
+    out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) * s;
+    out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * s;
+    out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * s;
+    out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) * s;
+    out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * s;
+    out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * s;
+    out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) * s;
+    out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * s;
+    out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * s;
+    return det;
+}
+
+void to_basis(const double q[3][3], const double a[3][3], double out[3][3]) {
+    double aq[3][3];
+    mat_mul(a, q, aq);
+    mat_mul_tn(q, aq, out);
+}
+
+void from_basis(const double q[3][3], const double a[3][3], double out[3][3]) {
+    double qa[3][3];
+    mat_mul(q, a, qa);
+    mat_mul_nt(qa, q, out);
+}
+
+static double frobenius_squared(const double a[3][3]) {
+    double s = 0.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) s += a[i][j] * a[i][j];
+    return s;
+}
+
+/*
+ * Newton's iteration for the orthogonal factor, X <- (g X + X^-T / g)/2, from X = F, with
+ * Higham's scaling g = sqrt(|X^-1|_F / |X|_F) while the relative change exceeds 1e-2
+ * (then g = 1). It converges quadratically to R for det F > 0: once the relative change
+ * is below 1e-9, the next iterate is exact to round-off and the loop ends. Then
+ * U = sym(R^T F).
+ */
+int polar_decomposition(const double f[3][3], double r[3][3], double u[3][3]) {
+    double x[3][3];
+    memcpy(x, f, sizeof x);
+    int scaled = 1;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+        double inverse[3][3];
+        double det = mat_inverse(x, inverse);
+        if (!(det > 0.0) || !isfinite(det)) return 1;
+        double g = scaled ? sqrt(sqrt(frobenius_squared(inverse) / frobenius_squared(x))) : 1.0;
+        double next[3][3], change = 0.0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                next[i][j] = 0.5 * (g * x[i][j] + inverse[j][i] / g);
+                double d = next[i][j] - x[i][j];
+                change += d * d;
+            }
+        memcpy(x, next, sizeof x);
+        double relative = sqrt(change / frobenius_squared(x));
+        if (relative < 1e-2) scaled = 0;
+        if (relative < 1e-9 && !scaled) {
+            /* One more (unscaled) step takes the 1e-9 error to round-off. */
+            mat_inverse(x, inverse);
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) r[i][j] = 0.5 * (x[i][j] + inverse[j][i]);
+            double rt_f[3][3];
+            mat_mul_tn(r, f, rt_f);
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) u[i][j] = 0.5 * (rt_f[i][j] + rt_f[j][i]);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* b completes a: the global axis least aligned with a (the first on ties), made
+ * orthogonal to a and normalised. For a along a global axis, (a, b, c) are global axes. */
+void material_basis(const double fiber[3], int convention, double q[3][3]) {
+    memset(q, 0, 9 * sizeof(double));
+    q[0][0] = q[1][1] = q[2][2] = 1.0;
+    if (convention != VUMAT_FIBER_ORIENTATION) return;
+    double norm = sqrt(fiber[0] * fiber[0] + fiber[1] * fiber[1] + fiber[2] * fiber[2]);
+    double a[3] = {fiber[0] / norm, fiber[1] / norm, fiber[2] / norm};
+    int axis = 0;
+    for (int i = 1; i < 3; ++i)
+        if (fabs(a[i]) < fabs(a[axis])) axis = i;
+    double b[3] = {-a[axis] * a[0], -a[axis] * a[1], -a[axis] * a[2]};
+    b[axis] += 1.0;
+    double b_norm = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    for (int i = 0; i < 3; ++i) b[i] /= b_norm;
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    for (int i = 0; i < 3; ++i) {
+        q[i][0] = a[i];
+        q[i][1] = b[i];
+        q[i][2] = c[i];
+    }
+}
+
+/* The midpoint rule of a central-difference code: dL = (F_new - F_old) F_mid^-1. The frame
+ * spin uses the same rule on R, (R_new - R_old) ((R_old + R_new)/2)^-1, so that a rigid
+ * rotation (F = R) has no strain increment (the Cayley transform of an orthogonal matrix is
+ * skew) and no relative spin, to round-off. */
+int increment_kinematics(const double f_old[3][3], const double f_new[3][3],
+                         const double r_old[3][3], const double r_new[3][3],
+                         double strain_inc[3][3], double spin_inc[3], double* j_mid) {
+    double f_mid[3][3], df[3][3], r_bar[3][3], dr[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            f_mid[i][j] = 0.5 * (f_old[i][j] + f_new[i][j]);
+            df[i][j] = f_new[i][j] - f_old[i][j];
+            r_bar[i][j] = 0.5 * (r_old[i][j] + r_new[i][j]);
+            dr[i][j] = r_new[i][j] - r_old[i][j];
+        }
+    double r_mid[3][3], u_mid[3][3], f_mid_inverse[3][3], r_bar_inverse[3][3];
+    if (polar_decomposition(f_mid, r_mid, u_mid) != 0) return 1;
+    *j_mid = mat_inverse(f_mid, f_mid_inverse);
+    if (mat_inverse(r_bar, r_bar_inverse) == 0.0) return 1;
+    double dl[3][3], frame_spin[3][3], sym[3][3], relative[3][3];
+    mat_mul(df, f_mid_inverse, dl);
+    mat_mul(dr, r_bar_inverse, frame_spin);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            sym[i][j] = 0.5 * (dl[i][j] + dl[j][i]);
+            relative[i][j] = 0.5 * (dl[i][j] - dl[j][i]) - 0.5 * (frame_spin[i][j] - frame_spin[j][i]);
+        }
+    double rotated[3][3];
+    to_basis(r_mid, sym, strain_inc);
+    to_basis(r_mid, relative, rotated);
+    spin_inc[0] = rotated[2][1];
+    spin_inc[1] = rotated[0][2];
+    spin_inc[2] = rotated[1][0];
+    return 0;
+}
+
+void put_abaqus_symmetric(const double s[3][3], double* out, size_t stride) {
+    out[0] = s[0][0];
+    out[stride] = s[1][1];
+    out[2 * stride] = s[2][2];
+    out[3 * stride] = s[0][1];
+    out[4 * stride] = s[1][2];
+    out[5 * stride] = s[2][0];
+}
+
+void get_abaqus_symmetric(const double* in, size_t stride, double s[3][3]) {
+    s[0][0] = in[0];
+    s[1][1] = in[stride];
+    s[2][2] = in[2 * stride];
+    s[0][1] = s[1][0] = in[3 * stride];
+    s[1][2] = s[2][1] = in[4 * stride];
+    s[2][0] = s[0][2] = in[5 * stride];
+}
+
+void put_abaqus_full(const double a[3][3], double* out, size_t stride) {
+    static const int row[9] = {0, 1, 2, 0, 1, 2, 1, 2, 0};
+    static const int column[9] = {0, 1, 2, 1, 2, 0, 0, 1, 2};
+    for (int c = 0; c < 9; ++c) out[c * stride] = a[row[c]][column[c]];
+}
+
+void put_host_voigt(const double s[3][3], double* out) {
+    out[0] = s[0][0];
+    out[1] = s[1][1];
+    out[2] = s[2][2];
+    out[3] = s[1][2];
+    out[4] = s[0][2];
+    out[5] = s[0][1];
+}
