@@ -297,7 +297,7 @@ static int32_t update(const MusclefemPointBlock* block, char* message, uint64_t 
     if (block->struct_size < sizeof(MusclefemPointBlock))
         return fail(message, capacity, "the host's block is smaller than this plugin's");
     if (block->property_count != PROPERTY_COUNT || block->properties == NULL)
-        return fail(message, capacity, "expected %d properties (the VUMAT's %d props, then "
+        return fail(message, capacity, "expected %d properties (the VUMAT's nprops = %d, then "
                     "vumat_density, vumat_char_length, vumat_temperature), got %" PRIu64,
                     PROPERTY_COUNT, VUMAT_NPROPS, block->property_count);
     if (block->point_count == 0) return 0;

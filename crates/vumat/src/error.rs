@@ -92,11 +92,9 @@ impl fmt::Display for VumatError {
             VumatError::Io { what, path, source } => {
                 write!(f, "cannot {what} {}: {source}", path.display())
             }
-            VumatError::OutputExists(path) => write!(
-                f,
-                "{} exists; give --force to replace it",
-                path.display()
-            ),
+            VumatError::OutputExists(path) => {
+                write!(f, "{} exists; give --force to replace it", path.display())
+            }
             VumatError::Load(error) => write!(f, "the built plugin does not load: {error}"),
         }
     }

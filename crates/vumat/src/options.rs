@@ -275,7 +275,10 @@ mod tests {
             ("mu=x", "--props 'mu=x': 'x' is not a number"),
             ("mu=1,mu=2", "--props 'mu=2': 'mu' is given more than once"),
             ("1mu=1", "'1mu' is not a parameter name"),
-            ("vumat_density=1", "names starting with 'vumat_' are the adapter's"),
+            (
+                "vumat_density=1",
+                "names starting with 'vumat_' are the adapter's",
+            ),
             ("mu=inf", "the default inf is not finite"),
             ("mu=1:P\"a", "the unit 'P\"a' holds the character '\"'"),
             ("mu=1,", "'' is not a parameter name"),

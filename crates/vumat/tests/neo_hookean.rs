@@ -17,9 +17,7 @@ use musclefem_vumat::FiberConvention;
 use nalgebra::{Matrix3, Vector3};
 
 use support::builds::{builtin, gfortran_or_skip, material, neo_hookean_vumat};
-use support::points::{
-    Point, deformation_gradients, matrix, polar, relative_difference, rotation,
-};
+use support::points::{Point, deformation_gradients, matrix, polar, relative_difference, rotation};
 
 /// Shear modulus [Pa] and compressibility [1/Pa] of the comparisons: bulk modulus 2/D =
 /// 20 μ, so that the volumetric and deviatoric stresses are of similar size.
@@ -35,7 +33,12 @@ fn vumat_materials() -> Vec<(FiberConvention, std::sync::Arc<dyn Material>)> {
         (FiberConvention::None, "nh-vumat-global"),
     ]
     .into_iter()
-    .map(|(fiber, name)| (fiber, material(&neo_hookean_vumat(name, fiber), &PARAMETERS)))
+    .map(|(fiber, name)| {
+        (
+            fiber,
+            material(&neo_hookean_vumat(name, fiber), &PARAMETERS),
+        )
+    })
     .collect()
 }
 
@@ -74,8 +77,7 @@ fn uniaxial_stress_through_the_driver_matches_the_builtin() {
 
 #[test]
 fn simple_shear_under_a_rigid_rotation_matches_the_builtin_step_by_step() {
-    if !gfortran_or_skip("simple_shear_under_a_rigid_rotation_matches_the_builtin_step_by_step")
-    {
+    if !gfortran_or_skip("simple_shear_under_a_rigid_rotation_matches_the_builtin_step_by_step") {
         return;
     }
     let reference = builtin("neo-hookean", &PARAMETERS);
@@ -93,7 +95,10 @@ fn simple_shear_under_a_rigid_rotation_matches_the_builtin_step_by_step() {
             let expected = reference_point.step(f, dt).unwrap();
             let relative = relative_difference(&stress, &expected);
             worst = worst.max(relative);
-            assert!(relative < 1e-8, "{fiber}, step {step}: {stress:?} vs {expected:?}");
+            assert!(
+                relative < 1e-8,
+                "{fiber}, step {step}: {stress:?} vs {expected:?}"
+            );
         }
         // The kept co-rotational stress is R^T sigma R of the last step.
         let f = point.f;
@@ -156,7 +161,10 @@ fn a_rigidly_rotated_deformation_gives_the_rotated_stress() {
             let at_once = Point::new(&*vumat, fiber_direction)
                 .step(q * f, 0.1)
                 .unwrap();
-            assert!(relative_difference(&at_once, &rotated) < 1e-10, "{fiber}, F #{i}");
+            assert!(
+                relative_difference(&at_once, &rotated) < 1e-10,
+                "{fiber}, F #{i}"
+            );
         }
         // A rigid rotation alone stresses nothing.
         let mut point = Point::new(&*vumat, Vector3::x());
@@ -222,7 +230,10 @@ fn the_finite_difference_tangent_matches_the_builtin_analytic_one() {
         for f in deformation_gradients().into_iter().take(8) {
             let expected = tangent(&*reference, f);
             let relative = (tangent(&*vumat, f) - expected).norm() / expected.norm();
-            assert!(relative < 1e-6, "{fiber}: relative tangent error {relative:e}");
+            assert!(
+                relative < 1e-6,
+                "{fiber}: relative tangent error {relative:e}"
+            );
         }
     }
 }

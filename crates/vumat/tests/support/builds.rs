@@ -24,9 +24,7 @@ pub fn gfortran_or_skip(test: &str) -> bool {
         std::env::var_os("MUSCLEFEM_REQUIRE_GFORTRAN").is_none(),
         "{test}: gfortran is required (MUSCLEFEM_REQUIRE_GFORTRAN is set) but not found"
     );
-    eprintln!(
-        "SKIPPED {test}: gfortran is not installed (scripts/setup-fortran.sh installs it)"
-    );
+    eprintln!("SKIPPED {test}: gfortran is not installed (scripts/setup-fortran.sh installs it)");
     false
 }
 
