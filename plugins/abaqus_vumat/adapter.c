@@ -17,8 +17,14 @@
  *
  * After the call, the Cauchy stress sigma = Q R_new stressNew R_new^T Q^T goes to the host
  * in its Voigt order (xx, yy, zz, yz, xz, xy), and stressNew, the energies and stateNew are
- * kept as the point's state. With dt = 0 (the host re-evaluating the accepted state) the
- * VUMAT is not called: the kept stress is rotated with R of F_new.
+ * kept as the point's state.
+ *
+ * dt = 0 is not a step (musclefem_material.h): the state is returned unchanged. When F_new
+ * = F_old at every point (the host re-evaluating the accepted state for frames and history)
+ * the VUMAT is not called: the kept stress is rotated with R of F_new. Otherwise (the host
+ * differentiating the stress at t = 0 for the explicit solver's stable step) the VUMAT is
+ * called with dt = 0 and stepTime = totalTime = time, like Abaqus/Explicit's data-check
+ * call with a fictitious strain increment, and its stress is returned but not kept.
  *
  * stressNew is filled with a NaN of a fixed bit pattern before the call: an entry that
  * still holds it was never set. stateNew and the energies start as copies of the old
@@ -119,7 +125,8 @@ static void initial_fiber_state(const MusclefemPointBlock* block, uint64_t p, do
     for (int i = 0; i < 3; ++i) user[stride * (size_t)i] = a[i] / norm;
 }
 
-/* dt = 0: the kept co-rotational stress, rotated with R of F_new; the state unchanged. */
+/* dt = 0 and F_new = F_old: the kept co-rotational stress, rotated with R of F_new; the
+ * state unchanged. */
 static int32_t reevaluate(const MusclefemPointBlock* block, char* message, uint64_t capacity) {
     for (uint64_t p = 0; p < block->point_count; ++p) {
         double q[3][3], f_old[3][3], f_new[3][3], r[3][3], u[3][3], sigma_hat[3][3];
@@ -212,6 +219,9 @@ static int32_t gather(const MusclefemPointBlock* block, uint64_t start, size_t n
 /* Check the VUMAT's outputs and hand them to the host. */
 static int32_t scatter(const MusclefemPointBlock* block, uint64_t start, size_t nb,
                        const Workspace* w, double step_time, char* message, uint64_t capacity) {
+    const char* zero_step = block->dt == 0.0 ? " (a call with dt = 0: the host differentiates "
+        "the stress in no time, as Abaqus/Explicit's data-check call does; the VUMAT must not "
+        "divide by dt there)" : "";
     for (size_t k = 0; k < nb; ++k) {
         const uint64_t p = start + k;
         for (size_t c = 0; c < 6; ++c) {
@@ -223,9 +233,9 @@ static int32_t scatter(const MusclefemPointBlock* block, uint64_t start, size_t 
                             COMPONENTS[c], p);
             if (!isfinite(v))
                 return fail(message, capacity, "the VUMAT returned %s in stressNew(%zu, %zu) "
-                            "(component %s of point %" PRIu64 " of the block) at stepTime = %g",
+                            "(component %s of point %" PRIu64 " of the block) at stepTime = %g%s",
                             isnan(v) ? "NaN" : "an infinite value", k + 1, c + 1, COMPONENTS[c],
-                            p, step_time);
+                            p, step_time, zero_step);
         }
         for (size_t i = 0; i < USER_STATES; ++i)
             if (!isfinite(w->state_new[k + nb * i]))
@@ -242,6 +252,10 @@ static int32_t scatter(const MusclefemPointBlock* block, uint64_t start, size_t 
         memcpy(r, w->rotation + 9 * k, sizeof r);
         put_cauchy(q, r, sigma_hat, block->cauchy_stress + 6 * p);
         double* state = block->state_new + STATE_COUNT * p;
+        if (block->dt == 0.0) {
+            memcpy(state, block->state_old + STATE_COUNT * p, STATE_COUNT * sizeof(double));
+            continue;
+        }
         for (size_t c = 0; c < 6; ++c) state[c] = w->stress_new[k + nb * c];
         state[VUMAT_STATE_ENER_INTERN] = w->ener_intern_new[k];
         state[VUMAT_STATE_ENER_INELAS] = w->ener_inelas_new[k];
@@ -262,6 +276,7 @@ static int32_t advance(const MusclefemPointBlock* block, char* message, uint64_t
     if (workspace_allocate(&w, most) != 0)
         return fail(message, capacity, "out of memory for a block of %zu points", most);
     int32_t code = 0;
+    /* The start of the increment; with dt = 0, the time itself. */
     const double step_time = block->time - block->dt;
     for (uint64_t start = 0; start < n && code == 0; start += most) {
         const size_t nb = (n - start < most) ? (size_t)(n - start) : most;
@@ -301,7 +316,9 @@ static int32_t update(const MusclefemPointBlock* block, char* message, uint64_t 
                     "vumat_density, vumat_char_length, vumat_temperature), got %" PRIu64,
                     PROPERTY_COUNT, VUMAT_NPROPS, block->property_count);
     if (block->point_count == 0) return 0;
-    if (block->dt == 0.0) return reevaluate(block, message, capacity);
+    if (block->dt == 0.0 && memcmp(block->deformation_gradient_old, block->deformation_gradient_new,
+                                   9 * sizeof(double) * block->point_count) == 0)
+        return reevaluate(block, message, capacity);
     return advance(block, message, capacity);
 }
 

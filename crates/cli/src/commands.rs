@@ -42,7 +42,7 @@ pub fn materials(args: &MaterialsArgs) -> Result<()> {
 }
 
 /// Parameters as an aligned table, indented by four spaces.
-fn parameter_table(specs: &[ParameterSpec]) -> String {
+pub fn parameter_table(specs: &[ParameterSpec]) -> String {
     if specs.is_empty() {
         return "    (no parameters)\n".to_string();
     }

@@ -11,7 +11,9 @@
 //! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log;
 //! - `musclefem fibers`: fiber directions from a flow through a mesh file;
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
-//!   fusiform muscle (see the library's `elongation` module).
+//!   fusiform muscle (see the library's `elongation` module);
+//! - `musclefem vumat build`: an Abaqus/Explicit VUMAT compiled into a material plugin
+//!   (`musclefem-vumat`).
 
 // Every crate that registers materials with `inventory` (today: materials) must be named
 // here, or the linker may drop its registrations (see docs/design.md, "Two traps").
@@ -24,6 +26,7 @@ mod fibers_command;
 mod knee_command;
 mod scene_run;
 mod summary;
+mod vumat_command;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -88,6 +91,10 @@ enum Command {
     /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
     /// front marked) and bench.log.
     Bench(bench_command::BenchArgs),
+    /// Abaqus/Explicit VUMATs as materials: `vumat build FILE.f --name NAME --props ...
+    /// --nstatev N --out LIB.so` compiles a user's Fortran VUMAT, unchanged, into a
+    /// material plugin (docs/vumat.md).
+    Vumat(vumat_command::VumatArgs),
 }
 
 #[derive(Debug, Args)]
@@ -204,6 +211,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),
+        Some(Command::Vumat(args)) => vumat_command::vumat(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
             force: false,

@@ -1,0 +1,118 @@
+//! `musclefem vumat build`: a user's Abaqus/Explicit VUMAT compiled into a material plugin.
+//! The build is in `musclefem-vumat` (crates/vumat); this is its command line and its
+//! report.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use musclefem_vumat::{FiberConvention, Prop, VumatBuild, build_plugin};
+
+use crate::commands::parameter_table;
+
+#[derive(Debug, Args)]
+pub struct VumatArgs {
+    #[command(subcommand)]
+    pub command: VumatCommand,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum VumatCommand {
+    /// Compile a Fortran file with SUBROUTINE VUMAT (Abaqus/Explicit's interface, unchanged)
+    /// with gfortran and link it with musclefem's adapter into a material plugin for scenes
+    /// (`plugin = "LIB.so"`, `run --allow-plugins`); see docs/vumat.md.
+    Build(VumatBuildArgs),
+}
+
+/// Where the VUMAT finds the reference fiber direction.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum Fiber {
+    /// Every tensor in the fiber's basis: the fiber is local direction 1 (*ORIENTATION).
+    Orientation,
+    /// Global basis, the unit fiber in state variables 1-3 at the first increment
+    /// (*INITIAL CONDITIONS, TYPE=SOLUTION); needs --nstatev 3 or more.
+    State,
+    /// Global basis, no fiber direction (isotropic VUMATs).
+    None,
+}
+
+#[derive(Debug, Args)]
+pub struct VumatBuildArgs {
+    /// The Fortran file with SUBROUTINE VUMAT (.f, .for, .f90, ...).
+    pub source: PathBuf,
+    /// Material name for scene files (`model = "NAME"`).
+    #[arg(long, value_name = "NAME")]
+    pub name: String,
+    /// The VUMAT's props in order, as named parameters with defaults and SI units
+    /// (unit "1" when left out; no default: the scene must give it), e.g.
+    /// mu=11370:Pa,D=5e-9:1/Pa.
+    #[arg(long, value_name = "NAME[=DEFAULT[:UNIT]],...", default_value = "")]
+    pub props: String,
+    /// The VUMAT's number of state variables (nstatev).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub nstatev: usize,
+    /// Where the VUMAT finds the fiber direction.
+    #[arg(long, value_enum, default_value = "orientation")]
+    pub fiber: Fiber,
+    /// cmname passed to the VUMAT [default: NAME in upper case].
+    #[arg(long, value_name = "CMNAME")]
+    pub cmname: Option<String>,
+    /// The plugin library to write (e.g. libmy_vumat.so).
+    #[arg(long, value_name = "LIB")]
+    pub out: PathBuf,
+    /// Replace an existing library.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `musclefem vumat ...`.
+pub fn vumat(args: &VumatArgs) -> Result<()> {
+    match &args.command {
+        VumatCommand::Build(build) => build_command(build),
+    }
+}
+
+fn build_command(args: &VumatBuildArgs) -> Result<()> {
+    let build = VumatBuild {
+        source: args.source.clone(),
+        name: args.name.clone(),
+        cmname: args.cmname.clone(),
+        props: Prop::parse_list(&args.props)?,
+        nstatev: args.nstatev,
+        fiber: match args.fiber {
+            Fiber::Orientation => FiberConvention::Orientation,
+            Fiber::State => FiberConvention::State,
+            Fiber::None => FiberConvention::None,
+        },
+        out: args.out.clone(),
+        replace: args.force,
+    };
+    let built = build_plugin(&build)
+        .with_context(|| format!("building a plugin from {}", args.source.display()))?;
+    if !built.warnings.trim().is_empty() {
+        eprintln!("gfortran's warnings:\n{}", built.warnings.trim_end());
+    }
+    let library = built.library.display();
+    println!(
+        "built {library}: material '{}' from {} (cmname {}, {} props, nstatev {}, fiber \
+         convention {})",
+        built.info.name,
+        args.source.display(),
+        build.cmname(),
+        build.props.len(),
+        build.nstatev,
+        build.fiber
+    );
+    print!("{}", parameter_table(&built.info.parameters));
+    let file_name = built
+        .library
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    println!(
+        "\nIn a scene, run with `musclefem run SCENE --allow-plugins`:\n\n[[materials]]\n\
+         name = \"...\"\nmodel = \"{}\"\nplugin = \"{file_name}\"   # relative to the scene file",
+        built.info.name
+    );
+    Ok(())
+}

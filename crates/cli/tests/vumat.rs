@@ -1,0 +1,141 @@
+//! `musclefem vumat build` and `musclefem run --allow-plugins` end to end: the example
+//! VUMAT (examples/vumat/neo_hookean_vumat.f) built by the command, the example scene
+//! (examples/vumat/neo_hookean_cube.toml) run with it, explicitly and implicitly (the
+//! host's finite-difference tangent), against the same scene with the built-in
+//! `neo-hookean`: the reactions of history.csv agree to 1e-6. Skipped, saying so, when
+//! gfortran is missing, unless MUSCLEFEM_REQUIRE_GFORTRAN is set (scripts/test).
+
+mod support;
+
+use std::path::Path;
+
+use musclefem_vumat::toolchain::Tool;
+use support::run::{musclefem, test_dir, text};
+
+fn gfortran_or_skip(test: &str) -> bool {
+    if Tool::fortran().is_available() {
+        return true;
+    }
+    assert!(
+        std::env::var_os("MUSCLEFEM_REQUIRE_GFORTRAN").is_none(),
+        "{test}: gfortran is required (MUSCLEFEM_REQUIRE_GFORTRAN is set) but not found"
+    );
+    eprintln!("SKIPPED {test}: gfortran is not installed (scripts/setup-fortran.sh installs it)");
+    false
+}
+
+fn examples() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/vumat")
+}
+
+/// history.csv of a run: the header and the rows.
+fn history(dir: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The largest difference of the reaction columns, relative to the largest reaction.
+fn reaction_difference(a: &Path, b: &Path) -> (f64, f64) {
+    let (header, rows) = history(a);
+    let (reference_header, reference_rows) = history(b);
+    assert_eq!(header, reference_header);
+    assert_eq!(rows.len(), reference_rows.len());
+    let columns: Vec<usize> = (0..header.len())
+        .filter(|&c| header[c].starts_with("reaction_"))
+        .collect();
+    assert!(!columns.is_empty(), "{header:?}");
+    let scale = reference_rows
+        .iter()
+        .flat_map(|r| columns.iter().map(|&c| r[c].abs()))
+        .fold(0.0, f64::max);
+    let difference = rows
+        .iter()
+        .zip(&reference_rows)
+        .flat_map(|(r, s)| columns.iter().map(move |&c| (r[c] - s[c]).abs()))
+        .fold(0.0, f64::max);
+    (difference / scale, scale)
+}
+
+fn run_ok(dir: &Path, args: &[&str]) -> String {
+    let out = musclefem(dir, args);
+    assert!(
+        out.status.success(),
+        "musclefem {args:?}:\n{}\n{}",
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+    text(&out.stdout)
+}
+
+#[test]
+fn the_example_vumat_scene_matches_the_builtin_material_in_both_solvers() {
+    if !gfortran_or_skip("the_example_vumat_scene_matches_the_builtin_material_in_both_solvers") {
+        return;
+    }
+    let dir = test_dir("vumat", "cube");
+    let source = examples().join("neo_hookean_vumat.f");
+    let printed = run_ok(
+        &dir,
+        &[
+            "vumat",
+            "build",
+            source.to_str().unwrap(),
+            "--name",
+            "neo-hookean-vumat",
+            "--props",
+            "mu=11370:Pa,D=5e-9:1/Pa",
+            "--fiber",
+            "none",
+            "--out",
+            "libneo_hookean_vumat.so",
+        ],
+    );
+    assert!(
+        printed.contains("built libneo_hookean_vumat.so: material 'neo-hookean-vumat'")
+            && printed.contains("plugin = \"libneo_hookean_vumat.so\""),
+        "{printed}"
+    );
+    let scene = std::fs::read_to_string(examples().join("neo_hookean_cube.toml")).unwrap();
+    std::fs::write(dir.join("vumat.toml"), &scene).unwrap();
+    let builtin = scene
+        .replace("model = \"neo-hookean-vumat\"", "model = \"neo-hookean\"")
+        .replace("plugin = \"libneo_hookean_vumat.so\"\n", "")
+        .replace(", vumat_density = 1000.0", "");
+    assert!(!builtin.contains("vumat\"") && !builtin.contains("plugin ="));
+    std::fs::write(dir.join("builtin.toml"), builtin).unwrap();
+
+    // A scene's plugin is loaded only when allowed.
+    let refused = musclefem(&dir, &["run", "vumat.toml", "--out", "refused"]);
+    assert!(!refused.status.success());
+    assert!(
+        text(&refused.stderr).contains("--allow-plugins"),
+        "{}",
+        text(&refused.stderr)
+    );
+
+    for solver in ["explicit", "implicit"] {
+        let vumat_out = format!("vumat-{solver}");
+        let builtin_out = format!("builtin-{solver}");
+        let mut args = vec!["run", "vumat.toml", "--allow-plugins", "--out", &vumat_out];
+        if solver == "implicit" {
+            args.extend(["--solver", "implicit"]);
+        }
+        run_ok(&dir, &args);
+        args = vec!["run", "builtin.toml", "--out", &builtin_out];
+        if solver == "implicit" {
+            args.extend(["--solver", "implicit"]);
+        }
+        run_ok(&dir, &args);
+        let (difference, scale) =
+            reaction_difference(&dir.join(&vumat_out), &dir.join(&builtin_out));
+        eprintln!("{solver}: reactions differ by {difference:e} of the largest, {scale} N");
+        // The pull's reaction: P11(1.25) A0 = 0.585 N (plus inertia when explicit).
+        assert!((0.58..0.60).contains(&scale), "{solver}: {scale} N");
+        assert!(difference < 1e-6, "{solver}: {difference:e}");
+    }
+}
