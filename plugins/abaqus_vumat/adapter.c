@@ -38,6 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "matrix3.h"
 #include "musclefem_material.h"
 #include "musclefem_vumat.h"
 #include "vumat_config.h"

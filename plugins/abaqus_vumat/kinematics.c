@@ -6,61 +6,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "matrix3.h"
 #include "musclefem_vumat.h"
-
-void mat_from_column_major(const double* f, double m[3][3]) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) m[i][j] = f[i + 3 * j];
-}
-
-void mat_mul(const double a[3][3], const double b[3][3], double out[3][3]) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-}
-
-void mat_mul_tn(const double a[3][3], const double b[3][3], double out[3][3]) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) out[i][j] = a[0][i] * b[0][j] + a[1][i] * b[1][j] + a[2][i] * b[2][j];
-}
-
-void mat_mul_nt(const double a[3][3], const double b[3][3], double out[3][3]) {
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) out[i][j] = a[i][0] * b[j][0] + a[i][1] * b[j][1] + a[i][2] * b[j][2];
-}
-
-double mat_det(const double a[3][3]) {
-    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
-           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
-           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
-}
-
-double mat_inverse(const double a[3][3], double out[3][3]) {
-    double det = mat_det(a);
-    if (det == 0.0) return 0.0;
-    double s = 1.0 / det;
-    out[0][0] = (a[1][1] * a[2][2] - a[1][2] * a[2][1]) * s;
-    out[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * s;
-    out[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * s;
-    out[1][0] = (a[1][2] * a[2][0] - a[1][0] * a[2][2]) * s;
-    out[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * s;
-    out[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * s;
-    out[2][0] = (a[1][0] * a[2][1] - a[1][1] * a[2][0]) * s;
-    out[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * s;
-    out[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * s;
-    return det;
-}
-
-void to_basis(const double q[3][3], const double a[3][3], double out[3][3]) {
-    double aq[3][3];
-    mat_mul(a, q, aq);
-    mat_mul_tn(q, aq, out);
-}
-
-void from_basis(const double q[3][3], const double a[3][3], double out[3][3]) {
-    double qa[3][3];
-    mat_mul(q, a, qa);
-    mat_mul_nt(qa, q, out);
-}
 
 static double frobenius_squared(const double a[3][3]) {
     double s = 0.0;
@@ -70,44 +17,51 @@ static double frobenius_squared(const double a[3][3]) {
 }
 
 /*
- * Newton's iteration for the orthogonal factor, X <- (g X + X^-T / g)/2, from X = F, with
- * Higham's scaling g = sqrt(|X^-1|_F / |X|_F) while the relative change exceeds 1e-2
- * (then g = 1). It converges quadratically to R for det F > 0: once the relative change
- * is below 1e-9, the next iterate is exact to round-off and the loop ends. Then
- * U = sym(R^T F).
+ * The orthogonal factor of X (det X > 0), in place. While X is far from orthogonal
+ * (|I - X^T X|_max > 1/4): Newton's iteration X <- (g X + X^-T / g)/2 with Higham's scaling
+ * g = sqrt(|X^-1|_F / |X|_F). Then the Newton-Schulz iteration X <- X (I + E/2),
+ * E = I - X^T X, which needs no inverse and converges quadratically to the same factor
+ * (E becomes 3/4 E^2 + 1/4 E^3); it ends with the step at which |E|_max < 1e-8, after which
+ * |E| ~ 1e-16, round-off. Returns 0, or 1 if X is singular, inverted or not finite.
  */
-int polar_decomposition(const double f[3][3], double r[3][3], double u[3][3]) {
-    double x[3][3];
-    memcpy(x, f, sizeof x);
-    int scaled = 1;
+static int orthogonal_factor(double x[3][3]) {
     for (int iteration = 0; iteration < 100; ++iteration) {
-        double inverse[3][3];
-        double det = mat_inverse(x, inverse);
-        if (!(det > 0.0) || !isfinite(det)) return 1;
-        double g = scaled ? sqrt(sqrt(frobenius_squared(inverse) / frobenius_squared(x))) : 1.0;
-        double next[3][3], change = 0.0;
+        double xtx[3][3], e[3][3], largest = 0.0;
+        mat_mul_tn(x, x, xtx);
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
-                next[i][j] = 0.5 * (g * x[i][j] + inverse[j][i] / g);
-                double d = next[i][j] - x[i][j];
-                change += d * d;
+                e[i][j] = (i == j ? 1.0 : 0.0) - xtx[i][j];
+                double size = fabs(e[i][j]);
+                if (size > largest || size != size) largest = size;
             }
-        memcpy(x, next, sizeof x);
-        double relative = sqrt(change / frobenius_squared(x));
-        if (relative < 1e-2) scaled = 0;
-        if (relative < 1e-9 && !scaled) {
-            /* One more (unscaled) step takes the 1e-9 error to round-off. */
-            mat_inverse(x, inverse);
+        if (!isfinite(largest)) return 1;
+        if (largest > 0.25) {
+            double inverse[3][3];
+            double det = mat_inverse(x, inverse);
+            if (!(det > 0.0)) return 1;
+            double g = sqrt(sqrt(frobenius_squared(inverse) / frobenius_squared(x)));
             for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) r[i][j] = 0.5 * (x[i][j] + inverse[j][i]);
-            double rt_f[3][3];
-            mat_mul_tn(r, f, rt_f);
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) u[i][j] = 0.5 * (rt_f[i][j] + rt_f[j][i]);
-            return 0;
+                for (int j = 0; j < 3; ++j) x[i][j] = 0.5 * (g * x[i][j] + inverse[j][i] / g);
+            continue;
         }
+        double xe[3][3];
+        mat_mul(x, e, xe);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) x[i][j] += 0.5 * xe[i][j];
+        if (largest < 1e-8) return 0;
     }
     return 1;
+}
+
+/* R = the orthogonal factor of F, U = sym(R^T F). */
+int polar_decomposition(const double f[3][3], double r[3][3], double u[3][3]) {
+    memcpy(r, f, 9 * sizeof(double));
+    if (orthogonal_factor(r) != 0) return 1;
+    double rt_f[3][3];
+    mat_mul_tn(r, f, rt_f);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) u[i][j] = 0.5 * (rt_f[i][j] + rt_f[j][i]);
+    return 0;
 }
 
 /* b completes a: the global axis least aligned with a (the first on ties), made
@@ -134,9 +88,12 @@ void material_basis(const double fiber[3], int convention, double q[3][3]) {
 }
 
 /* The midpoint rule of a central-difference code: dL = (F_new - F_old) F_mid^-1. The frame
- * spin uses the same rule on R, (R_new - R_old) ((R_old + R_new)/2)^-1, so that a rigid
- * rotation (F = R) has no strain increment (the Cayley transform of an orthogonal matrix is
- * skew) and no relative spin, to round-off. */
+ * spin uses the same rule on R, (R_new - R_old) Rbar^-1 with Rbar = (R_old + R_new)/2, so
+ * that a rigid rotation (F = R) has no strain increment (the Cayley transform of an
+ * orthogonal matrix is skew) and no relative spin, to round-off. The mid-increment frame
+ * R_mid is the orthogonal factor of Rbar (one or two Newton-Schulz steps, Rbar being
+ * orthogonal to O(dt^2)); it is that of F_mid for a rigid rotation and within O(dt^2) of it
+ * otherwise, the order of the midpoint rule. */
 int increment_kinematics(const double f_old[3][3], const double f_new[3][3],
                          const double r_old[3][3], const double r_new[3][3],
                          double strain_inc[3][3], double spin_inc[3], double* j_mid) {
@@ -148,10 +105,11 @@ int increment_kinematics(const double f_old[3][3], const double f_new[3][3],
             r_bar[i][j] = 0.5 * (r_old[i][j] + r_new[i][j]);
             dr[i][j] = r_new[i][j] - r_old[i][j];
         }
-    double r_mid[3][3], u_mid[3][3], f_mid_inverse[3][3], r_bar_inverse[3][3];
-    if (polar_decomposition(f_mid, r_mid, u_mid) != 0) return 1;
+    double r_mid[3][3], f_mid_inverse[3][3], r_bar_inverse[3][3];
     *j_mid = mat_inverse(f_mid, f_mid_inverse);
-    if (mat_inverse(r_bar, r_bar_inverse) == 0.0) return 1;
+    if (!(*j_mid > 0.0) || mat_inverse(r_bar, r_bar_inverse) == 0.0) return 1;
+    memcpy(r_mid, r_bar, sizeof r_mid);
+    if (orthogonal_factor(r_mid) != 0) return 1;
     double dl[3][3], frame_spin[3][3], sym[3][3], relative[3][3];
     mat_mul(df, f_mid_inverse, dl);
     mat_mul(dr, r_bar_inverse, frame_spin);

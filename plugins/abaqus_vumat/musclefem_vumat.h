@@ -79,21 +79,7 @@ typedef struct {
  * stopped the analysis (the message is then in call->message). abaqus_utilities.c. */
 int vumat_call_guarded(VumatCall* call, const VumatArguments* arguments);
 
-/* --- kinematics.c ------------------------------------------------------------------- */
-
-/* F (row-indexed) from the host's column-major 9 values. */
-void mat_from_column_major(const double* f, double m[3][3]);
-/* out = a b, out = a^T b, out = a b^T (out may not alias a or b). */
-void mat_mul(const double a[3][3], const double b[3][3], double out[3][3]);
-void mat_mul_tn(const double a[3][3], const double b[3][3], double out[3][3]);
-void mat_mul_nt(const double a[3][3], const double b[3][3], double out[3][3]);
-double mat_det(const double a[3][3]);
-/* out = a^-1; returns det a (out untouched when it is 0). */
-double mat_inverse(const double a[3][3], double out[3][3]);
-/* out = q^T a q (a tensor's components in the basis of q's columns). */
-void to_basis(const double q[3][3], const double a[3][3], double out[3][3]);
-/* out = q a q^T (back to the global basis). */
-void from_basis(const double q[3][3], const double a[3][3], double out[3][3]);
+/* --- kinematics.c (the 3x3 helpers are in matrix3.h) --------------------------------- */
 
 /* The polar decomposition F = R U (R a rotation, U symmetric positive definite) of F with
  * det F > 0; returns 0, or 1 if the iteration did not converge. */
@@ -103,13 +89,14 @@ int polar_decomposition(const double f[3][3], double r[3][3], double u[3][3]);
  * and c = a x b (VUMAT_FIBER_ORIENTATION); the identity for the other conventions. */
 void material_basis(const double fiber[3], int convention, double q[3][3]);
 
-/* Kinematics of one increment from F_old to F_new (both in the VUMAT's basis), with
- * F_mid = (F_old + F_new)/2 = R_mid U_mid and dL = (F_new - F_old) F_mid^-1 the velocity
- * gradient times dt at mid-increment:
+/* Kinematics of one increment from F_old = R_old U_old to F_new = R_new U_new (both in
+ * the VUMAT's basis), with F_mid = (F_old + F_new)/2, dL = (F_new - F_old) F_mid^-1 the
+ * velocity gradient times dt at mid-increment, Rbar = (R_old + R_new)/2 and R_mid its
+ * orthogonal factor (the mid-increment co-rotational frame):
  *   strain_inc[3][3] = R_mid^T sym(dL) R_mid (co-rotational strain increment),
- *   spin_inc[3]      = the axial vector of R_mid^T (skew(dL) - skew(dR R_mid^T)) R_mid,
- *                      dR = R_new - R_old (the spin of the material relative to the
- *                      co-rotational frame, times dt),
+ *   spin_inc[3]      = the axial vector (A_32, A_13, A_21) of
+ *                      A = R_mid^T (skew(dL) - skew((R_new - R_old) Rbar^-1)) R_mid, the
+ *                      spin of the material relative to the co-rotational frame times dt,
  *   *j_mid           = det F_mid.
  * Returns 0, or 1 if a polar decomposition failed. */
 int increment_kinematics(const double f_old[3][3], const double f_new[3][3],

@@ -4,8 +4,12 @@
 use musclefem_materials::plugin::C_HEADER;
 
 /// (file name, contents) of every file the build writes next to `vumat_config.h`.
-pub const ADAPTER_FILES: [(&str, &str); 6] = [
+pub const ADAPTER_FILES: [(&str, &str); 7] = [
     ("musclefem_material.h", C_HEADER),
+    (
+        "matrix3.h",
+        include_str!("../../../plugins/abaqus_vumat/matrix3.h"),
+    ),
     (
         "musclefem_vumat.h",
         include_str!("../../../plugins/abaqus_vumat/musclefem_vumat.h"),
