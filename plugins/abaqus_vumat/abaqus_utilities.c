@@ -9,12 +9,20 @@
  *   CALL XPLB_EXIT
  *     stops at once.
  *
+ * and Fortran's STOP and ERROR STOP, which would otherwise end the whole musclefem process
+ * (with status 0 for STOP): the gfortran runtime's entry points for them are defined here,
+ * hidden, so that the linker binds the VUMAT's STOP statements to these instead of
+ * libgfortran's (the signatures of libgfortran 5, gfortran 8 and later). Outside a VUMAT
+ * call they exit as the runtime would.
+ *
  * "At once" is a longjmp from the utility back to vumat_call_guarded, across the VUMAT's
  * Fortran frames (which hold no C++ objects; memory the VUMAT ALLOCATEd on the way is not
  * freed). The jump never leaves the plugin: update() returns an error code to the host.
  * The context is thread-local, since the host calls update() from several threads.
  */
+#include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "musclefem_vumat.h"
@@ -104,4 +112,44 @@ void xplb_exit_(void) {
         call->failed = 1;
     }
     longjmp(call->jump, 1);
+}
+
+/* Record `text` as the call's error and jump back, or exit with `status` outside a call. */
+static void stop(int status, const char* what, const char* text, size_t length) {
+    VumatCall* call = current_call;
+    length = trimmed_length(text == NULL ? "" : text, text == NULL ? 0 : length);
+    if (call == NULL) {
+        fprintf(stderr, "%s %.*s\n", what, (int)length, text == NULL ? "" : text);
+        exit(status);
+    }
+    if (!call->failed) {
+        snprintf(call->message, sizeof call->message, "the VUMAT executed %s%s%.*s", what,
+                 length > 0 ? " " : "", (int)length, text == NULL ? "" : text);
+        call->failed = 1;
+    }
+    longjmp(call->jump, 1);
+}
+
+void _gfortran_stop_string(const char* text, size_t length, bool quiet) {
+    (void)quiet;
+    stop(0, "STOP", text, length);
+}
+
+void _gfortran_error_stop_string(const char* text, size_t length, bool quiet) {
+    (void)quiet;
+    stop(1, "ERROR STOP", text, length);
+}
+
+void _gfortran_stop_numeric(int code, bool quiet) {
+    (void)quiet;
+    char text[16];
+    snprintf(text, sizeof text, "%d", code);
+    stop(code, "STOP", text, strlen(text));
+}
+
+void _gfortran_error_stop_numeric(int code, bool quiet) {
+    (void)quiet;
+    char text[16];
+    snprintf(text, sizeof text, "%d", code);
+    stop(code, "ERROR STOP", text, strlen(text));
 }

@@ -1,5 +1,5 @@
 //! Failures are caught and named: a VUMAT that writes NaN or never sets stressNew, stops
-//! with XPLB_EXIT or reports with XPLB_ABQERR, a wrong props count (seen by the VUMAT, and
+//! with XPLB_EXIT or STOP or reports with XPLB_ABQERR, a wrong props count (seen by the VUMAT, and
 //! by the adapter when a caller breaks the ABI), and the build's own errors — gfortran's
 //! messages with file and line, routines nobody defines, a file without VUMAT, an existing
 //! output, a missing compiler.
@@ -105,6 +105,16 @@ fn vumat_failures_are_caught_and_named() {
         (
             5.0,
             "the VUMAT returned a non-finite stateNew(1, 1) (sdv1 of point 0 of the block)",
+        ),
+        (
+            6.0,
+            "the VUMAT stopped on points 0..2 of the block at stepTime = 0: the VUMAT \
+             executed STOP fault 6",
+        ),
+        (
+            7.0,
+            "the VUMAT stopped on points 0..2 of the block at stepTime = 0: the VUMAT \
+             executed STOP 7",
         ),
     ] {
         let text = update_three(&*faulty(fault)).unwrap_err();
