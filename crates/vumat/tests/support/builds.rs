@@ -1,5 +1,5 @@
 //! Building the test VUMATs (examples/vumat and tests/fixtures) into plugins, once per test
-//! binary and name, in `$CARGO_TARGET_TMPDIR/vumat-<pid>`; loading them as materials.
+//! binary and name, in `$CARGO_TARGET_TMPDIR/vumat-plugins`; loading them as materials.
 //!
 //! Without gfortran a test prints why and returns early, unless MUSCLEFEM_REQUIRE_GFORTRAN
 //! is set (scripts/test sets it after scripts/setup-fortran.sh), where it fails instead.
@@ -44,8 +44,10 @@ pub fn example(name: &str) -> PathBuf {
     workspace_root().join("examples/vumat").join(name)
 }
 
+/// Where the test plugins go: one directory for every run (a build replaces a library by
+/// renaming a new file over it, so a process that still has the old one loaded keeps it).
 pub fn out_dir() -> PathBuf {
-    Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("vumat-{}", std::process::id()))
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("vumat-plugins")
 }
 
 /// The options of a build of `source` as material `name` into out_dir().
