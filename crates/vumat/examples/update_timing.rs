@@ -62,8 +62,15 @@ fn plugins() -> (PathBuf, PathBuf) {
     (vumat, c)
 }
 
+/// F_old, F_new and the fiber of every point.
+struct Inputs {
+    f_old: Vec<Matrix3<f64>>,
+    f_new: Vec<Matrix3<f64>>,
+    fiber: Vec<Vector3<f64>>,
+}
+
 /// F near the identity with a stretch along a varying direction, and a small step.
-fn inputs() -> (Vec<Matrix3<f64>>, Vec<Matrix3<f64>>, Vec<Vector3<f64>>) {
+fn inputs() -> Inputs {
     let mut f_old = Vec::with_capacity(POINTS);
     let mut f_new = Vec::with_capacity(POINTS);
     let mut fiber = Vec::with_capacity(POINTS);
@@ -87,12 +94,20 @@ fn inputs() -> (Vec<Matrix3<f64>>, Vec<Matrix3<f64>>, Vec<Vector3<f64>>) {
         f_new.push(f * (Matrix3::identity() + a * a.transpose() * 2.5e-6));
         fiber.push(a);
     }
-    (f_old, f_new, fiber)
+    Inputs {
+        f_old,
+        f_new,
+        fiber,
+    }
 }
 
 /// Nanoseconds per point of each repetition, sorted.
 fn time(material: &dyn Material, with_tangent: bool) -> Vec<f64> {
-    let (f_old, f_new, fiber) = inputs();
+    let Inputs {
+        f_old,
+        f_new,
+        fiber,
+    } = inputs();
     let state = material.initial_state(POINTS);
     let nstate = material.state_count();
     let mut stress = vec![VoigtStress::zeros(); BLOCK];
