@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
+use musclefem_vumat::options::parse_initial_values;
 use musclefem_vumat::{FiberConvention, Prop, VumatBuild, build_plugin};
 
 use crate::commands::parameter_table;
@@ -51,6 +52,10 @@ pub struct VumatBuildArgs {
     /// The VUMAT's number of state variables (nstatev).
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub nstatev: usize,
+    /// Initial values of the first state variables, V1,V2,... (the others start at 0), as
+    /// *INITIAL CONDITIONS, TYPE=SOLUTION gives them.
+    #[arg(long, value_name = "V1,V2,...", default_value = "")]
+    pub statev_initial: String,
     /// Where the VUMAT finds the fiber direction.
     #[arg(long, value_enum, default_value = "orientation")]
     pub fiber: Fiber,
@@ -79,6 +84,7 @@ fn build_command(args: &VumatBuildArgs) -> Result<()> {
         cmname: args.cmname.clone(),
         props: Prop::parse_list(&args.props)?,
         nstatev: args.nstatev,
+        statev_initial: parse_initial_values(&args.statev_initial)?,
         fiber: match args.fiber {
             Fiber::Orientation => FiberConvention::Orientation,
             Fiber::State => FiberConvention::State,

@@ -35,6 +35,7 @@ fn plugins() -> (PathBuf, PathBuf) {
         cmname: None,
         props: Prop::parse_list("mu=11370:Pa,D=5e-9:1/Pa").unwrap(),
         nstatev: 0,
+        statev_initial: Vec::new(),
         fiber: FiberConvention::None,
         out: dir.join("libneo_hookean_vumat.so"),
         replace: true,

@@ -68,7 +68,8 @@ pub fn render(build: &VumatBuild) -> String {
     }
     text.push_str("\n#define VUMAT_USER_STATES_TABLE");
     for i in 1..=build.nstatev {
-        let _ = write!(text, " \\\n    {{\"sdv{i}\", \"1\", 0.0}},");
+        let initial = build.statev_initial.get(i - 1).copied().unwrap_or(0.0);
+        let _ = write!(text, " \\\n    {{\"sdv{i}\", \"1\", {initial:?}}},");
     }
     text.push('\n');
     text
@@ -93,6 +94,7 @@ mod tests {
             cmname: None,
             props: Prop::parse_list("mu=11370:Pa,k").unwrap(),
             nstatev: 2,
+            statev_initial: vec![1.5],
             fiber: FiberConvention::State,
             out: "libmuscle.so".into(),
             replace: false,
@@ -107,7 +109,7 @@ mod tests {
             "#define VUMAT_FIBER VUMAT_FIBER_STATE\n",
             "{\"mu\", \"Pa\", \"props(1) of the VUMAT\", 11370.0, -INFINITY, INFINITY, 0, 0},",
             "{\"k\", \"1\", \"props(2) of the VUMAT\", NAN, -INFINITY, INFINITY, 0, 0},",
-            "{\"sdv1\", \"1\", 0.0}, \\\n    {\"sdv2\", \"1\", 0.0},\n",
+            "{\"sdv1\", \"1\", 1.5}, \\\n    {\"sdv2\", \"1\", 0.0},\n",
         ] {
             assert!(text.contains(expected), "{expected}\nnot in\n{text}");
         }

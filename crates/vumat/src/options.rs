@@ -158,6 +158,24 @@ fn check_text(what: &str, text: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Parse `--statev-initial` text: `V1,V2,...`, finite numbers. Errors quote the token.
+pub fn parse_initial_values(text: &str) -> Result<Vec<f64>, VumatError> {
+    if text.trim().is_empty() {
+        return Ok(Vec::new());
+    }
+    text.split(',')
+        .map(|token| {
+            let token = token.trim();
+            match token.parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(VumatError::Option(format!(
+                    "--statev-initial '{token}' is not a finite number"
+                ))),
+            }
+        })
+        .collect()
+}
+
 /// Everything a build needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VumatBuild {
@@ -172,6 +190,9 @@ pub struct VumatBuild {
     pub props: Vec<Prop>,
     /// The VUMAT's number of state variables.
     pub nstatev: usize,
+    /// Initial values of the first state variables (the others start at 0), as Abaqus's
+    /// `*INITIAL CONDITIONS, TYPE=SOLUTION` gives them.
+    pub statev_initial: Vec<f64>,
     /// Where the VUMAT finds the fiber direction.
     pub fiber: FiberConvention,
     /// The plugin library to write.
@@ -235,6 +256,13 @@ impl VumatBuild {
                 self.nstatev
             ));
         }
+        if self.statev_initial.len() > self.nstatev {
+            return option(format!(
+                "--statev-initial gives {} values, more than --nstatev {}",
+                self.statev_initial.len(),
+                self.nstatev
+            ));
+        }
         if self.fiber == FiberConvention::State && self.nstatev < 3 {
             return option(format!(
                 "--fiber state puts the fiber direction into state variables 1 to 3, but \
@@ -270,6 +298,17 @@ mod tests {
     }
 
     #[test]
+    fn initial_values_parse_and_bad_ones_are_quoted() {
+        assert_eq!(parse_initial_values("1, 1,0").unwrap(), [1.0, 1.0, 0.0]);
+        assert!(parse_initial_values(" ").unwrap().is_empty());
+        let error = parse_initial_values("1,x").unwrap_err().to_string();
+        assert!(
+            error.contains("--statev-initial 'x' is not a finite number"),
+            "{error}"
+        );
+    }
+
+    #[test]
     fn bad_props_are_refused_quoting_the_token() {
         for (text, expected) in [
             ("mu=x", "--props 'mu=x': 'x' is not a number"),
@@ -295,6 +334,7 @@ mod tests {
             cmname: None,
             props: Vec::new(),
             nstatev,
+            statev_initial: Vec::new(),
             fiber,
             out: "lib.so".into(),
             replace: false,
@@ -323,6 +363,13 @@ mod tests {
             (
                 build("m", "m.f90", 20_000, FiberConvention::None),
                 "--nstatev 20000",
+            ),
+            (
+                VumatBuild {
+                    statev_initial: vec![1.0, 1.0],
+                    ..build("m", "m.f", 1, FiberConvention::None)
+                },
+                "--statev-initial gives 2 values, more than --nstatev 1",
             ),
         ] {
             let error = b.check().unwrap_err().to_string();

@@ -64,6 +64,7 @@ pub fn options(
         cmname: None,
         props: Prop::parse_list(props).unwrap(),
         nstatev,
+        statev_initial: Vec::new(),
         fiber,
         out: out_dir().join(format!("lib{}.so", name.replace('-', "_"))),
         replace: true,
