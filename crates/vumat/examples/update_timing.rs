@@ -1,9 +1,10 @@
-//! Time per material-point update through the VUMAT path against the built-in
-//! neo-Hookean and the C plugin of the same model (plugins/neo_hookean_c), on one thread:
+//! Time per material-point update through the VUMAT path against the built-in materials:
+//! the neo-Hookean (also as the C plugin plugins/neo_hookean_c) and the active Hill muscle
+//! (n2 = 1), each against its VUMAT in examples/vumat, on one thread:
 //! blocks of 512 points (an explicit chunk of 64 hex8 elements), 64 Ki points per
 //! repetition, 15 repetitions, min and median in ns per point; then the same with the
 //! tangent dP/dF (analytic for the built-in, central finite differences, 18 more one-point
-//! calls per point, for the plugins). Builds both plugins with gfortran and cc first.
+//! calls per point, for the plugins). Builds the plugins with gfortran and cc first.
 //!
 //! cargo run --release -p musclefem-vumat --example update_timing
 
@@ -26,22 +27,46 @@ fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-fn plugins() -> (PathBuf, PathBuf) {
-    let dir = workspace().join("target/vumat-timing");
-    std::fs::create_dir_all(&dir).unwrap();
-    let vumat = build_plugin(&VumatBuild {
-        source: workspace().join("examples/vumat/neo_hookean_vumat.f"),
-        name: "neo-hookean-vumat".into(),
+/// The Hill VUMAT's props: the built-in's parameters in hill_vumat.f's order.
+const HILL_PROPS: &str = "D=5e-9:1/Pa,b=15,c=379:Pa,A=4,lambda_pe=1,sigma0=7e5:Pa,alpha=10,\
+                          beta=1000:Pa,lambda_opt=1.05,k=0.3,k_c=4,k_e=5,d=1.45,\
+                          lambda_dot_min=-17:1/s,S=50:1/s,n1=0,n2=0,t0=0:s,t1=1e30:s";
+
+/// Build examples/vumat/`file` as material `name` into `dir`.
+fn vumat(dir: &Path, file: &str, name: &str, props: &str, initial: &[f64]) -> PathBuf {
+    build_plugin(&VumatBuild {
+        source: workspace().join("examples/vumat").join(file),
+        name: name.into(),
         cmname: None,
-        props: Prop::parse_list("mu=11370:Pa,D=5e-9:1/Pa").unwrap(),
-        nstatev: 0,
-        statev_initial: Vec::new(),
-        fiber: FiberConvention::None,
-        out: dir.join("libneo_hookean_vumat.so"),
+        props: Prop::parse_list(props).unwrap(),
+        nstatev: initial.len(),
+        statev_initial: initial.to_vec(),
+        fiber: FiberConvention::Orientation,
+        out: dir.join(format!("lib{}.so", name.replace('-', "_"))),
         replace: true,
     })
     .unwrap_or_else(|e| panic!("{e}"))
-    .library;
+    .library
+}
+
+/// The two VUMATs and the C plugin, built.
+fn plugins() -> [PathBuf; 3] {
+    let dir = workspace().join("target/vumat-timing");
+    std::fs::create_dir_all(&dir).unwrap();
+    let neo_hookean = vumat(
+        &dir,
+        "neo_hookean_vumat.f",
+        "neo-hookean-vumat",
+        "mu=11370:Pa,D=5e-9:1/Pa",
+        &[],
+    );
+    let hill = vumat(
+        &dir,
+        "hill_vumat.f",
+        "hill-vumat",
+        HILL_PROPS,
+        &[1.0, 1.0, 0.0],
+    );
     let c = dir.join("libneo_hookean_c.so");
     let status = Command::new(std::env::var("CC").unwrap_or_else(|_| "cc".into()))
         .args([
@@ -60,7 +85,7 @@ fn plugins() -> (PathBuf, PathBuf) {
         .status()
         .unwrap();
     assert!(status.success());
-    (vumat, c)
+    [neo_hookean, hill, c]
 }
 
 /// F_old, F_new and the fiber of every point.
@@ -141,24 +166,30 @@ fn time(material: &dyn Material, with_tangent: bool) -> Vec<f64> {
 }
 
 fn main() {
-    let (vumat, c) = plugins();
     let mut library = MaterialLibrary::with_builtins();
-    library.load_plugin(&vumat).unwrap();
-    library.load_plugin(&c).unwrap();
-    let given = Default::default();
+    for plugin in plugins() {
+        library.load_plugin(&plugin).unwrap();
+    }
+    let create = |name: &str, n2: f64| {
+        let given = if n2 > 0.0 {
+            [("n2".to_string(), n2)].into_iter().collect()
+        } else {
+            Default::default()
+        };
+        library.create(name, &given).unwrap()
+    };
     let materials: Vec<(&str, Arc<dyn Material>)> = vec![
-        (
-            "built-in neo-hookean (Rust)",
-            library.create("neo-hookean", &given).unwrap(),
-        ),
+        ("built-in neo-hookean (Rust)", create("neo-hookean", 0.0)),
         (
             "C plugin neo-hookean-c-plugin",
-            library.create("neo-hookean-c-plugin", &given).unwrap(),
+            create("neo-hookean-c-plugin", 0.0),
         ),
         (
             "VUMAT neo_hookean_vumat.f",
-            library.create("neo-hookean-vumat", &given).unwrap(),
+            create("neo-hookean-vumat", 0.0),
         ),
+        ("built-in hill, n2 = 1 (Rust)", create("hill", 1.0)),
+        ("VUMAT hill_vumat.f, n2 = 1", create("hill-vumat", 1.0)),
     ];
     println!(
         "ns per material-point update, one thread, blocks of {BLOCK}, {POINTS} points, \
