@@ -252,3 +252,64 @@ fn the_finite_difference_tangent_matches_the_builtin_analytic_one() {
         }
     }
 }
+
+/// One step of `fs` from the identity as one block: the stresses.
+fn block_stress(material: &dyn Material, fs: &[Matrix3<f64>]) -> Vec<VoigtStress> {
+    let n = fs.len();
+    let f_old = vec![Matrix3::identity(); n];
+    let fibers = vec![Vector3::new(0.0, 0.6, 0.8); n];
+    let state = material.initial_state(n);
+    let mut stress = vec![VoigtStress::zeros(); n];
+    let mut state_new = state.clone();
+    let block = PointBlock {
+        time: 0.1,
+        dt: 0.1,
+        deformation_gradient_old: &f_old,
+        deformation_gradient_new: fs,
+        fiber_direction: &fibers,
+        state_old: &state,
+    };
+    material
+        .update(
+            &block,
+            &mut PointResponse {
+                cauchy_stress: &mut stress,
+                state_new: &mut state_new,
+                tangent: None,
+            },
+        )
+        .unwrap();
+    stress
+}
+
+#[test]
+fn blocks_on_several_threads_give_the_serial_result() {
+    if !gfortran_or_skip("blocks_on_several_threads_give_the_serial_result") {
+        return;
+    }
+    for (fiber, vumat) in vumat_materials() {
+        let fs: Vec<Matrix3<f64>> = deformation_gradients().repeat(20);
+        let serial = block_stress(&*vumat, &fs);
+        let parallel: Vec<VoigtStress> = std::thread::scope(|scope| {
+            let handles: Vec<_> = fs
+                .chunks(40)
+                .map(|chunk| {
+                    let vumat = &vumat;
+                    scope.spawn(move || {
+                        // Each thread repeats its block, so that the calls overlap.
+                        let first = block_stress(&**vumat, chunk);
+                        for _ in 0..20 {
+                            assert_eq!(block_stress(&**vumat, chunk), first);
+                        }
+                        first
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| h.join().unwrap())
+                .collect()
+        });
+        assert_eq!(parallel, serial, "{fiber}");
+    }
+}
