@@ -32,6 +32,7 @@ pub fn materials(args: &MaterialsArgs) -> Result<()> {
         let origin = match &info.origin {
             MaterialOrigin::BuiltIn => "built-in".to_string(),
             MaterialOrigin::Plugin(path) => format!("plugin {}", path.display()),
+            MaterialOrigin::Host(host) => format!("defined in {host}"),
         };
         println!("{}  ({origin})", info.name);
         println!("  {}", info.description);
