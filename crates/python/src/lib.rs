@@ -22,6 +22,7 @@ mod frames;
 mod library;
 mod material_point;
 mod progress;
+mod python_material;
 mod run_result;
 mod scene;
 mod scene_run;
@@ -52,5 +53,6 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
     m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(library::register_material, m)?)?;
     Ok(())
 }

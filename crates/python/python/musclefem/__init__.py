@@ -7,7 +7,9 @@
   checked on reading, run in memory or into a run directory;
 - ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve;
 - ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver;
-- ``fit(data, params, ...)``: ``musclefem fit``, material parameters fitted to a curve.
+- ``fit(data, params, ...)``: ``musclefem fit``, material parameters fitted to a curve;
+- ``register_material(name, update, parameters, state)``: a material defined in Python
+  (slow: one call per block of points), for material points and scenes.
 
 Results are dicts of NumPy arrays named as the CSV columns (units in the names); errors
 are ``MusclefemError`` with the command line's message (file, line, key, element, time).
@@ -25,6 +27,7 @@ from ._musclefem import (
     fibers,
     fit,
     materials,
+    register_material,
 )
 
 # A Result reads as the mapping of its history's columns (result["time_s"]).
@@ -40,4 +43,5 @@ __all__ = [
     "fibers",
     "fit",
     "materials",
+    "register_material",
 ]
