@@ -19,6 +19,7 @@ mod elongation;
 mod fibers;
 mod fit;
 mod frames;
+mod knee;
 mod library;
 mod material_point;
 mod progress;
@@ -53,6 +54,7 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
     m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(knee::knee, m)?)?;
     m.add_function(wrap_pyfunction!(library::register_material, m)?)?;
     Ok(())
 }

@@ -8,6 +8,7 @@
 - ``elongate(mode, shape, grips, ...)``: the single-muscle elongation test's curve;
 - ``fibers(mesh, inlet, outlet)``: fiber directions of a mesh from the flow solver;
 - ``fit(data, params, ...)``: ``musclefem fit``, material parameters fitted to a curve;
+- ``knee(...)``: ``musclefem knee``, the squat's peak stresses and tendon tables;
 - ``register_material(name, update, parameters, state)``: a material defined in Python
   (slow: one call per block of points), for material points and scenes.
 
@@ -26,6 +27,7 @@ from ._musclefem import (
     elongate,
     fibers,
     fit,
+    knee,
     materials,
     register_material,
 )
@@ -42,6 +44,7 @@ __all__ = [
     "elongate",
     "fibers",
     "fit",
+    "knee",
     "materials",
     "register_material",
 ]
