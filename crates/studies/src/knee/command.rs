@@ -22,14 +22,13 @@
 //! the caller's hands and its tables returned (the Python module's `musclefem.knee`).
 
 use std::io::IsTerminal;
-use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 
 use crate::elongation::{ElementChoice, Solver};
 use crate::knee::anatomy::export::write_anatomy;
@@ -41,17 +40,11 @@ use crate::knee::simulation::peak_stress::{
 use crate::knee::simulation::plausibility::write_plausibility_csv;
 use crate::knee::simulation::resolution::resolution_rationale;
 use crate::knee::simulation::{
-    Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
-    SquatWatcher, StressSample, run_squat,
+    Activation, KneeGeometry, PeakStressRow, SquatRun, SquatSettings, run_squat,
 };
 use crate::knee::{Anatomy, Quadriceps, Resolution};
-use musclefem_core::solver::Record;
-use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{
-    ExistingResults, FrameSchedule, HistoryColumns, HistoryWriter, RunDirectory,
-};
-use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
+use musclefem_io::output::{ExistingResults, FrameSchedule, RunDirectory};
+use musclefem_io::plot::stage_bar_png;
 
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
@@ -378,6 +371,12 @@ use tolerance::setting_within;
 mod run_files;
 use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};
 
+mod tables;
+use tables::{peak_stress_chart, table_text};
+
+mod watcher;
+use watcher::{Outputs, progress_bar};
+
 /// The message of a run stopped because the other one failed.
 const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
 
@@ -447,183 +446,6 @@ fn run_one(
     let summary = run_summary(&run, &geometry.muscles);
     bar.suspend(|| say(&summary));
     Ok(run)
-}
-
-/// Frames, history and vm95 samples of one run, and the progress bar.
-struct Outputs<'a> {
-    directory: &'a mut RunDirectory,
-    /// The muscles' mesh (given at the start of the run).
-    mesh: Option<musclefem_core::mesh::Mesh>,
-    history: Option<HistoryWriter>,
-    vm95: Vec<StressSample>,
-    /// Frames every `--frame-interval`, at the table's angles (30°, 45°, 60°, 90° down
-    /// and up) and at the end.
-    frames: FrameSchedule,
-    error: Option<anyhow::Error>,
-    bar: &'a ProgressBar,
-    /// Set when the other run failed: this one stops too, and notes it in `stopped`.
-    stop: &'a AtomicBool,
-    stopped: bool,
-}
-
-impl Outputs<'_> {
-    fn fail(&mut self, error: impl Into<anyhow::Error>) -> ControlFlow<()> {
-        self.error = Some(error.into());
-        ControlFlow::Break(())
-    }
-}
-
-impl SquatWatcher for Outputs<'_> {
-    fn start(&mut self, start: &SquatStart) -> Result<()> {
-        let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
-            .with_interactions(start.interactions.clone());
-        self.history = Some(match start.solver {
-            Solver::Implicit => self.directory.implicit_history(&columns)?,
-            Solver::Explicit => self.directory.explicit_history(&columns)?,
-        });
-        self.mesh = Some(start.mesh.clone());
-        Ok(())
-    }
-
-    fn recorded(
-        &mut self,
-        sample: &StressSample,
-        snapshot: &Snapshot,
-        fields: &[PartFields],
-    ) -> ControlFlow<()> {
-        self.vm95.push(sample.clone());
-        if !self.frames.due(sample.time) {
-            return ControlFlow::Continue(());
-        }
-        let Some(mesh) = &self.mesh else {
-            return ControlFlow::Continue(());
-        };
-        match self.directory.write_state_frame(
-            mesh,
-            snapshot.time,
-            snapshot.displacement,
-            fields,
-            &[],
-        ) {
-            Ok(_) => ControlFlow::Continue(()),
-            Err(e) => self.fail(e),
-        }
-    }
-
-    fn progress(&mut self, time: f64) -> ControlFlow<()> {
-        self.bar.set_position((1e3 * time) as u64);
-        if self.stop.load(Ordering::Relaxed) {
-            self.stopped = true;
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    }
-
-    fn history_row(&mut self, record: &Record) {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_record(record)
-        {
-            self.error = Some(e.into());
-        }
-    }
-}
-
-/// The bar of one squat of `duration` [s], in simulated milliseconds.
-fn progress_bar(duration: f64, activation: Activation) -> ProgressBar {
-    let bar = ProgressBar::new((1e3 * duration) as u64);
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{:<7} {{bar:40}} {{pos}} / {{len}} ms of squat [{{elapsed_precise}}, ETA {{eta}}]",
-            activation.name()
-        ))
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
-}
-
-/// The vm95 table: one line per muscle and angle, passive and active in both phases.
-fn table_text(
-    rows: &[PeakStressRow],
-    muscles: &[Quadriceps],
-    activations: &[Activation],
-) -> String {
-    let value = |m: Quadriceps, angle: f64, phase: Phase, a: Activation| {
-        rows.iter()
-            .find(|r| {
-                r.muscle == m && r.angle_degrees == angle && r.phase == phase && r.activation == a
-            })
-            .map_or("-".to_string(), |r| format!("{:.1}", 1e-3 * r.vm95))
-    };
-    let mut header = "muscle  angle".to_string();
-    for phase in [Phase::Flexion, Phase::Extension] {
-        for &a in activations {
-            header.push_str(&format!(
-                "  {:>19}",
-                format!("{} {}", a.name(), phase.name())
-            ));
-        }
-    }
-    let mut text = format!("vm95 [kPa]\n{header}\n");
-    for &m in muscles {
-        for angle in TABLE_ANGLES_DEGREES {
-            let mut line = format!("{:<6}  {:>4}°", m.abbreviation(), angle);
-            for phase in [Phase::Flexion, Phase::Extension] {
-                for &a in activations {
-                    line.push_str(&format!("  {:>19}", value(m, angle, phase, a)));
-                }
-            }
-            text.push_str(&line);
-            text.push('\n');
-        }
-    }
-    text
-}
-
-/// One panel per muscle; per angle, a bar per (activation, phase).
-fn peak_stress_chart(
-    rows: &[PeakStressRow],
-    muscles: &[Quadriceps],
-    settings: &SquatSettings,
-) -> BarChart {
-    let mut chart = BarChart::new(format!(
-        "95th-percentile von Mises stress of the quadriceps, squat 0° → 90° → 0° in {} s",
-        settings.squat.duration
-    ))
-    .with_columns(2);
-    for &m in muscles {
-        let mut panel = BarPanel::new(
-            m.abbreviation(),
-            "vm95 [kPa]",
-            TABLE_ANGLES_DEGREES.iter().map(|a| format!("{a}°")),
-        )
-        .with_x_label("knee flexion angle")
-        .with_legend(LegendPosition::UpperLeft);
-        for phase in [Phase::Flexion, Phase::Extension] {
-            for activation in [Activation::Passive, Activation::Active] {
-                let values: Vec<f64> = TABLE_ANGLES_DEGREES
-                    .iter()
-                    .map(|&angle| {
-                        rows.iter()
-                            .find(|r| {
-                                r.muscle == m
-                                    && r.angle_degrees == angle
-                                    && r.phase == phase
-                                    && r.activation == activation
-                            })
-                            .map_or(f64::NAN, |r| 1e-3 * r.vm95)
-                    })
-                    .collect();
-                if values.iter().any(|v| v.is_finite()) {
-                    panel = panel.with_series(BarSeries::new(
-                        format!("{}, {}", activation.name(), phase.name()),
-                        values,
-                    ));
-                }
-            }
-        }
-        chart = chart.with_panel(panel);
-    }
-    chart
 }
 
 #[cfg(test)]
