@@ -32,6 +32,7 @@ pub fn materials(args: &MaterialsArgs) -> Result<()> {
         let origin = match &info.origin {
             MaterialOrigin::BuiltIn => "built-in".to_string(),
             MaterialOrigin::Plugin(path) => format!("plugin {}", path.display()),
+            MaterialOrigin::Host(host) => format!("defined in {host}"),
         };
         println!("{}  ({origin})", info.name);
         println!("  {}", info.description);
@@ -87,15 +88,6 @@ pub fn parameter_table(specs: &[ParameterSpec]) -> String {
 }
 
 /// Parse `--param KEY=VALUE` tokens. Errors quote the token.
-/// `--frame-interval` is 0 (no frames) or a positive, finite time [s]; a negative one was
-/// accepted silently (and meant no frames).
-pub fn check_frame_interval(interval: f64) -> Result<()> {
-    if !(interval.is_finite() && interval >= 0.0) {
-        bail!("--frame-interval {interval} s must be 0 (no frames) or a positive time");
-    }
-    Ok(())
-}
-
 pub fn parse_params(tokens: &[String]) -> Result<BTreeMap<String, f64>> {
     let mut params = BTreeMap::new();
     for token in tokens {

@@ -130,7 +130,7 @@ pub fn elongate(args: &ElongateArgs) -> Result<()> {
         ModeChoice::Active => &[Activation::Active],
         ModeChoice::Both => &[Activation::Passive, Activation::Active],
     };
-    crate::commands::check_frame_interval(args.frame_interval)?;
+    musclefem_studies::frame_interval::check_frame_interval(args.frame_interval)?;
     let parameters = crate::commands::parse_params(&args.params)?;
     if parameters.contains_key("n2") || parameters.contains_key("t0") {
         bail!("--param n2 / t0: the mode sets the activation (passive n2 = 0, active n2 = 1)");

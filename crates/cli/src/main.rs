@@ -23,7 +23,6 @@ mod bench_command;
 mod commands;
 mod elongate_command;
 mod fibers_command;
-mod knee_command;
 mod scene_run;
 mod summary;
 mod vumat_command;
@@ -75,7 +74,7 @@ enum Command {
     /// (VI, VL, VM, RF) tied to femur, pelvis and patella, bonded to each other and the
     /// femur; passive and/or active (50 % from 35° of flexion). Writes peak_stress.csv
     /// (vm95 per muscle at 30°, 45°, 60°, 90°), peak_stress.png, frames and histories.
-    Knee(knee_command::KneeArgs),
+    Knee(musclefem_studies::knee::command::KneeArgs),
     /// Parametric study of the elongation tests: every combination (or a Latin-hypercube
     /// sample) of varied Hill parameters, several runs at a time; writes sweep.csv (one row
     /// per run, resumable) and the normalised sensitivities (sensitivity.csv, .png).
@@ -140,16 +139,7 @@ pub struct RunArgs {
 }
 
 /// The work–precision table that `--tolerance` reads (written by `musclefem bench`).
-#[derive(Debug, Args)]
-pub struct BenchTable {
-    /// The work–precision table --tolerance reads (`musclefem bench`).
-    #[arg(
-        long = "bench-table",
-        value_name = "FILE",
-        default_value = "out/bench/work_precision.csv"
-    )]
-    pub path: PathBuf,
-}
+pub use musclefem_studies::bench::BenchTable;
 
 #[derive(Debug, Args)]
 pub struct MaterialsArgs {
@@ -207,7 +197,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => scene_run::run(&args),
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
-        Some(Command::Knee(args)) => knee_command::knee(&args),
+        Some(Command::Knee(args)) => musclefem_studies::knee::command::knee(&args),
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),

@@ -44,6 +44,9 @@ pub enum MaterialError {
     },
     /// A plugin could not be loaded or reported a failure.
     Plugin { path: PathBuf, message: String },
+    /// A material defined by the host program (e.g. in Python) failed, or could not be
+    /// registered.
+    Host { material: String, message: String },
 }
 
 impl fmt::Display for MaterialError {
@@ -108,6 +111,9 @@ impl fmt::Display for MaterialError {
             ),
             MaterialError::Plugin { path, message } => {
                 write!(f, "material plugin {}: {message}", path.display())
+            }
+            MaterialError::Host { material, message } => {
+                write!(f, "material '{material}': {message}")
             }
         }
     }

@@ -10,6 +10,7 @@
 //! - [`registry`]: built-in materials registered with `inventory` plus run-time plugins;
 //! - [`neo_hookean`], [`hill`] and [`tendon`]: the built-in materials;
 //! - [`plugin`]: the C ABI (`include/musclefem_material.h`) and the plugin loader;
+//! - [`hosted`]: materials defined at run time by the host program (Python);
 //! - [`driver`]: a homogeneous material-point driver (uniaxial stress along the fiber).
 //!
 //! Units are SI throughout (Pa, s, m).
@@ -18,6 +19,7 @@ pub mod amplitude;
 pub mod driver;
 pub mod error;
 pub mod hill;
+pub mod hosted;
 pub mod material;
 pub mod neo_hookean;
 pub mod parameters;
@@ -28,6 +30,7 @@ pub mod tensor;
 
 pub use amplitude::Amplitude;
 pub use error::MaterialError;
+pub use hosted::{HostedBuild, HostedMaterial};
 pub use material::{Material, PointBlock, PointResponse, StateVariable, Tangent, VoigtStress};
 pub use parameters::{Bound, ParameterSet, ParameterSpec};
 pub use registry::{MaterialInfo, MaterialLibrary, MaterialOrigin, MaterialRegistration};

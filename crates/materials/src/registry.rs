@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use crate::hosted::HostedMaterial;
 use crate::parameters::{ParameterSet, ParameterSpec};
 use crate::plugin::PluginMaterialFactory;
 use crate::{Material, MaterialError};
@@ -29,6 +30,8 @@ inventory::collect!(MaterialRegistration);
 pub enum MaterialOrigin {
     BuiltIn,
     Plugin(PathBuf),
+    /// Defined at run time by the host program, e.g. "Python" ([`HostedMaterial`]).
+    Host(String),
 }
 
 /// What `musclefem materials` lists about one material.
@@ -40,10 +43,11 @@ pub struct MaterialInfo {
     pub origin: MaterialOrigin,
 }
 
-/// The built-in materials plus the plugins loaded so far.
+/// The built-in materials plus the plugins loaded and the hosted materials added so far.
 #[derive(Default)]
 pub struct MaterialLibrary {
     plugins: Vec<PluginMaterialFactory>,
+    hosted: Vec<HostedMaterial>,
 }
 
 impl MaterialLibrary {
@@ -70,6 +74,19 @@ impl MaterialLibrary {
         Ok(info)
     }
 
+    /// Add a material defined by the host program. Its name must not clash with a
+    /// material already known.
+    pub fn add_hosted(&mut self, material: HostedMaterial) -> Result<(), MaterialError> {
+        if self.names().contains(&material.name) {
+            return Err(MaterialError::Host {
+                material: material.name.clone(),
+                message: "a material of this name is already registered".into(),
+            });
+        }
+        self.hosted.push(material);
+        Ok(())
+    }
+
     /// Every known material, sorted by name.
     pub fn materials(&self) -> Vec<MaterialInfo> {
         let mut all: Vec<MaterialInfo> = builtin_registrations()
@@ -80,6 +97,7 @@ impl MaterialLibrary {
                 origin: MaterialOrigin::BuiltIn,
             })
             .chain(self.plugins.iter().map(|p| p.info()))
+            .chain(self.hosted.iter().map(HostedMaterial::info))
             .collect();
         all.sort_by(|a, b| a.name.cmp(&b.name));
         all
@@ -114,6 +132,9 @@ impl MaterialLibrary {
         if let Some(plugin) = self.plugins.iter().find(|p| p.name() == name) {
             return plugin.create(given);
         }
+        if let Some(hosted) = self.hosted.iter().find(|h| h.name == name) {
+            return hosted.create(given);
+        }
         Err(MaterialError::UnknownMaterial {
             name: name.to_string(),
             valid: self.names(),
@@ -141,6 +162,41 @@ mod tests {
                 "tendon".to_string()
             ]
         );
+    }
+
+    #[test]
+    fn a_hosted_material_is_listed_and_built_and_may_not_take_a_known_name() {
+        use crate::hosted::HostedMaterial;
+        use crate::neo_hookean::{NEO_HOOKEAN_PARAMETERS, NeoHookean};
+        let hosted = |name: &str| HostedMaterial {
+            name: name.to_string(),
+            description: "a neo-Hookean solid defined by the host".into(),
+            parameters: NEO_HOOKEAN_PARAMETERS.to_vec(),
+            host: "a test".into(),
+            build: Arc::new(
+                |p: &ParameterSet| -> Result<Arc<dyn Material>, MaterialError> {
+                    Ok(Arc::new(NeoHookean {
+                        shear_modulus: p.get("mu")?,
+                        compressibility: p.get("D")?,
+                    }))
+                },
+            ),
+        };
+        let mut library = MaterialLibrary::with_builtins();
+        library.add_hosted(hosted("hosted")).unwrap();
+        let info = library.info("hosted").unwrap();
+        assert_eq!(info.origin, MaterialOrigin::Host("a test".into()));
+        let given = BTreeMap::from([("mu".to_string(), 2.0e4)]);
+        assert_eq!(
+            library.create("hosted", &given).unwrap().name(),
+            "neo-hookean"
+        );
+        let wrong = BTreeMap::from([("sigma0".to_string(), 1.0)]);
+        assert!(library.create("hosted", &wrong).is_err());
+        for taken in ["hill", "hosted"] {
+            let error = library.add_hosted(hosted(taken)).unwrap_err().to_string();
+            assert!(error.contains("already registered"), "{error}");
+        }
     }
 
     #[test]

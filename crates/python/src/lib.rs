@@ -1,14 +1,18 @@
 //! musclefem from Python: `import musclefem`.
 //!
 //! The extension module `musclefem._musclefem` (re-exported by the package
-//! `python/musclefem`): the material library ([`material_point::materials`]), a material
-//! point in uniaxial stress ([`material_point::MaterialPoint`]), scene files
-//! ([`scene::Scene`]), the single-muscle elongation tests ([`elongation::elongate`]) and
-//! fiber directions from the flow solver ([`fibers::fibers`]).
-//! Results come back as dicts of NumPy arrays (one per column, with the units in the
-//! names as in the CSV files); every error is a `musclefem.MusclefemError` whose message is
-//! the command line's (file, line, element, time). Long runs release the GIL and stop on
-//! Ctrl-C (KeyboardInterrupt) with their files consistent. Built with maturin
+//! `python/musclefem`): the material library ([`material_point::materials`]) with the
+//! materials defined in Python ([`library::register_material`],
+//! [`python_material::PythonMaterial`]), a material point in uniaxial stress
+//! ([`material_point::MaterialPoint`]), scenes from files or dicts ([`scene::Scene`],
+//! [`scene_source`], [`toml_text`]) run into a [`run_result::RunResult`] ([`scene_run`],
+//! [`frames`]), the single-muscle elongation tests ([`elongation::elongate`]), fits
+//! ([`fit::fit`]), the knee ([`knee::knee`]) and fiber directions from the flow solver
+//! ([`fibers::fibers`]). Results come back as NumPy arrays (named with their units as in
+//! the CSV files); every error is a `musclefem.MusclefemError` whose message is the
+//! command line's (file, line, element, time). Long calls run on a thread of their own
+//! ([`background`]) with the GIL released and stop on Ctrl-C (KeyboardInterrupt) with
+//! their files consistent; [`progress`] shows them when asked. Built with maturin
 //! (`pip install ./crates/python`); see `docs/python.md`.
 
 use pyo3::prelude::*;
@@ -19,9 +23,11 @@ mod elongation;
 mod fibers;
 mod fit;
 mod frames;
+mod knee;
 mod library;
 mod material_point;
 mod progress;
+mod python_material;
 mod run_result;
 mod scene;
 mod scene_run;
@@ -52,5 +58,7 @@ fn musclefem_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(elongation::elongate, m)?)?;
     m.add_function(wrap_pyfunction!(fibers::fibers, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(knee::knee, m)?)?;
+    m.add_function(wrap_pyfunction!(library::register_material, m)?)?;
     Ok(())
 }

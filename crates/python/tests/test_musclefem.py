@@ -3,7 +3,6 @@ from Python, checked against closed forms and against the command line's files. 
 scene's constructors, check, Result, frames and progress are in test_scene.py."""
 
 import csv
-import pathlib
 import subprocess
 
 import numpy as np

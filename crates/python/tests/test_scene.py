@@ -164,11 +164,12 @@ def test_write_vtu_writes_the_command_lines_files_byte_for_byte(tmp_path):
 def test_the_history_as_a_data_frame_or_a_clear_message_without_pandas(monkeypatch):
     result = musclefem.Scene(str(CUBE)).run()
     try:
-        import pandas  # noqa: F401
+        import pandas
     except ImportError:
         pass
     else:
         table = result.history_frame()
+        assert isinstance(table, pandas.DataFrame)
         assert list(table.columns) == list(result)
         np.testing.assert_array_equal(table["time_s"].to_numpy(), result["time_s"])
     monkeypatch.setitem(sys.modules, "pandas", None)

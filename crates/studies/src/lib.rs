@@ -8,6 +8,7 @@
 //! - [`elongation`]: the single-muscle uniaxial elongation tests (`musclefem elongate`).
 //! - [`fit`]: least-squares calibration of material parameters to a measured curve, through
 //!   the elongation tests or a scene (`musclefem fit`).
+//! - [`frame_interval`]: the `--frame-interval` option of the commands that write frames.
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
 //! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
 //! - [`material_point`]: a material point driven in uniaxial stress (`musclefem point`).
@@ -23,6 +24,7 @@ pub mod activation;
 pub mod bench;
 pub mod elongation;
 pub mod fit;
+pub mod frame_interval;
 pub mod inertia;
 pub mod knee;
 pub mod material_point;

@@ -24,12 +24,25 @@ pub mod reference;
 pub mod scene;
 pub mod select;
 
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
 pub use matrix::{matrix, reference_method};
 pub use method::{Method, StepSetting};
+
+/// The work–precision table that `--tolerance` reads (written by `musclefem bench`).
+#[derive(Debug, Clone, clap::Args)]
+pub struct BenchTable {
+    /// The work–precision table --tolerance reads (`musclefem bench`).
+    #[arg(
+        long = "bench-table",
+        value_name = "FILE",
+        default_value = "out/bench/work_precision.csv"
+    )]
+    pub path: PathBuf,
+}
 
 /// A benchmark problem.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]

@@ -7,8 +7,12 @@
 //!
 //! - [`simulation`]: the finite-element squat on that anatomy (or user meshes), with
 //!   fibers, cohesive and contact interactions, and the muscles' peak stresses.
+//!
+//! - [`command`]: `musclefem knee` (and the Python module's `musclefem.knee`): both squats
+//!   side by side, their files, tables and chart.
 
 pub mod anatomy;
+pub mod command;
 pub mod simulation;
 
 pub use anatomy::{Anatomy, BoneMotions, PatellarTendon, Quadriceps, Resolution, Squat};

@@ -84,24 +84,30 @@ pub struct TendonRow {
 pub const TENDON_CSV_HEADER: &str = "time_s,knee_angle_deg,measured_tension_n,applied_tension_n,\
 tendon_force_n,tendon_strain,force_ratio,patella_flexion_deg,patella_x_m,patella_y_m";
 
+/// The values of one row of `tendon.csv`, in the order of [`TENDON_CSV_HEADER`].
+pub fn tendon_values(row: &TendonRow) -> [f64; 10] {
+    let state = &row.applied;
+    [
+        row.time,
+        state.knee_angle.to_degrees(),
+        row.measured_tension,
+        state.quadriceps_tension,
+        state.tendon_force,
+        state.tendon_strain,
+        state.force_ratio,
+        state.pose.flexion.to_degrees(),
+        state.pose.centre.x,
+        state.pose.centre.y,
+    ]
+}
+
 /// Writes `rows` to `path` (atomically: nothing half-written).
 pub fn write_tendon_csv(path: &Path, rows: &[TendonRow]) -> Result<()> {
     let mut text = format!("{TENDON_CSV_HEADER}\n");
     for row in rows {
-        let state = &row.applied;
-        text.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{}\n",
-            row.time,
-            state.knee_angle.to_degrees(),
-            row.measured_tension,
-            state.quadriceps_tension,
-            state.tendon_force,
-            state.tendon_strain,
-            state.force_ratio,
-            state.pose.flexion.to_degrees(),
-            state.pose.centre.x,
-            state.pose.centre.y,
-        ));
+        let cells: Vec<String> = tendon_values(row).iter().map(f64::to_string).collect();
+        text.push_str(&cells.join(","));
+        text.push('\n');
     }
     musclefem_io::atomic::write_atomically(path, text.as_bytes())?;
     Ok(())

@@ -6,16 +6,16 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_studies::bench::csv::WorkPrecisionRow;
-use musclefem_studies::bench::knee::squat_of;
-use musclefem_studies::bench::{Problem, reference_method, select};
-use musclefem_studies::elongation::Solver;
-use musclefem_studies::knee::Resolution;
-use musclefem_studies::knee::simulation::SquatSettings;
-use musclefem_studies::knee::simulation::resolution::resolution_within;
+use crate::bench::csv::WorkPrecisionRow;
+use crate::bench::knee::squat_of;
+use crate::bench::{Problem, reference_method, select};
+use crate::elongation::Solver;
+use crate::knee::Resolution;
+use crate::knee::simulation::SquatSettings;
+use crate::knee::simulation::resolution::resolution_within;
 
 /// The cheapest measured squat setting within `percent` [%] and why: from the knee rows
-/// of the work–precision table `table` (see [`musclefem_studies::bench::select`]) when it has
+/// of the work–precision table `table` (see [`crate::bench::select`]) when it has
 /// some, else from the resolution chart measured with the program
 /// ([`resolution_within`]). When no measured run is within it: the bench's reference
 /// (medium), whose own error is not measured.

@@ -17,38 +17,34 @@
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
+//!
+//! [`knee`] is the command; [`run_knee`] the same study with its lines, bars and stop in
+//! the caller's hands and its tables returned (the Python module's `musclefem.knee`).
 
 use std::io::IsTerminal;
-use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 
-use musclefem_core::solver::Record;
-use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{
-    ExistingResults, FrameSchedule, HistoryColumns, HistoryWriter, RunDirectory,
-};
-use musclefem_io::plot::{BarChart, BarPanel, BarSeries, LegendPosition, stage_bar_png};
-use musclefem_studies::elongation::{ElementChoice, Solver};
-use musclefem_studies::knee::anatomy::export::write_anatomy;
-use musclefem_studies::knee::simulation::interactions::InterfaceLaw;
-use musclefem_studies::knee::simulation::patella::write_tendon_csv;
-use musclefem_studies::knee::simulation::peak_stress::{
+use crate::elongation::{ElementChoice, Solver};
+use crate::knee::anatomy::export::write_anatomy;
+use crate::knee::simulation::interactions::InterfaceLaw;
+use crate::knee::simulation::patella::write_tendon_csv;
+use crate::knee::simulation::peak_stress::{
     TABLE_ANGLES_DEGREES, stage_peak_stress_csv, table_instants,
 };
-use musclefem_studies::knee::simulation::plausibility::write_plausibility_csv;
-use musclefem_studies::knee::simulation::resolution::resolution_rationale;
-use musclefem_studies::knee::simulation::{
-    Activation, KneeGeometry, PeakStressRow, Phase, SquatRun, SquatSettings, SquatStart,
-    SquatWatcher, StressSample, run_squat,
+use crate::knee::simulation::plausibility::write_plausibility_csv;
+use crate::knee::simulation::resolution::resolution_rationale;
+use crate::knee::simulation::{
+    Activation, KneeGeometry, PeakStressRow, SquatRun, SquatSettings, run_squat,
 };
-use musclefem_studies::knee::{Anatomy, Quadriceps, Resolution};
+use crate::knee::{Anatomy, Quadriceps, Resolution};
+use musclefem_io::output::{ExistingResults, FrameSchedule, RunDirectory};
+use musclefem_io::plot::stage_bar_png;
 
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
@@ -88,7 +84,7 @@ pub struct KneeArgs {
     )]
     pub tolerance: Option<f64>,
     #[command(flatten)]
-    pub bench_table: crate::BenchTable,
+    pub bench_table: crate::bench::BenchTable,
     /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
     /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
     /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
@@ -102,7 +98,7 @@ pub struct KneeArgs {
     #[arg(long, value_enum, default_value = "sliding")]
     pub interfaces: InterfaceLaw,
     /// Duration of the squat 0° → 90° → 0° [s].
-    #[arg(long, value_name = "SECONDS", default_value_t = musclefem_studies::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
+    #[arg(long, value_name = "SECONDS", default_value_t = crate::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
     pub duration: f64,
     /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.02 s
     /// implicit, 2e-5 s explicit).
@@ -125,15 +121,14 @@ pub struct KneeArgs {
 }
 
 impl KneeArgs {
-    /// The settings of the runs and the resolution: those `--tolerance` chose (its reason
-    /// printed), or the recommended ones of the solver with the element, resolution and
-    /// time step given; the duration given.
-    fn settings(&self) -> Result<(SquatSettings, Resolution)> {
-        let (mut settings, resolution) = match self.tolerance {
+    /// The settings of the runs and the resolution: those `--tolerance` chose (with its
+    /// reason, printed), or the recommended ones of the solver with the element,
+    /// resolution and time step given; the duration given.
+    fn settings(&self) -> Result<(SquatSettings, Resolution, Option<String>)> {
+        let (mut settings, resolution, why) = match self.tolerance {
             Some(percent) => {
                 let (settings, resolution, why) = setting_within(percent, &self.bench_table.path)?;
-                println!("{why}");
-                (settings, resolution)
+                (settings, resolution, Some(why))
             }
             None => {
                 let mut settings = SquatSettings::recommended(self.solver);
@@ -141,12 +136,12 @@ impl KneeArgs {
                 if let Some(step) = self.time_step {
                     settings.time_step = step;
                 }
-                (settings, self.resolution)
+                (settings, self.resolution, None)
             }
         };
         settings.squat.duration = self.duration;
         settings.interfaces = self.interfaces;
-        Ok((settings, resolution))
+        Ok((settings, resolution, why))
     }
 
     fn activations(&self) -> Vec<Activation> {
@@ -158,12 +153,48 @@ impl KneeArgs {
     }
 }
 
+/// What a caller sees of the knee study as it goes.
+pub struct KneeView<'a> {
+    /// Where the command's lines go (each ends with a newline): stdout for the command.
+    pub say: &'a (dyn Fn(&str) + Sync),
+    /// Whether the squats' progress bars are drawn (on stderr).
+    pub bars: bool,
+    /// Stops both squats at their next recorded instant once set: by the caller (Ctrl-C in
+    /// Python), or by a squat that failed, for the other.
+    pub stop: &'a AtomicBool,
+}
+
+/// What the knee study found (its files are under `--out`).
+pub struct KneeOutcome {
+    /// `peak_stress.csv`'s rows: vm95 per muscle, angle, phase and activation.
+    pub rows: Vec<PeakStressRow>,
+    /// The squats, in the order of `activations`.
+    pub activations: Vec<Activation>,
+    pub runs: Vec<SquatRun>,
+    /// The muscles, in the order of every per-muscle column.
+    pub muscles: Vec<Quadriceps>,
+}
+
+/// `musclefem knee`.
 pub fn knee(args: &KneeArgs) -> Result<()> {
+    let say = |text: &str| print!("{text}");
+    let view = KneeView {
+        say: &say,
+        bars: std::io::stderr().is_terminal(),
+        stop: &AtomicBool::new(false),
+    };
+    run_knee(args, &view).map(drop)
+}
+
+/// The knee study of `args`: its files written under `args.out`, its lines said to
+/// `view`, its tables returned.
+pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     let started = Instant::now();
+    let say = view.say;
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration {} s must be positive", args.duration);
     }
-    crate::commands::check_frame_interval(args.frame_interval)?;
+    crate::frame_interval::check_frame_interval(args.frame_interval)?;
     if let Some(step) = args.time_step
         && !(step.is_finite() && step > 0.0 && step < args.duration)
     {
@@ -177,11 +208,14 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         );
     }
     let activations = args.activations();
-    let (settings, resolution) = args.settings()?;
+    let (settings, resolution, why) = args.settings()?;
+    if let Some(why) = why {
+        say(&format!("{why}\n"));
+    }
     let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
-        Some(directory) => musclefem_studies::knee::simulation::files::geometry_from_directory(
+        Some(directory) => crate::knee::simulation::files::geometry_from_directory(
             directory,
             &anatomy,
             &settings.squat,
@@ -217,10 +251,10 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
     let muscle_elements: usize = (0..geometry.muscles.len())
         .map(|b| geometry.mesh.blocks[b].len())
         .sum();
-    println!(
+    say(&format!(
         "knee squat 0° → 90° → 0° in {} s (closed chain: tibia pinned at the ankle, pelvis \
          lowered), {}, {} solver{}, {} muscle and {} tendon elements of {} ({}), {} \
-         interfaces, fibers in {:.2?}",
+         interfaces, fibers in {:.2?}\n",
         settings.squat.duration,
         match activations.as_slice() {
             [one] => one.name().to_string(),
@@ -241,36 +275,36 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         },
         settings.interfaces.name(),
         fibers.solve_time + fibers.setup_time,
-    );
-    println!(
-        "  {} solver: {}",
+    ));
+    say(&format!(
+        "  {} solver: {}\n",
         settings.solver.name(),
-        musclefem_studies::knee::simulation::run::solver_rationale(settings.solver)
-    );
+        crate::knee::simulation::run::solver_rationale(settings.solver)
+    ));
     if args.anatomy.is_none() {
-        println!(
-            "  {} resolution: {}",
+        say(&format!(
+            "  {} resolution: {}\n",
             format!("{resolution:?}").to_lowercase(),
             resolution_rationale(resolution)
-        );
+        ));
     }
     // The runs go side by side: each one's sparse factorizations are serial, so on two
     // cores the other run's element updates fill the idle one.
-    let bars = MultiProgress::with_draw_target(if std::io::stderr().is_terminal() {
+    let bars = MultiProgress::with_draw_target(if view.bars {
         ProgressDrawTarget::stderr()
     } else {
         ProgressDrawTarget::hidden()
     });
-    let stop = AtomicBool::new(false);
+    let stop = view.stop;
     let outcomes: Vec<Result<SquatRun>> = std::thread::scope(|scope| {
         let handles: Vec<_> = activations
             .iter()
             .map(|&activation| {
                 let bar = bars.add(progress_bar(settings.squat.duration, activation));
-                let (geometry, fibers, settings, stop) = (&geometry, &fibers, &settings, &stop);
+                let (geometry, fibers, settings) = (&geometry, &fibers, &settings);
                 scope.spawn(move || {
                     let outcome = run_one(
-                        args, geometry, fibers, activation, settings, existing, &bar, stop,
+                        args, geometry, fibers, activation, settings, existing, &bar, stop, say,
                     );
                     if outcome.is_err() {
                         // The other run stops at its next recorded instant.
@@ -315,15 +349,20 @@ pub fn knee(args: &KneeArgs) -> Result<()> {
         &peak_stress_chart(&rows, &geometry.muscles, &settings),
     )?
     .commit()?;
-    print_table(&rows, &geometry.muscles, &activations);
-    println!(
-        "wrote {}, {} and the runs' frames and histories under {} in {:.1?}",
+    say(&table_text(&rows, &geometry.muscles, &activations));
+    say(&format!(
+        "wrote {}, {} and the runs' frames and histories under {} in {:.1?}\n",
         csv.display(),
         chart.display(),
         args.out.display(),
         started.elapsed()
-    );
-    Ok(())
+    ));
+    Ok(KneeOutcome {
+        rows,
+        activations,
+        runs,
+        muscles: geometry.muscles.clone(),
+    })
 }
 
 mod tolerance;
@@ -331,6 +370,12 @@ use tolerance::setting_within;
 
 mod run_files;
 use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};
+
+mod tables;
+use tables::{peak_stress_chart, table_text};
+
+mod watcher;
+use watcher::{Outputs, progress_bar};
 
 /// The message of a run stopped because the other one failed.
 const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
@@ -346,6 +391,7 @@ fn run_one(
     existing: ExistingResults,
     bar: &ProgressBar,
     stop: &AtomicBool,
+    say: &(dyn Fn(&str) + Sync),
 ) -> Result<SquatRun> {
     let directory = args.out.join(activation.name());
     let mut output = RunDirectory::create(&directory, existing)
@@ -398,179 +444,8 @@ fn run_one(
         &run_log(&run, settings, &geometry.muscles).timing("solve", run.solve_time),
     )?;
     let summary = run_summary(&run, &geometry.muscles);
-    bar.suspend(|| print!("{summary}"));
+    bar.suspend(|| say(&summary));
     Ok(run)
-}
-
-/// Frames, history and vm95 samples of one run, and the progress bar.
-struct Outputs<'a> {
-    directory: &'a mut RunDirectory,
-    /// The muscles' mesh (given at the start of the run).
-    mesh: Option<musclefem_core::mesh::Mesh>,
-    history: Option<HistoryWriter>,
-    vm95: Vec<StressSample>,
-    /// Frames every `--frame-interval`, at the table's angles (30°, 45°, 60°, 90° down
-    /// and up) and at the end.
-    frames: FrameSchedule,
-    error: Option<anyhow::Error>,
-    bar: &'a ProgressBar,
-    /// Set when the other run failed: this one stops too, and notes it in `stopped`.
-    stop: &'a AtomicBool,
-    stopped: bool,
-}
-
-impl Outputs<'_> {
-    fn fail(&mut self, error: impl Into<anyhow::Error>) -> ControlFlow<()> {
-        self.error = Some(error.into());
-        ControlFlow::Break(())
-    }
-}
-
-impl SquatWatcher for Outputs<'_> {
-    fn start(&mut self, start: &SquatStart) -> Result<()> {
-        let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
-            .with_interactions(start.interactions.clone());
-        self.history = Some(match start.solver {
-            Solver::Implicit => self.directory.implicit_history(&columns)?,
-            Solver::Explicit => self.directory.explicit_history(&columns)?,
-        });
-        self.mesh = Some(start.mesh.clone());
-        Ok(())
-    }
-
-    fn recorded(
-        &mut self,
-        sample: &StressSample,
-        snapshot: &Snapshot,
-        fields: &[PartFields],
-    ) -> ControlFlow<()> {
-        self.vm95.push(sample.clone());
-        if !self.frames.due(sample.time) {
-            return ControlFlow::Continue(());
-        }
-        let Some(mesh) = &self.mesh else {
-            return ControlFlow::Continue(());
-        };
-        match self.directory.write_state_frame(
-            mesh,
-            snapshot.time,
-            snapshot.displacement,
-            fields,
-            &[],
-        ) {
-            Ok(_) => ControlFlow::Continue(()),
-            Err(e) => self.fail(e),
-        }
-    }
-
-    fn progress(&mut self, time: f64) -> ControlFlow<()> {
-        self.bar.set_position((1e3 * time) as u64);
-        if self.stop.load(Ordering::Relaxed) {
-            self.stopped = true;
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    }
-
-    fn history_row(&mut self, record: &Record) {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_record(record)
-        {
-            self.error = Some(e.into());
-        }
-    }
-}
-
-/// The bar of one squat of `duration` [s], in simulated milliseconds.
-fn progress_bar(duration: f64, activation: Activation) -> ProgressBar {
-    let bar = ProgressBar::new((1e3 * duration) as u64);
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{:<7} {{bar:40}} {{pos}} / {{len}} ms of squat [{{elapsed_precise}}, ETA {{eta}}]",
-            activation.name()
-        ))
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
-}
-
-/// The vm95 table: one line per muscle and angle, passive and active in both phases.
-fn print_table(rows: &[PeakStressRow], muscles: &[Quadriceps], activations: &[Activation]) {
-    let value = |m: Quadriceps, angle: f64, phase: Phase, a: Activation| {
-        rows.iter()
-            .find(|r| {
-                r.muscle == m && r.angle_degrees == angle && r.phase == phase && r.activation == a
-            })
-            .map_or("-".to_string(), |r| format!("{:.1}", 1e-3 * r.vm95))
-    };
-    let mut header = "muscle  angle".to_string();
-    for phase in [Phase::Flexion, Phase::Extension] {
-        for &a in activations {
-            header.push_str(&format!(
-                "  {:>19}",
-                format!("{} {}", a.name(), phase.name())
-            ));
-        }
-    }
-    println!("vm95 [kPa]\n{header}");
-    for &m in muscles {
-        for angle in TABLE_ANGLES_DEGREES {
-            let mut line = format!("{:<6}  {:>4}°", m.abbreviation(), angle);
-            for phase in [Phase::Flexion, Phase::Extension] {
-                for &a in activations {
-                    line.push_str(&format!("  {:>19}", value(m, angle, phase, a)));
-                }
-            }
-            println!("{line}");
-        }
-    }
-}
-
-/// One panel per muscle; per angle, a bar per (activation, phase).
-fn peak_stress_chart(
-    rows: &[PeakStressRow],
-    muscles: &[Quadriceps],
-    settings: &SquatSettings,
-) -> BarChart {
-    let mut chart = BarChart::new(format!(
-        "95th-percentile von Mises stress of the quadriceps, squat 0° → 90° → 0° in {} s",
-        settings.squat.duration
-    ))
-    .with_columns(2);
-    for &m in muscles {
-        let mut panel = BarPanel::new(
-            m.abbreviation(),
-            "vm95 [kPa]",
-            TABLE_ANGLES_DEGREES.iter().map(|a| format!("{a}°")),
-        )
-        .with_x_label("knee flexion angle")
-        .with_legend(LegendPosition::UpperLeft);
-        for phase in [Phase::Flexion, Phase::Extension] {
-            for activation in [Activation::Passive, Activation::Active] {
-                let values: Vec<f64> = TABLE_ANGLES_DEGREES
-                    .iter()
-                    .map(|&angle| {
-                        rows.iter()
-                            .find(|r| {
-                                r.muscle == m
-                                    && r.angle_degrees == angle
-                                    && r.phase == phase
-                                    && r.activation == activation
-                            })
-                            .map_or(f64::NAN, |r| 1e-3 * r.vm95)
-                    })
-                    .collect();
-                if values.iter().any(|v| v.is_finite()) {
-                    panel = panel.with_series(BarSeries::new(
-                        format!("{}, {}", activation.name(), phase.name()),
-                        values,
-                    ));
-                }
-            }
-        }
-        chart = chart.with_panel(panel);
-    }
-    chart
 }
 
 #[cfg(test)]
@@ -591,7 +466,8 @@ mod tests {
     #[test]
     fn the_default_run_is_both_squats_implicit_on_the_coarse_mesh() {
         let args = Command::try_parse_from(["knee"]).unwrap().knee;
-        let (settings, resolution) = args.settings().unwrap();
+        let (settings, resolution, why) = args.settings().unwrap();
+        assert_eq!(why, None);
         assert_eq!(resolution, Resolution::Coarse);
         assert_eq!(settings.solver, Solver::Implicit);
         assert_eq!(

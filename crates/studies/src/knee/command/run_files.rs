@@ -1,16 +1,16 @@
-//! A knee run's own files and summary (see `knee_command.rs`): `vm95.csv`, `newton.csv`,
+//! A knee run's own files and summary (see `knee/command.rs`): `vm95.csv`, `newton.csv`,
 //! `run.log` and the lines printed after the run.
 
 use std::path::Path;
 
 use anyhow::Result;
 
+use crate::knee::Quadriceps;
+use crate::knee::simulation::patella::tendon_summary;
+use crate::knee::simulation::plausibility::plausibility_report;
+use crate::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
 use musclefem_core::solver::implicit::{CutAttempt, Factorization, StepReport};
 use musclefem_io::output::RunLog;
-use musclefem_studies::knee::Quadriceps;
-use musclefem_studies::knee::simulation::patella::tendon_summary;
-use musclefem_studies::knee::simulation::plausibility::plausibility_report;
-use musclefem_studies::knee::simulation::{Phase, SquatRun, SquatSettings, StressSample};
 
 /// `vm95.csv`: each muscle's vm95 at every recorded instant, and the smallest element
 /// Jacobian ratio (positive: no element inverted).

@@ -1,0 +1,40 @@
+"""`musclefem.knee`: `musclefem knee` from Python. The squat takes about 14 minutes (the
+command line's test runs it, ignored by default), so these tests check only that its
+options are read and refused as the command reads and refuses them, before any output."""
+
+import pytest
+
+import musclefem
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        (dict(duration=-1.0), r"--duration -1 s must be positive"),
+        (dict(passive=True, active=True), r"cannot be used with"),
+        (dict(element="tet4"), r"--element tet4: the knee's muscles are meshed with hex8"),
+        (dict(tolerance=0.0), r"--tolerance 0 must be a positive percentage"),
+        (dict(tolerance=5.0, resolution="coarse"), r"cannot be used with"),
+        (dict(frame_interval=-0.1), r"--frame-interval -0.1 s must be 0"),
+        (dict(time_step=5.0), r"--time-step 5 s must be positive and below the duration"),
+        (dict(resolution="huge"), r"invalid value 'huge' for '--resolution"),
+    ],
+)
+def test_bad_options_are_refused_before_any_output(tmp_path, options, message):
+    out = tmp_path / "out"
+    with pytest.raises(musclefem.MusclefemError, match=message):
+        musclefem.knee(out=str(out), **options)
+    assert not out.exists()
+
+
+def test_earlier_results_are_not_replaced_without_force(tmp_path):
+    (tmp_path / "peak_stress.csv").write_text("earlier results\n")
+    with pytest.raises(musclefem.MusclefemError, match=r"peak_stress\.csv exists: use --force"):
+        musclefem.knee(out=str(tmp_path))
+    assert (tmp_path / "peak_stress.csv").read_text() == "earlier results\n"
+
+
+def test_an_anatomy_directory_without_muscles_is_named(tmp_path):
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(musclefem.MusclefemError, match="neither muscles.msh nor muscles.inp"):
+        musclefem.knee(anatomy=str(tmp_path / "empty"), out=str(tmp_path / "out"))
