@@ -117,8 +117,12 @@ def test_ctrl_c_stops_a_run_whose_directory_then_resumes_to_the_same_history(tmp
         .replace("increments = 10 }", "increments = 400 }")
         .replace("output_interval = 0.1", "output_interval = 0.01")
     )
+    # Python's own Ctrl-C handler, as in an interactive interpreter: a process started in
+    # the background of a non-interactive shell (a CI script's `cmd &`) inherits SIGINT
+    # ignored, and Python then leaves it ignored.
     script = (
-        "import sys, musclefem\n"
+        "import signal, sys, musclefem\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "scene = musclefem.Scene(sys.argv[1])\n"
         "try:\n"
         "    scene.run(out=sys.argv[2], resume=sys.argv[3] == 'resume')\n"
