@@ -196,15 +196,7 @@ fn run_one(
     args: &ElongateArgs,
     interrupted: &Arc<AtomicBool>,
 ) -> Result<ElongationRun> {
-    let label = format!(
-        "{} {} elongation, {} {}, {} mm, {} grips",
-        test.solver.name(),
-        test.mode.name(),
-        test.shape.name(),
-        test.element.name(),
-        musclefem_io::csv::format_number(1e3 * test.mesh_size),
-        test.grips.name(),
-    );
+    let label = test.label();
     println!("{label}");
     let started = Instant::now();
     let scene = elongation_scene(test)?;

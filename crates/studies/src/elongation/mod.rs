@@ -132,6 +132,20 @@ pub const DEFAULT_SETTING_RATIONALE: &str = "implicit F-bar hex8 at 4 mm, the de
     mass scaling (2-100 % off in 2.7-257 s); --tolerance PERCENT picks from a chart";
 
 impl ElongationTest {
+    /// A one-line name of the test, e.g. "implicit passive elongation, fusiform
+    /// hex8-fbar, 4 mm, fixed grips".
+    pub fn label(&self) -> String {
+        format!(
+            "{} {} elongation, {} {}, {} mm, {} grips",
+            self.solver.name(),
+            self.mode.name(),
+            self.shape.name(),
+            self.element.name(),
+            musclefem_io::csv::format_number(1e3 * self.mesh_size),
+            self.grips.name(),
+        )
+    }
+
     /// The instants' spacing of frames and checkpoints [s]: `frame_interval`, or
     /// `output_interval` without frames (as a scene's `[output]` defaults).
     pub fn checkpoint_interval(&self) -> f64 {

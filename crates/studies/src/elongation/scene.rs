@@ -55,15 +55,7 @@ pub fn elongation_scene(test: &ElongationTest) -> Result<ElongationScene> {
         sets.insert("origin_axis".to_string(), vec![axis]);
         sets.insert("origin_edge".to_string(), vec![edge]);
     }
-    let description = format!(
-        "musclefem elongate: {} {} elongation of the {} ({}, {} mm elements, {} grips)",
-        test.solver.name(),
-        test.mode.name(),
-        test.shape.name(),
-        test.element.name(),
-        musclefem_io::csv::format_number(1e3 * test.mesh_size),
-        test.grips.name(),
-    );
+    let description = format!("musclefem elongate: {}", test.label());
     let mesh = abaqus_text(&specimen.mesh, &description);
     let mut scene = format!(
         "# {description}\n# Written by `musclefem elongate`; `musclefem run` reruns it.\n\
