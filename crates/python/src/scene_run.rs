@@ -9,7 +9,7 @@ use musclefem_core::solver::{Checkpoint, Observer, Record, Snapshot, SolverError
 use musclefem_io::output::run_directory::HISTORY_FILE;
 use musclefem_io::output::run_writer::PROGRESS_STEPS;
 use musclefem_io::output::{
-    FrameSchedule, HistoryColumns, HistoryWriter, RunLog, RunStart, RunWriter,
+    FrameInstants, FrameSchedule, HistoryColumns, HistoryWriter, RunLog, RunStart, RunWriter,
 };
 use musclefem_io::scene::Model;
 
@@ -66,16 +66,15 @@ struct InMemory<'a> {
     frames: Vec<CapturedFrame>,
     keep_frames: bool,
     error: Option<anyhow::Error>,
-    schedule: FrameSchedule,
-    frame_due: bool,
+    frames_at: FrameInstants,
     progress: Progress<'a>,
 }
 
 impl InMemory<'_> {
     /// The instant of `snapshot`: its frame kept if one is due, the progress shown.
     fn instant(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frame_due = self.schedule.due(snapshot.time);
-        if self.frame_due && self.keep_frames && self.model.write_frames {
+        let frame_due = self.frames_at.reached(snapshot.time);
+        if frame_due && self.keep_frames && self.model.write_frames {
             match CapturedFrame::capture(&self.model.mesh, snapshot) {
                 Ok(frame) => self.frames.push(frame),
                 Err(e) => {
@@ -106,7 +105,7 @@ impl Observer for InMemory<'_> {
     }
 
     fn wants_checkpoint(&mut self) -> bool {
-        std::mem::take(&mut self.frame_due)
+        self.frames_at.take_due()
     }
 
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
@@ -132,8 +131,11 @@ pub(crate) fn run_in_memory(
         frames: Vec::new(),
         keep_frames,
         error: None,
-        schedule: FrameSchedule::new(model.frame_interval, model.analysis.end_time(), &[]),
-        frame_due: false,
+        frames_at: FrameInstants::new(FrameSchedule::new(
+            model.frame_interval,
+            model.analysis.end_time(),
+            &[],
+        )),
         progress,
     };
     let outcome = model.run(&mut observer);

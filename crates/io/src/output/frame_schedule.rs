@@ -53,6 +53,38 @@ impl FrameSchedule {
     }
 }
 
+/// A [`FrameSchedule`] followed instant by instant, remembering whether the last instant
+/// was a frame: where a run takes its checkpoints (after a framed instant, once). A run
+/// kept in memory asks for (and drops) a checkpoint at the same instants as `musclefem run`
+/// would: a checkpoint makes the implicit solver factorize afresh, so the numbers are then
+/// the command's to the last digit.
+#[derive(Debug, Clone)]
+pub struct FrameInstants {
+    schedule: FrameSchedule,
+    due: bool,
+}
+
+impl FrameInstants {
+    pub fn new(schedule: FrameSchedule) -> Self {
+        FrameInstants {
+            schedule,
+            due: false,
+        }
+    }
+
+    /// A recorded instant `time` [s] (the start included): whether it gets a frame.
+    pub fn reached(&mut self, time: f64) -> bool {
+        self.due = self.schedule.due(time);
+        self.due
+    }
+
+    /// Whether the last instant reached was a frame, answered once (for
+    /// `Observer::wants_checkpoint`).
+    pub fn take_due(&mut self) -> bool {
+        std::mem::take(&mut self.due)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -32,7 +32,7 @@ pub mod vtu;
 pub use checkpoint::{CHECKPOINT_FILE, RunCheckpoint};
 pub use element_fields::ElementFieldArrays;
 pub use frame::{Field, FieldValues, Frame, voigt_to_vtk_symmetric, von_mises};
-pub use frame_schedule::FrameSchedule;
+pub use frame_schedule::{FrameInstants, FrameSchedule};
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};

@@ -11,7 +11,7 @@ use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Checkpoint, Observer, Record, Snapshot, SolverError};
 
 use super::checkpoint::{CHECKPOINT_FILE, RunCheckpoint};
-use super::frame_schedule::FrameSchedule;
+use super::frame_schedule::{FrameInstants, FrameSchedule};
 use super::history::HistoryWriter;
 use super::run_directory::{ExistingResults, RunDirectory};
 use crate::OutputError;
@@ -70,11 +70,10 @@ pub struct RunWriter<'a> {
     directory: RunDirectory,
     history: HistoryWriter,
     write_frames: bool,
-    frames: FrameSchedule,
+    /// The frames' instants: a checkpoint follows a framed row.
+    frames: FrameInstants,
     /// Of the model, written into every checkpoint: a checkpoint resumes only its model.
     fingerprint: u64,
-    /// Whether the last recorded row was a frame's: a checkpoint follows it.
-    frame_due: bool,
     no_checkpoints: Option<String>,
     /// [`ABORT_AFTER_CHECKPOINT`].
     abort_after_checkpoint: Option<usize>,
@@ -124,9 +123,8 @@ impl<'a> RunWriter<'a> {
             directory,
             history,
             write_frames,
-            frames,
+            frames: FrameInstants::new(frames),
             fingerprint,
-            frame_due: false,
             no_checkpoints: None,
             abort_after_checkpoint: std::env::var(ABORT_AFTER_CHECKPOINT)
                 .ok()
@@ -161,8 +159,8 @@ impl<'a> RunWriter<'a> {
 
     /// The frame of `snapshot`, with its element fields, if one is due.
     fn frame(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frame_due = self.frames.due(snapshot.time);
-        if self.write_frames && self.frame_due {
+        let frame_due = self.frames.reached(snapshot.time);
+        if self.write_frames && frame_due {
             let parts = match snapshot.element_fields() {
                 Ok(parts) => parts,
                 Err(e) => {
@@ -203,7 +201,7 @@ impl Observer for RunWriter<'_> {
     }
 
     fn wants_checkpoint(&mut self) -> bool {
-        self.no_checkpoints.is_none() && std::mem::take(&mut self.frame_due)
+        self.no_checkpoints.is_none() && self.frames.take_due()
     }
 
     /// Written after every frame: the state and the outputs up to it.

@@ -56,10 +56,15 @@ impl CurveScale {
             .into_iter()
             .map(|(time, force)| self.point(time, force))
             .collect();
+        self.start_at_rest(&mut points);
+        Curve { points }
+    }
+
+    /// Put the stress-free point at t = 0 in front of `points` if they start later.
+    pub fn start_at_rest(&self, points: &mut Vec<CurvePoint>) {
         if points.first().is_none_or(|p| p.time > 0.0) {
             points.insert(0, self.point(0.0, 0.0));
         }
-        Curve { points }
     }
 }
 

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 
 use musclefem_core::solver::{Analysis, Observer, Outcome, Problem, Record, Snapshot, run};
-use musclefem_io::output::FrameSchedule;
+use musclefem_io::output::{FrameInstants, FrameSchedule};
 
 use super::curve::{Curve, CurvePoint, CurveScale};
 use super::setup::{Setup, explicit_settings, implicit_settings, setup};
@@ -66,8 +66,11 @@ pub fn run_on(
     watcher: &mut dyn ElongationWatcher,
 ) -> Result<ElongationRun> {
     let mut adapter = Adapter {
-        frames: FrameSchedule::new(test.checkpoint_interval(), test.mode.duration(), &[]),
-        frame_due: false,
+        frames: FrameInstants::new(FrameSchedule::new(
+            test.checkpoint_interval(),
+            test.mode.duration(),
+            &[],
+        )),
         scale: setup.curve_scale(test),
         curve: Curve::default(),
         watcher,
@@ -108,10 +111,8 @@ pub fn run_on(
             Some(result.added_mass_fraction),
         ),
     };
-    let points = std::mem::take(&mut adapter.curve.points);
-    let curve = adapter
-        .scale
-        .curve(points.iter().map(|p| (p.time, p.force)));
+    let mut curve = std::mem::take(&mut adapter.curve);
+    adapter.scale.start_at_rest(&mut curve.points);
     Ok(ElongationRun {
         solve_time: started.elapsed(),
         elements: mesh.element_count(),
@@ -128,8 +129,7 @@ pub fn run_on(
 struct Adapter<'w> {
     /// Where `musclefem elongate` would write frames and take checkpoints (see
     /// [`ElongationTest::frame_interval`]).
-    frames: FrameSchedule,
-    frame_due: bool,
+    frames: FrameInstants,
     scale: CurveScale,
     curve: Curve,
     watcher: &'w mut dyn ElongationWatcher,
@@ -148,18 +148,18 @@ impl Adapter<'_> {
 impl Observer for Adapter<'_> {
     /// The implicit solver's initial state: the curve's first point (no force yet).
     fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frames.due(snapshot.time);
+        self.frames.reached(snapshot.time);
         self.add(0.0, 0.0, snapshot)
     }
 
     /// Asked after a recorded row: a checkpoint (dropped) where `musclefem elongate`
     /// takes one, for the same numbers.
     fn wants_checkpoint(&mut self) -> bool {
-        std::mem::take(&mut self.frame_due)
+        self.frames.take_due()
     }
 
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
-        self.frame_due = self.frames.due(snapshot.time);
+        self.frames.reached(snapshot.time);
         self.watcher.history_row(record);
         match record {
             Record::Explicit(row) => {

@@ -249,7 +249,7 @@ mod tests {
     use std::ops::ControlFlow;
 
     use musclefem_core::solver::{Observer, Record, Snapshot};
-    use musclefem_io::output::FrameSchedule;
+    use musclefem_io::output::{FrameInstants, FrameSchedule};
     use musclefem_io::scene::load_scene;
     use musclefem_materials::MaterialLibrary;
 
@@ -265,24 +265,23 @@ mod tests {
     /// one (at the frame instants), as the in-memory test does.
     struct SceneRows {
         rows: Rows,
-        frames: FrameSchedule,
-        frame_due: bool,
+        frames: FrameInstants,
     }
 
     impl Observer for SceneRows {
         fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-            self.frames.due(snapshot.time);
+            self.frames.reached(snapshot.time);
             ControlFlow::Continue(())
         }
 
         fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
-            self.frame_due = self.frames.due(snapshot.time);
+            self.frames.reached(snapshot.time);
             self.rows.0.push((record.time(), record.reactions()[0]));
             ControlFlow::Continue(())
         }
 
         fn wants_checkpoint(&mut self) -> bool {
-            std::mem::take(&mut self.frame_due)
+            self.frames.take_due()
         }
     }
 
@@ -314,8 +313,11 @@ mod tests {
         std::fs::remove_dir_all(&directory).unwrap();
         let mut from_scene = SceneRows {
             rows: Rows::default(),
-            frames: FrameSchedule::new(model.frame_interval, model.analysis.end_time(), &[]),
-            frame_due: false,
+            frames: FrameInstants::new(FrameSchedule::new(
+                model.frame_interval,
+                model.analysis.end_time(),
+                &[],
+            )),
         };
         model.run(&mut from_scene).unwrap();
         let from_scene = from_scene.rows;
