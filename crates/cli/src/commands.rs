@@ -313,6 +313,19 @@ mod tests {
     }
 }
 
+/// `musclefem knee`, which Ctrl-C stops cleanly at each squat's next recorded instant
+/// (exit 130; `--resume` goes on from the last frames).
+pub fn knee(args: &musclefem_studies::knee::command::KneeArgs) -> Result<()> {
+    use musclefem_studies::knee::command::KneeInterrupted;
+    let interrupted = crate::scene_run::directory::interrupt_flag();
+    musclefem_studies::knee::command::knee(args, &interrupted).map_err(|error| match error
+        .downcast_ref::<KneeInterrupted>(
+    ) {
+        Some(stopped) => Interrupted(stopped.0.clone()).into(),
+        None => error,
+    })
+}
+
 /// A run stopped by Ctrl-C after writing its outputs up to there: the command exits with
 /// 130 (128 + SIGINT, as shells report an interrupted program) and this message.
 #[derive(Debug)]

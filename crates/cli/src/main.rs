@@ -197,7 +197,7 @@ fn main() -> ExitCode {
         Some(Command::Run(args)) => scene_run::run(&args),
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
-        Some(Command::Knee(args)) => musclefem_studies::knee::command::knee(&args),
+        Some(Command::Knee(args)) => commands::knee(&args),
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),

@@ -193,3 +193,126 @@ fn a_checkpoint_of_another_scene_is_refused() {
     );
     assert!(!both.status.success());
 }
+
+/// The knee: a shallow passive squat (10° in 0.2 s, a frame every 0.05 s; about 50 s on
+/// 2 cores) killed after a random frame's checkpoint and resumed ends with the files of
+/// the squat never stopped, byte for byte: its history and frames, and the tables built
+/// from the knee's own state in the checkpoint (vm95, tendon, plausibility, peak
+/// stress). A second --resume finds the study complete; other options find a checkpoint
+/// of another squat.
+#[cfg(unix)]
+#[test]
+fn a_killed_knee_squat_resumes_to_the_same_files_byte_for_byte() {
+    let dir = test_dir("musclefem-resume", "knee");
+    let squat = |out: &str| -> Vec<String> {
+        [
+            "knee",
+            "--passive",
+            "--peak-flexion",
+            "10",
+            "--duration",
+            "0.2",
+            "--frame-interval",
+            "0.05",
+            "--out",
+            out,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let args = |out: &str, more: &[&str]| {
+        let mut args = squat(out);
+        args.extend(more.iter().map(|s| s.to_string()));
+        args
+    };
+    let run = |args: Vec<String>| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        musclefem(&dir, &args)
+    };
+    let whole = run(squat("whole"));
+    assert!(whole.status.success(), "{}", text(&whole.stderr));
+    assert!(!dir.join("whole/passive/checkpoint.bin").exists());
+    let knee_results = |root: &Path| {
+        let mut files = results(&root.join("passive"));
+        for name in [
+            "passive/vm95.csv",
+            "passive/tendon.csv",
+            "passive/plausibility.csv",
+            "peak_stress.csv",
+        ] {
+            files.push((name.to_string(), std::fs::read(root.join(name)).unwrap()));
+        }
+        files
+    };
+    let expected = knee_results(&dir.join("whole"));
+    // Frames at 0, 0.05, 0.1, 0.15 and 0.2 s; a checkpoint after each but the first.
+    assert_eq!(
+        expected.len(),
+        2 + 5 + 4,
+        "{:?}",
+        expected.iter().map(|f| &f.0)
+    );
+
+    let kill_after = some_frame(3);
+    let killed = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args(squat("cut"))
+        .env("MUSCLEFEM_ABORT_AFTER_CHECKPOINT", kill_after.to_string())
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        !killed.status.success() && killed.status.code().is_none(),
+        "the squat was to be killed after checkpoint {kill_after}: {:?}",
+        killed.status
+    );
+    assert!(dir.join("cut/passive/checkpoint.bin").is_file());
+    let log = std::fs::read_to_string(dir.join("cut/passive/run.log")).unwrap();
+    assert!(log.contains("end = running"), "{log}");
+
+    // Other options: the checkpoint is of another squat, and nothing changes.
+    let other = run(args("cut", &["--resume", "--interfaces", "elastic-shear"]));
+    assert!(!other.status.success());
+    assert!(
+        text(&other.stderr).contains("another scene, mesh or solver"),
+        "{}",
+        text(&other.stderr)
+    );
+
+    let resumed = run(args("cut", &["--resume"]));
+    assert!(
+        resumed.status.success(),
+        "killed after checkpoint {kill_after}: {}",
+        text(&resumed.stderr)
+    );
+    assert!(
+        text(&resumed.stdout).contains("resumed from its checkpoint at t = "),
+        "{}",
+        text(&resumed.stdout)
+    );
+    let found = knee_results(&dir.join("cut"));
+    assert_eq!(
+        expected.iter().map(|f| &f.0).collect::<Vec<_>>(),
+        found.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
+    for ((file, a), (_, b)) in expected.iter().zip(&found) {
+        assert!(
+            a == b,
+            "killed after checkpoint {kill_after}: {file} differs"
+        );
+    }
+    let log = std::fs::read_to_string(dir.join("cut/passive/run.log")).unwrap();
+    assert!(
+        log.contains("resumed = from the checkpoint at t = "),
+        "{log}"
+    );
+    assert!(log.contains("end = complete"), "{log}");
+    assert!(!dir.join("cut/passive/checkpoint.bin").exists());
+
+    let again = run(args("cut", &["--resume"]));
+    assert!(!again.status.success());
+    assert!(
+        text(&again.stderr).contains("there is nothing to resume"),
+        "{}",
+        text(&again.stderr)
+    );
+}

@@ -28,20 +28,22 @@ struct KneeCommand {
 /// (`musclefem knee`; about 14 minutes on 2 cores with the defaults). The keyword
 /// arguments are the command's options (`musclefem knee --help`), `None` meaning its
 /// default: `passive`, `active`, `both` (flags), `solver`, `element`, `resolution`,
-/// `tolerance` [%], `bench_table`, `anatomy` (a directory), `interfaces`, `duration`
-/// [s], `time_step` [s], `frame_interval` [s], `out` (default "out/knee"), `force`. Its
+/// `tolerance` [%], `bench_table`, `anatomy` (a directory), `interfaces`,
+/// `peak_flexion` [°], `duration` [s], `time_step` [s], `frame_interval` [s], `out`
+/// (default "out/knee"), `force`, `resume` (go on from the squats' last frames). Its
 /// files are written under `out` as the command writes them. `progress`: the command's
 /// bars on a terminal; `verbose`: its lines on `sys.stdout`. Returns a dict:
 /// `peak_stress`, the columns of peak_stress.csv (`muscle`, `knee_angle_deg`, `phase`,
 /// `activation`, `vm95_pa`), and `tendon`, {activation: the columns of its tendon.csv}.
 /// Ctrl-C stops both squats at their next recorded instant (KeyboardInterrupt; the
-/// frames written so far stay).
+/// frames written so far and a checkpoint at the last one stay: `resume=True` goes on).
 #[pyfunction]
 #[pyo3(signature = (
     *, passive = false, active = false, both = false, solver = None, element = None,
     resolution = None, tolerance = None, bench_table = None, anatomy = None,
-    interfaces = None, duration = None, time_step = None, frame_interval = None, out = None,
-    force = false, threads = None, progress = false, verbose = false
+    interfaces = None, peak_flexion = None, duration = None, time_step = None,
+    frame_interval = None, out = None, force = false, resume = false, threads = None,
+    progress = false, verbose = false
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn knee<'py>(
@@ -56,11 +58,13 @@ pub fn knee<'py>(
     bench_table: Option<PathBuf>,
     anatomy: Option<PathBuf>,
     interfaces: Option<String>,
+    peak_flexion: Option<f64>,
     duration: Option<f64>,
     time_step: Option<f64>,
     frame_interval: Option<f64>,
     out: Option<PathBuf>,
     force: bool,
+    resume: bool,
     threads: Option<usize>,
     progress: bool,
     verbose: bool,
@@ -71,6 +75,7 @@ pub fn knee<'py>(
         ("active", active),
         ("both", both),
         ("force", force),
+        ("resume", resume),
     ] {
         if given {
             argv.push(format!("--{flag}"));
@@ -85,6 +90,7 @@ pub fn knee<'py>(
         ("bench-table", bench_table.map(path)),
         ("anatomy", anatomy.map(path)),
         ("interfaces", interfaces),
+        ("peak-flexion", peak_flexion.map(|v| v.to_string())),
         ("duration", duration.map(|v| v.to_string())),
         ("time-step", time_step.map(|v| v.to_string())),
         ("frame-interval", frame_interval.map(|v| v.to_string())),
@@ -126,9 +132,12 @@ pub fn knee<'py>(
     })?;
     match (outcome, signal) {
         (Ok(outcome), _) => tables(py, &outcome),
-        (Err(_), Some(signal)) if signal.is_instance_of::<PyKeyboardInterrupt>(py) => Err(
-            PyKeyboardInterrupt::new_err("the squats were stopped; the frames written so far stay"),
-        ),
+        (Err(_), Some(signal)) if signal.is_instance_of::<PyKeyboardInterrupt>(py) => {
+            Err(PyKeyboardInterrupt::new_err(
+                "the squats were stopped; the frames written so far stay, and resume=True \
+                 goes on from the last one",
+            ))
+        }
         (Err(_), Some(signal)) => Err(signal),
         (Err(error), None) => Err(python_error(error)),
     }

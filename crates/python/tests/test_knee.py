@@ -18,6 +18,8 @@ import musclefem
         (dict(frame_interval=-0.1), r"--frame-interval -0.1 s must be 0"),
         (dict(time_step=5.0), r"--time-step 5 s must be positive and below the duration"),
         (dict(resolution="huge"), r"invalid value 'huge' for '--resolution"),
+        (dict(peak_flexion=120.0), r"--peak-flexion 120° must be from 5° to 90°"),
+        (dict(resume=True, force=True), r"cannot be used with"),
     ],
 )
 def test_bad_options_are_refused_before_any_output(tmp_path, options, message):
@@ -38,3 +40,17 @@ def test_an_anatomy_directory_without_muscles_is_named(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(musclefem.MusclefemError, match="neither muscles.msh nor muscles.inp"):
         musclefem.knee(anatomy=str(tmp_path / "empty"), out=str(tmp_path / "out"))
+
+
+def test_a_completed_study_has_nothing_to_resume(tmp_path):
+    (tmp_path / "peak_stress.csv").write_text("earlier results\n")
+    with pytest.raises(musclefem.MusclefemError, match=r"completed, there is nothing to resume"):
+        musclefem.knee(out=str(tmp_path), resume=True)
+    assert (tmp_path / "peak_stress.csv").read_text() == "earlier results\n"
+
+
+def test_nothing_is_written_when_there_is_no_checkpoint_to_resume(tmp_path):
+    out = tmp_path / "out"
+    with pytest.raises(musclefem.MusclefemError, match=r"has no checkpoint to resume from"):
+        musclefem.knee(out=str(out), resume=True)
+    assert not out.exists()

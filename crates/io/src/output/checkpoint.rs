@@ -7,9 +7,11 @@
 //! files then end as an uninterrupted run's would, byte for byte. The file goes away when
 //! the run completes.
 //!
-//! Layout: the line `musclefem checkpoint 1`, then, in the little-endian encoding of
+//! Layout: the line `musclefem checkpoint 2`, then, in the little-endian encoding of
 //! `CheckpointWriter`, the fingerprint, the history header and rows, the frames (time,
-//! file), the solver's name, time and state.
+//! file), the solver's name, time and state, and the study's own state (bytes a study
+//! that observes the run beside the writer keeps, e.g. the knee's stress samples and its
+//! patella's pull; empty for a scene run).
 
 use std::path::Path;
 
@@ -23,7 +25,7 @@ use crate::atomic::write_atomically;
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// The first line of the file.
-const MAGIC: &[u8] = b"musclefem checkpoint 1\n";
+const MAGIC: &[u8] = b"musclefem checkpoint 2\n";
 
 /// A run's checkpoint (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]
@@ -38,6 +40,8 @@ pub struct RunCheckpoint {
     pub frames: Vec<PvdEntry>,
     /// The solver's state.
     pub solver: Checkpoint,
+    /// What the study that observed the run keeps beyond the history (empty for none).
+    pub study: Vec<u8>,
 }
 
 impl RunCheckpoint {
@@ -56,6 +60,7 @@ impl RunCheckpoint {
         out.text(&self.solver.solver);
         out.f64(self.solver.time);
         out.bytes(&self.solver.state);
+        out.bytes(&self.study);
         let mut bytes = MAGIC.to_vec();
         bytes.extend(out.into_bytes());
         write_atomically(path, &bytes)
@@ -92,6 +97,7 @@ impl RunCheckpoint {
                 time: input.f64()?,
                 state: input.bytes()?,
             };
+            let study = input.bytes()?;
             input.finish()?;
             Ok(RunCheckpoint {
                 fingerprint,
@@ -99,6 +105,7 @@ impl RunCheckpoint {
                 history_rows,
                 frames,
                 solver,
+                study,
             })
         };
         read().map_err(corrupt)
@@ -127,6 +134,7 @@ mod tests {
                 time: 0.1,
                 state: vec![1, 2, 3],
             },
+            study: vec![4, 5],
         };
         checkpoint.write(&path).unwrap();
         assert_eq!(RunCheckpoint::read(&path).unwrap(), checkpoint);

@@ -36,6 +36,8 @@ pub use frame_schedule::{FrameInstants, FrameSchedule};
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
-pub use run_directory::{ExistingResults, RunDirectory, RunLog, state_frame};
-pub use run_writer::{ABORT_AFTER_CHECKPOINT, RunProgress, RunStart, RunWriter, WrittenRun};
+pub use run_directory::{ExistingResults, HISTORY_FILE, RunDirectory, RunLog, state_frame};
+pub use run_writer::{
+    ABORT_AFTER_CHECKPOINT, RunProgress, RunStart, RunWriter, StudyRunWriter, WrittenRun,
+};
 pub use vtu::{encode_vtu, stage_vtu, vtk_cell_type, write_vtu};

@@ -2,7 +2,9 @@
 //! from the first row on, the frames on a [`FrameSchedule`], a checkpoint after every
 //! frame — and every recorded instant and step shown to a [`RunProgress`] (a progress
 //! bar, Ctrl-C). A run started again with [`RunStart::Resume`] continues from the
-//! directory's checkpoint (see [`super::checkpoint`]).
+//! directory's checkpoint (see [`super::checkpoint`]). A study that observes the run
+//! beside the writer (the knee) passes the solver's calls on to it as a
+//! [`StudyRunWriter`] and stores its own state in every checkpoint.
 
 use std::ops::ControlFlow;
 use std::path::Path;
@@ -77,6 +79,8 @@ pub struct RunWriter<'a> {
     no_checkpoints: Option<String>,
     /// [`ABORT_AFTER_CHECKPOINT`].
     abort_after_checkpoint: Option<usize>,
+    /// The study's state in the checkpoint a resumed run started from (empty otherwise).
+    resumed_study: Vec<u8>,
     write_error: Option<OutputError>,
     fields_error: Option<SolverError>,
     progress: &'a mut dyn RunProgress,
@@ -96,10 +100,14 @@ impl<'a> RunWriter<'a> {
         fingerprint: u64,
         progress: &'a mut dyn RunProgress,
     ) -> Result<(Self, Option<Checkpoint>), OutputError> {
-        let (directory, history, frames, solver) = match start {
-            RunStart::Fresh(existing) => {
-                (RunDirectory::create(root, existing)?, history, frames, None)
-            }
+        let (directory, history, frames, solver, resumed_study) = match start {
+            RunStart::Fresh(existing) => (
+                RunDirectory::create(root, existing)?,
+                history,
+                frames,
+                None,
+                Vec::new(),
+            ),
             RunStart::Resume => {
                 let checkpoint = read_checkpoint(root, fingerprint)?;
                 if checkpoint.history_header != history.header() {
@@ -115,7 +123,13 @@ impl<'a> RunWriter<'a> {
                     frames.due(row[0]);
                 }
                 let history = history.with_rows(checkpoint.history_rows)?;
-                (directory, history, frames, Some(checkpoint.solver))
+                (
+                    directory,
+                    history,
+                    frames,
+                    Some(checkpoint.solver),
+                    checkpoint.study,
+                )
             }
         };
         let writer = RunWriter {
@@ -129,6 +143,7 @@ impl<'a> RunWriter<'a> {
             abort_after_checkpoint: std::env::var(ABORT_AFTER_CHECKPOINT)
                 .ok()
                 .and_then(|k| k.parse().ok()),
+            resumed_study,
             write_error: None,
             fields_error: None,
             progress,
@@ -139,6 +154,12 @@ impl<'a> RunWriter<'a> {
     /// The run directory.
     pub fn directory(&self) -> &RunDirectory {
         &self.directory
+    }
+
+    /// The study's state stored in the checkpoint this run resumed from (empty for a
+    /// fresh run, or one whose checkpoint held none).
+    pub fn resumed_study(&self) -> &[u8] {
+        &self.resumed_study
     }
 
     /// Write the history a last time and hand back the directory with how the writing
@@ -206,6 +227,38 @@ impl Observer for RunWriter<'_> {
 
     /// Written after every frame: the state and the outputs up to it.
     fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
+        self.checkpoint_with_study(checkpoint, Vec::new())
+    }
+
+    /// Every [`PROGRESS_STEPS`] steps (a step of a small explicit model takes
+    /// microseconds).
+    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        if steps.is_multiple_of(PROGRESS_STEPS) {
+            self.progress.reached(time)
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+/// A run's writer as a study that observes the run beside it sees it: every call of the
+/// solver is passed on to it, and a checkpoint carries the study's own state (read back
+/// with [`RunWriter::resumed_study`]), so that a resumed study goes on with what it had.
+pub trait StudyRunWriter: Observer {
+    /// Write the checkpoint of the solver's `checkpoint` with the study's state `study`.
+    fn checkpoint_with_study(
+        &mut self,
+        checkpoint: Result<Checkpoint, SolverError>,
+        study: Vec<u8>,
+    ) -> ControlFlow<()>;
+}
+
+impl StudyRunWriter for RunWriter<'_> {
+    fn checkpoint_with_study(
+        &mut self,
+        checkpoint: Result<Checkpoint, SolverError>,
+        study: Vec<u8>,
+    ) -> ControlFlow<()> {
         let solver = match checkpoint {
             Ok(solver) => solver,
             Err(why) => {
@@ -220,6 +273,7 @@ impl Observer for RunWriter<'_> {
             history_rows: self.history.rows().to_vec(),
             frames: self.directory.frames().to_vec(),
             solver,
+            study,
         };
         if let Err(e) = file.write(&self.directory.checkpoint_path()) {
             self.write_error = Some(e);
@@ -232,16 +286,6 @@ impl Observer for RunWriter<'_> {
             }
         }
         ControlFlow::Continue(())
-    }
-
-    /// Every [`PROGRESS_STEPS`] steps (a step of a small explicit model takes
-    /// microseconds).
-    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
-        if steps.is_multiple_of(PROGRESS_STEPS) {
-            self.progress.reached(time)
-        } else {
-            ControlFlow::Continue(())
-        }
     }
 }
 

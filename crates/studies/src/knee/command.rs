@@ -43,7 +43,7 @@ use crate::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, SquatRun, SquatSettings, run_squat,
 };
 use crate::knee::{Anatomy, Quadriceps, Resolution};
-use musclefem_io::output::{ExistingResults, FrameSchedule, RunDirectory};
+use musclefem_io::output::{CHECKPOINT_FILE, ExistingResults, FrameSchedule, RunLog, RunStart};
 use musclefem_io::plot::stage_bar_png;
 
 #[derive(Debug, Args)]
@@ -97,7 +97,11 @@ pub struct KneeArgs {
     /// elastic-shear (the paper's K_ss = 0.05 N/mm³; the README compares the two).
     #[arg(long, value_enum, default_value = "sliding")]
     pub interfaces: InterfaceLaw,
-    /// Duration of the squat 0° → 90° → 0° [s].
+    /// Peak knee flexion of the squat [°], from 5 to 90; the table's angles (30°, 45°,
+    /// 60°, 90°) beyond it are left out: a shallow squat for a first look.
+    #[arg(long, value_name = "DEGREES", default_value_t = 90.0)]
+    pub peak_flexion: f64,
+    /// Duration of the squat 0° → peak → 0° [s].
     #[arg(long, value_name = "SECONDS", default_value_t = crate::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
     pub duration: f64,
     /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.02 s
@@ -116,8 +120,13 @@ pub struct KneeArgs {
     #[arg(long, value_name = "DIR", default_value = "out/knee")]
     pub out: PathBuf,
     /// Replace the results of a previous run in the output directory.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resume")]
     pub force: bool,
+    /// Go on with a stopped study in the output directory (Ctrl-C, a kill, a time
+    /// limit) from each squat's last frame, with the same options: the results are
+    /// those of an uninterrupted run, bit for bit (docs/checkpoint-restart.md).
+    #[arg(long)]
+    pub resume: bool,
 }
 
 impl KneeArgs {
@@ -140,6 +149,7 @@ impl KneeArgs {
             }
         };
         settings.squat.duration = self.duration;
+        settings.squat.peak_flexion = self.peak_flexion.to_radians();
         settings.interfaces = self.interfaces;
         Ok((settings, resolution, why))
     }
@@ -175,16 +185,30 @@ pub struct KneeOutcome {
     pub muscles: Vec<Quadriceps>,
 }
 
-/// `musclefem knee`.
-pub fn knee(args: &KneeArgs) -> Result<()> {
+/// `musclefem knee`; `stop` (set by Ctrl-C) stops both squats at their next recorded
+/// instant, and the study then ends with [`KneeInterrupted`].
+pub fn knee(args: &KneeArgs, stop: &AtomicBool) -> Result<()> {
     let say = |text: &str| print!("{text}");
     let view = KneeView {
         say: &say,
         bars: std::io::stderr().is_terminal(),
-        stop: &AtomicBool::new(false),
+        stop,
     };
     run_knee(args, &view).map(drop)
 }
+
+/// The knee study was stopped on request (its squats' checkpoints stay: `--resume` goes
+/// on from them).
+#[derive(Debug)]
+pub struct KneeInterrupted(pub String);
+
+impl std::fmt::Display for KneeInterrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for KneeInterrupted {}
 
 /// The knee study of `args`: its files written under `args.out`, its lines said to
 /// `view`, its tables returned.
@@ -193,6 +217,12 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     let say = view.say;
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!("--duration {} s must be positive", args.duration);
+    }
+    if !(5.0..=90.0).contains(&args.peak_flexion) {
+        bail!(
+            "--peak-flexion {}° must be from 5° to 90° (the anatomy's range)",
+            args.peak_flexion
+        );
     }
     crate::frame_interval::check_frame_interval(args.frame_interval)?;
     if let Some(step) = args.time_step
@@ -221,19 +251,43 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             &settings.squat,
         )?,
     };
-    let existing = if args.force {
-        ExistingResults::Replace
+    let start = if args.resume {
+        RunStart::Resume
+    } else if args.force {
+        RunStart::Fresh(ExistingResults::Replace)
     } else {
-        ExistingResults::Refuse
+        RunStart::Fresh(ExistingResults::Refuse)
     };
-    // Refuse before any work if earlier results are in the way.
+    // Refuse before any work if earlier results are in the way (or, resuming, if the
+    // study there completed).
     for file in ["peak_stress.csv", "peak_stress.png"] {
         let path = args.out.join(file);
+        if path.exists() && args.resume {
+            bail!(
+                "{} exists: the study in {} completed, there is nothing to resume",
+                path.display(),
+                args.out.display()
+            );
+        }
         if path.exists() && !args.force {
             bail!(
                 "{} exists: use --force to replace a previous run",
                 path.display()
             );
+        }
+    }
+    if args.resume {
+        for activation in &activations {
+            let path = args.out.join(activation.name()).join(CHECKPOINT_FILE);
+            if !path.is_file() {
+                bail!(
+                    "{} does not exist: the {} squat has no checkpoint to resume from (it \
+                     stopped before its first frame, or was not run with these options); \
+                     start again without --resume",
+                    path.display(),
+                    activation.name()
+                );
+            }
         }
     }
     // Nothing is written before the output directory is this run's alone.
@@ -248,13 +302,15 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     )
     .context("writing kinematics.csv")?;
     let fibers = geometry.fibers()?;
+    let mesh = geometry.fibered_mesh(&fibers)?;
     let muscle_elements: usize = (0..geometry.muscles.len())
         .map(|b| geometry.mesh.blocks[b].len())
         .sum();
     say(&format!(
-        "knee squat 0° → 90° → 0° in {} s (closed chain: tibia pinned at the ankle, pelvis \
+        "knee squat 0° → {}° → 0° in {} s (closed chain: tibia pinned at the ankle, pelvis \
          lowered), {}, {} solver{}, {} muscle and {} tendon elements of {} ({}), {} \
          interfaces, fibers in {:.2?}\n",
+        args.peak_flexion,
         settings.squat.duration,
         match activations.as_slice() {
             [one] => one.name().to_string(),
@@ -301,11 +357,16 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             .iter()
             .map(|&activation| {
                 let bar = bars.add(progress_bar(settings.squat.duration, activation));
-                let (geometry, fibers, settings) = (&geometry, &fibers, &settings);
+                let (geometry, fibers, mesh, settings) = (&geometry, &fibers, &mesh, &settings);
                 scope.spawn(move || {
-                    let outcome = run_one(
-                        args, geometry, fibers, activation, settings, existing, &bar, stop, say,
-                    );
+                    let squat = OneSquat {
+                        geometry,
+                        fibers,
+                        mesh,
+                        activation,
+                        settings,
+                    };
+                    let outcome = run_one(args, &squat, start, &bar, stop, say);
                     if outcome.is_err() {
                         // The other run stops at its next recorded instant.
                         stop.store(true, Ordering::Relaxed);
@@ -335,25 +396,53 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     }
     if let Some(index) = errors
         .iter()
-        .position(|e| e.to_string() != STOPPED_FOR_THE_OTHER_RUN)
-        .or((!errors.is_empty()).then_some(0))
+        .position(|e| e.to_string() != STOPPED_ON_REQUEST)
     {
         return Err(errors.swap_remove(index));
+    }
+    if !errors.is_empty() {
+        return Err(KneeInterrupted(format!(
+            "the knee study in {} was stopped; each squat's last frame is checkpointed: \
+             run the same command with --resume to go on",
+            args.out.display()
+        ))
+        .into());
     }
     let rows: Vec<PeakStressRow> = runs.iter().flat_map(|r| r.rows.clone()).collect();
     let csv = args.out.join("peak_stress.csv");
     let chart = args.out.join("peak_stress.png");
     stage_peak_stress_csv(&csv, &rows)?.commit()?;
-    stage_bar_png(
-        &chart,
-        &peak_stress_chart(&rows, &geometry.muscles, &settings),
-    )?
-    .commit()?;
+    if rows.is_empty() {
+        say(&format!(
+            "the squat's peak ({}°) is below the table's first angle: no {}\n",
+            args.peak_flexion,
+            chart.display()
+        ));
+    } else {
+        stage_bar_png(
+            &chart,
+            &peak_stress_chart(&rows, &geometry.muscles, &settings),
+        )?
+        .commit()?;
+    }
+    // The study is complete: nothing is left to resume.
+    for activation in &activations {
+        let path = args.out.join(activation.name()).join(CHECKPOINT_FILE);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(e).with_context(|| format!("removing {}", path.display()));
+            }
+            _ => {}
+        }
+    }
     say(&table_text(&rows, &geometry.muscles, &activations));
+    let written = if rows.is_empty() {
+        csv.display().to_string()
+    } else {
+        format!("{}, {}", csv.display(), chart.display())
+    };
     say(&format!(
-        "wrote {}, {} and the runs' frames and histories under {} in {:.1?}\n",
-        csv.display(),
-        chart.display(),
+        "wrote {written} and the runs' frames and histories under {} in {:.1?}\n",
         args.out.display(),
         started.elapsed()
     ));
@@ -375,32 +464,47 @@ mod tables;
 use tables::{peak_stress_chart, table_text};
 
 mod watcher;
-use watcher::{Outputs, progress_bar};
+use watcher::{Outputs, SquatProgress, progress_bar};
 
-/// The message of a run stopped because the other one failed.
-const STOPPED_FOR_THE_OTHER_RUN: &str = "stopped: the other squat failed";
+/// The message of a run stopped on request: Ctrl-C, or the other squat failed.
+const STOPPED_ON_REQUEST: &str = "stopped on request (Ctrl-C, or the other squat failed)";
+
+/// What one squat of the study runs on.
+struct OneSquat<'a> {
+    geometry: &'a KneeGeometry,
+    fibers: &'a musclefem_fibers::FiberField,
+    /// The muscles' mesh with fibers.
+    mesh: &'a musclefem_core::mesh::Mesh,
+    activation: Activation,
+    settings: &'a SquatSettings,
+}
 
 /// One squat with its outputs under `--out DIR/<activation>`, its summary printed.
-#[allow(clippy::too_many_arguments)]
 fn run_one(
     args: &KneeArgs,
-    geometry: &KneeGeometry,
-    fibers: &musclefem_fibers::FiberField,
-    activation: Activation,
-    settings: &SquatSettings,
-    existing: ExistingResults,
+    squat: &OneSquat<'_>,
+    start: RunStart,
     bar: &ProgressBar,
     stop: &AtomicBool,
     say: &(dyn Fn(&str) + Sync),
 ) -> Result<SquatRun> {
+    let OneSquat {
+        geometry,
+        fibers,
+        mesh,
+        activation,
+        settings,
+    } = *squat;
     let directory = args.out.join(activation.name());
-    let mut output = RunDirectory::create(&directory, existing)
-        .map_err(|e| anyhow::anyhow!("{e} (use --force to replace a previous run)"))?;
+    let mut progress = SquatProgress {
+        bar,
+        stop,
+        stopped: false,
+    };
     let mut watcher = Outputs {
-        directory: &mut output,
-        mesh: None,
-        history: None,
-        vm95: Vec::new(),
+        root: directory.clone(),
+        start,
+        mesh,
         frames: FrameSchedule::new(
             args.frame_interval,
             settings.squat.duration,
@@ -409,27 +513,54 @@ fn run_one(
                 .map(|(_, _, time)| time)
                 .collect::<Vec<_>>(),
         ),
-        error: None,
-        bar,
-        stop,
-        stopped: false,
+        identity: format!(
+            "knee {activation:?} {settings:?} frames every {} s",
+            args.frame_interval
+        ),
+        log_head: format!(
+            "activation = {}\nsolver = {}\nduration_s = {}\npeak_flexion_deg = {}\n",
+            activation.name(),
+            settings.solver.name(),
+            settings.squat.duration,
+            args.peak_flexion
+        ),
+        progress: Some(&mut progress),
+        writer: None,
     };
     let result = run_squat(geometry, fibers, activation, settings, &mut watcher);
-    if watcher.stopped {
-        bail!(STOPPED_FOR_THE_OTHER_RUN);
+    let written = watcher.writer.take().map(|w| w.finish()).transpose()?;
+    let Some(written) = written else {
+        // The run failed before its outputs were opened.
+        return result.and_then(|_| bail!("the squat ended before it started"));
+    };
+    let output = written.directory;
+    let ended = |end: &str| {
+        output.write_run_log(&RunLog::new(format!(
+            "activation = {}\nend = {end}\n",
+            activation.name()
+        )))
+    };
+    if progress.stopped {
+        ended("stopped on request (Ctrl-C, or the other squat failed); --resume goes on")?;
+        bail!(STOPPED_ON_REQUEST);
     }
-    if let Some(error) = watcher.error.take() {
+    if let Some(error) = written.write_error {
         return Err(error).context("writing the outputs failed");
     }
-    let run = result?;
-    if let Some(history) = watcher.history.take() {
-        history.finish()?;
+    if let Some(error) = written.fields_error {
+        return Err(error).context("evaluating a frame's element fields failed");
     }
-    write_vm95(
-        &directory.join("vm95.csv"),
-        &geometry.muscles,
-        &watcher.vm95,
-    )?;
+    let run = match result {
+        Ok(run) => run,
+        Err(error) => {
+            ended(&format!(
+                "failed: {}",
+                format!("{error:#}").replace('\n', "; ")
+            ))?;
+            return Err(error);
+        }
+    };
+    write_vm95(&directory.join("vm95.csv"), &geometry.muscles, &run.samples)?;
     if !run.newton_steps.is_empty() {
         write_newton_steps(&directory.join("newton.csv"), &run.newton_steps)?;
         write_cut_attempts(&directory.join("cuts.csv"), &run.cut_attempts)?;

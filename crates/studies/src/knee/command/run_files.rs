@@ -84,10 +84,11 @@ pub(super) fn write_cut_attempts(path: &Path, attempts: &[CutAttempt]) -> Result
 
 pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings, muscles: &[Quadriceps]) -> RunLog {
     let mut text = format!(
-        "activation = {}\nsolver = {}\nduration_s = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
+        "activation = {}\nsolver = {}\nduration_s = {}\npeak_flexion_deg = {}\ntime_step_s = {}\nelements = {}\nnodes = {}\nsteps = {}\n",
         run.activation.name(),
         settings.solver.name(),
         settings.squat.duration,
+        settings.squat.peak_flexion.to_degrees(),
         settings.time_step,
         run.elements,
         run.nodes,
@@ -143,6 +144,13 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings, muscles: &[Quadr
             1e4 * s.area
         ));
     }
+    if let Some(time) = run.resumed_from {
+        text.push_str(&format!(
+            "resumed = from the checkpoint at t = {time:e} s (steps, Newton counts, \
+             newton.csv, cuts.csv and the timings are of the part after it)\n"
+        ));
+    }
+    text.push_str("end = complete\n");
     RunLog::new(text)
 }
 
@@ -162,8 +170,11 @@ pub(super) fn run_summary(run: &SquatRun, muscles: &[Quadriceps]) -> String {
             100.0 * run.energy_error.unwrap_or(0.0)
         ),
     };
+    let resumed = run.resumed_from.map_or(String::new(), |time| {
+        format!(" (resumed from its checkpoint at t = {time:.3} s)")
+    });
     let mut text = format!(
-        "{} squat: {} elements, {solver}, in {:.1?}\n",
+        "{} squat: {} elements, {solver}, in {:.1?}{resumed}\n",
         run.activation.name(),
         run.elements,
         run.solve_time

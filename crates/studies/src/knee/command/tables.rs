@@ -51,7 +51,8 @@ pub(super) fn peak_stress_chart(
     settings: &SquatSettings,
 ) -> BarChart {
     let mut chart = BarChart::new(format!(
-        "95th-percentile von Mises stress of the quadriceps, squat 0° → 90° → 0° in {} s",
+        "95th-percentile von Mises stress of the quadriceps, squat 0° → {}° → 0° in {} s",
+        settings.squat.peak_flexion.to_degrees().round(),
         settings.squat.duration
     ))
     .with_columns(2);

@@ -1,82 +1,35 @@
-//! What one squat of the knee study writes as it goes (frames, history, vm95 samples)
-//! and its progress bar.
+//! What one squat of the knee study writes as it goes (through the run writer: frames,
+//! history, a checkpoint after every frame) and its progress bar.
 
 use std::ops::ControlFlow;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use musclefem_core::solver::Record;
+use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;
-use musclefem_io::output::{FrameSchedule, HistoryColumns, HistoryWriter, RunDirectory};
+use musclefem_io::output::{
+    FrameSchedule, HistoryColumns, HistoryWriter, RunLog, RunProgress, RunStart, RunWriter,
+    StudyRunWriter,
+};
 
 use crate::elongation::Solver;
-use crate::knee::simulation::{Activation, SquatStart, SquatWatcher, StressSample};
+use crate::knee::simulation::{Activation, SquatResume, SquatStart, SquatWatcher, StressSample};
 
-/// Frames, history and vm95 samples of one run, and the progress bar.
-pub(super) struct Outputs<'a> {
-    pub(super) directory: &'a mut RunDirectory,
-    /// The muscles' mesh (given at the start of the run).
-    pub(super) mesh: Option<musclefem_core::mesh::Mesh>,
-    pub(super) history: Option<HistoryWriter>,
-    pub(super) vm95: Vec<StressSample>,
-    /// Frames every `--frame-interval`, at the table's angles (30°, 45°, 60°, 90° down
-    /// and up) and at the end.
-    pub(super) frames: FrameSchedule,
-    pub(super) error: Option<anyhow::Error>,
+/// The progress bar of one squat, and the flag that stops it (Ctrl-C, or the other squat
+/// failed).
+pub(super) struct SquatProgress<'a> {
     pub(super) bar: &'a ProgressBar,
-    /// Set when the other run failed: this one stops too, and notes it in `stopped`.
     pub(super) stop: &'a AtomicBool,
+    /// Whether the flag stopped the run.
     pub(super) stopped: bool,
 }
 
-impl Outputs<'_> {
-    fn fail(&mut self, error: impl Into<anyhow::Error>) -> ControlFlow<()> {
-        self.error = Some(error.into());
-        ControlFlow::Break(())
-    }
-}
-
-impl SquatWatcher for Outputs<'_> {
-    fn start(&mut self, start: &SquatStart) -> Result<()> {
-        let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
-            .with_interactions(start.interactions.clone());
-        self.history = Some(match start.solver {
-            Solver::Implicit => self.directory.implicit_history(&columns)?,
-            Solver::Explicit => self.directory.explicit_history(&columns)?,
-        });
-        self.mesh = Some(start.mesh.clone());
-        Ok(())
-    }
-
-    fn recorded(
-        &mut self,
-        sample: &StressSample,
-        snapshot: &Snapshot,
-        fields: &[PartFields],
-    ) -> ControlFlow<()> {
-        self.vm95.push(sample.clone());
-        if !self.frames.due(sample.time) {
-            return ControlFlow::Continue(());
-        }
-        let Some(mesh) = &self.mesh else {
-            return ControlFlow::Continue(());
-        };
-        match self.directory.write_state_frame(
-            mesh,
-            snapshot.time,
-            snapshot.displacement,
-            fields,
-            &[],
-        ) {
-            Ok(_) => ControlFlow::Continue(()),
-            Err(e) => self.fail(e),
-        }
-    }
-
-    fn progress(&mut self, time: f64) -> ControlFlow<()> {
+impl RunProgress for SquatProgress<'_> {
+    fn reached(&mut self, time: f64) -> ControlFlow<()> {
         self.bar.set_position((1e3 * time) as u64);
         if self.stop.load(Ordering::Relaxed) {
             self.stopped = true;
@@ -84,13 +37,98 @@ impl SquatWatcher for Outputs<'_> {
         }
         ControlFlow::Continue(())
     }
+}
 
-    fn history_row(&mut self, record: &Record) {
-        if let Some(history) = &mut self.history
-            && let Err(e) = history.push_record(record)
-        {
-            self.error = Some(e.into());
+/// The run directory of one squat: opened by the run writer when the model is built
+/// (fresh, or cut back to its checkpoint to resume), written as the run goes.
+pub(super) struct Outputs<'a> {
+    pub(super) root: PathBuf,
+    pub(super) start: RunStart,
+    /// The muscles' mesh with fibers (what the frames show).
+    pub(super) mesh: &'a Mesh,
+    /// Frames every `--frame-interval`, at the table's angles and at the end.
+    pub(super) frames: FrameSchedule,
+    /// What makes a checkpoint this squat's: its settings and activation (the mesh is
+    /// added).
+    pub(super) identity: String,
+    /// The first lines of `run.log` while the squat runs.
+    pub(super) log_head: String,
+    /// Handed to the writer at the start.
+    pub(super) progress: Option<&'a mut dyn RunProgress>,
+    pub(super) writer: Option<RunWriter<'a>>,
+}
+
+impl Outputs<'_> {
+    /// The fingerprint of the run: its identity and the mesh's nodes and connectivity.
+    fn fingerprint(&self) -> u64 {
+        let mut bytes = self.identity.as_bytes().to_vec();
+        for node in 0..self.mesh.nodes.len() {
+            let x = self.mesh.nodes.position(node);
+            x.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
         }
+        for block in &self.mesh.blocks {
+            bytes.extend(block.name.as_bytes());
+            block
+                .connectivity
+                .iter()
+                .for_each(|id| bytes.extend(id.to_le_bytes()));
+        }
+        musclefem_io::fingerprint::fnv1a(&bytes)
+    }
+}
+
+impl SquatWatcher for Outputs<'_> {
+    fn start(&mut self, start: &SquatStart) -> Result<Option<SquatResume>> {
+        let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
+            .with_interactions(start.interactions.clone());
+        let path = self.root.join(musclefem_io::output::HISTORY_FILE);
+        let history = match start.solver {
+            Solver::Implicit => HistoryWriter::implicit(&path, &columns)?,
+            Solver::Explicit => HistoryWriter::explicit(&path, &columns)?,
+        };
+        let progress = self
+            .progress
+            .take()
+            .context("a squat's outputs were started twice")?;
+        let fingerprint = self.fingerprint();
+        let (writer, resumed) = RunWriter::open(
+            &self.root,
+            self.start,
+            self.mesh,
+            history,
+            (self.frames.clone(), true),
+            fingerprint,
+            progress,
+        )
+        .map_err(|e| match self.start {
+            RunStart::Resume => anyhow::Error::from(e),
+            RunStart::Fresh(_) => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
+        })?;
+        let study = writer.resumed_study().to_vec();
+        // A log from the start: a squat killed before its end leaves one that says so.
+        let resumed_line = resumed.as_ref().map_or(String::new(), |checkpoint| {
+            format!(
+                "resumed = from the checkpoint at t = {:e} s\n",
+                checkpoint.time
+            )
+        });
+        writer.directory().write_run_log(&RunLog::new(format!(
+            "{}{resumed_line}end = running (a squat that ended rewrites this line; this one was \
+             stopped without being able to: --resume goes on from its last frame)\n",
+            self.log_head
+        )))?;
+        self.writer = Some(writer);
+        Ok(resumed.map(|solver| SquatResume { solver, study }))
+    }
+
+    fn recorded(&mut self, _: &StressSample, _: &Snapshot, _: &[PartFields]) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+
+    fn run_writer(&mut self) -> Option<&mut dyn StudyRunWriter> {
+        self.writer
+            .as_mut()
+            .map(|writer| writer as &mut dyn StudyRunWriter)
     }
 }
 

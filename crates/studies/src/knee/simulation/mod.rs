@@ -48,6 +48,7 @@
 //! run measured at the insertions ([`patella`]), so the tendon stretches (and the
 //! muscles shorten) as the pull grows.
 
+mod checkpoint;
 pub mod files;
 pub mod interactions;
 pub mod model;
@@ -61,4 +62,4 @@ pub mod run;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
-pub use run::{SquatRun, SquatSettings, SquatStart, SquatWatcher, run_squat};
+pub use run::{SquatResume, SquatRun, SquatSettings, SquatStart, SquatWatcher, run_squat};

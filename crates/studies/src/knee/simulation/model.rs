@@ -179,6 +179,24 @@ impl KneeGeometry {
         }
     }
 
+    /// The mesh with `fibers` (computed by [`KneeGeometry::fibers`]) as its bellies'
+    /// fiber directions: the mesh the squat runs on and its frames show.
+    pub fn fibered_mesh(&self, fibers: &FiberField) -> Result<Mesh> {
+        let mut mesh = self.mesh.clone();
+        for (b, block) in mesh.blocks.iter_mut().enumerate().take(self.muscles.len()) {
+            let directions = fibers.block_directions(b);
+            if directions.len() != block.len() {
+                bail!(
+                    "the fibers of block '{}' do not match its {} elements",
+                    block.name,
+                    block.len()
+                );
+            }
+            block.fiber_direction = directions.to_vec();
+        }
+        Ok(mesh)
+    }
+
     /// The fiber directions of every muscle's belly from a potential flow, its start
     /// (origin) the inlet, its end (the muscle–tendon junction) the outlet: one solve on
     /// the bellies alone (the muscles are disconnected parts of one mesh). The field's
@@ -269,23 +287,7 @@ impl KneeModel {
                 element.name()
             );
         }
-        let mut mesh = geometry.mesh.clone();
-        for (b, block) in mesh
-            .blocks
-            .iter_mut()
-            .enumerate()
-            .take(geometry.muscles.len())
-        {
-            let directions = fibers.block_directions(b);
-            if directions.len() != block.len() {
-                bail!(
-                    "the fibers of block '{}' do not match its {} elements",
-                    block.name,
-                    block.len()
-                );
-            }
-            block.fiber_direction = directions.to_vec();
-        }
+        let mesh = geometry.fibered_mesh(fibers)?;
         let materials = geometry
             .passive_slack
             .iter()

@@ -39,6 +39,8 @@ use musclefem_core::solver::PoseFollower;
 
 use crate::knee::anatomy::{ClosedChain, KneeKinematics, PatellaPose, Squat, TendonSpring};
 
+mod checkpoint;
+
 /// Largest tendon strain the table covers; a pull that would stretch the tendon further
 /// stops the run.
 pub const LARGEST_TENDON_STRAIN: f64 = 0.30;

@@ -171,7 +171,11 @@ pub struct PeakStressRow {
 pub fn table_instants(squat: &Squat) -> Vec<(Phase, f64, f64)> {
     let mut instants = Vec::new();
     for phase in [Phase::Flexion, Phase::Extension] {
-        for &degrees in &TABLE_ANGLES_DEGREES {
+        // A shallow squat's table stops at its peak.
+        for &degrees in TABLE_ANGLES_DEGREES
+            .iter()
+            .filter(|d| d.to_radians() <= squat.peak_flexion + 1e-9)
+        {
             let down = flexion_time(squat, degrees.to_radians());
             let time = match phase {
                 Phase::Flexion => down,

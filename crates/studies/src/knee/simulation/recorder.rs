@@ -11,7 +11,8 @@ use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::{
-    InteractionReport, Observer, PoseFollower, Record, RigidReaction, Snapshot,
+    Checkpoint, InteractionReport, Observer, PoseFollower, Record, RigidReaction, Snapshot,
+    SolverError,
 };
 
 use super::super::anatomy::Squat;
@@ -20,6 +21,7 @@ use super::patella_clearance::PatellaClearance;
 use super::peak_stress::{ElementRegions, StressSample, percentile};
 use super::plausibility::{PlausibilitySample, extensor_moment};
 
+use super::checkpoint::save_study;
 use super::run::SquatWatcher;
 
 /// The solver's result, unless the recorder stopped it with an error of its own.
@@ -233,6 +235,18 @@ pub(super) struct StallDetector {
 }
 
 impl StallDetector {
+    /// The end times of the increments it is judging [s] (for a checkpoint).
+    pub(super) fn recent_times(&self) -> Vec<f64> {
+        self.recent_times.iter().copied().collect()
+    }
+
+    /// A detector that has seen the increments ending at `times`.
+    pub(super) fn with_recent_times(times: Vec<f64>) -> Self {
+        Self {
+            recent_times: times.into(),
+        }
+    }
+
     /// Notes a converged increment ending at `time` [s]; the error message on a stall.
     fn advance(&mut self, time: f64, squat: &Squat) -> Option<String> {
         self.recent_times.push_back(time);
@@ -258,9 +272,15 @@ impl StallDetector {
     }
 }
 
+/// The knee's observer, and the run's writer behind it: every call of the solver is
+/// passed on to the writer ([`SquatWatcher::run_writer`]), and its checkpoints carry the
+/// knee's state ([`super::checkpoint`]).
 impl Observer for Recorder<'_> {
     /// The implicit solver's initial state: a sample (and frame) at t = 0.
     fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        if let Some(writer) = self.watcher.run_writer() {
+            writer.start(snapshot)?;
+        }
         self.record(snapshot)
     }
 
@@ -281,7 +301,9 @@ impl Observer for Recorder<'_> {
                 - row.external_work;
             self.energy_error = self.energy_error.max(balance.abs());
         }
-        self.watcher.history_row(record);
+        if let Some(writer) = self.watcher.run_writer() {
+            writer.record(record, snapshot)?;
+        }
         self.report_pull(
             record.time(),
             record.rigid_reactions(),
@@ -301,7 +323,25 @@ impl Observer for Recorder<'_> {
         }
     }
 
+    fn wants_checkpoint(&mut self) -> bool {
+        self.watcher
+            .run_writer()
+            .is_some_and(|writer| writer.wants_checkpoint())
+    }
+
+    /// The solver's state with the knee's: the samples and the patella's pull so far.
+    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
+        let study = save_study(self);
+        match self.watcher.run_writer() {
+            Some(writer) => writer.checkpoint_with_study(checkpoint, study),
+            None => ControlFlow::Continue(()),
+        }
+    }
+
     fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        if let Some(writer) = self.watcher.run_writer() {
+            writer.progress(time, steps)?;
+        }
         if steps.is_multiple_of(200) {
             self.watcher.progress(time)
         } else {

@@ -12,10 +12,12 @@ use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{
     CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, Newmark, StepReport,
 };
-use musclefem_core::solver::{Analysis, Outcome, Problem, Record, Snapshot, run};
+use musclefem_core::solver::{Analysis, Checkpoint, Outcome, Problem, Snapshot, resume, run};
 use musclefem_fibers::FiberField;
+use musclefem_io::output::StudyRunWriter;
 
 use super::super::anatomy::Squat;
+use super::checkpoint::restore_study;
 use super::interactions::{InteractionSummary, InterfaceLaw, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::TendonRow;
@@ -164,11 +166,19 @@ pub struct SquatStart<'a> {
     pub solver: Solver,
 }
 
+/// Where a squat goes on from: the solver's checkpoint and the knee's own state stored
+/// with it (see [`super::checkpoint`]).
+pub struct SquatResume {
+    pub solver: Checkpoint,
+    pub study: Vec<u8>,
+}
+
 /// What a caller sees of a running squat. `recorded` and `progress` may stop the run.
 pub trait SquatWatcher {
-    /// The model is built and the solver about to start.
-    fn start(&mut self, _start: &SquatStart) -> Result<()> {
-        Ok(())
+    /// The model is built and the solver about to start: the checkpoint the run goes on
+    /// from, if it resumes a stopped one.
+    fn start(&mut self, _start: &SquatStart) -> Result<Option<SquatResume>> {
+        Ok(None)
     }
     /// A recorded instant: its sample, the solver's snapshot and the element fields.
     fn recorded(
@@ -181,8 +191,11 @@ pub trait SquatWatcher {
     fn progress(&mut self, _time: f64) -> ControlFlow<()> {
         ControlFlow::Continue(())
     }
-    /// The solver's history row of a recorded instant (before `recorded`).
-    fn history_row(&mut self, _record: &Record) {}
+    /// The run's writer (history, frames, checkpoints with the knee's state), which sees
+    /// every call of the solver; `None`: the squat is not written.
+    fn run_writer(&mut self) -> Option<&mut dyn StudyRunWriter> {
+        None
+    }
 }
 
 /// The result of one squat.
@@ -217,6 +230,10 @@ pub struct SquatRun {
     /// The plausibility measures at every recorded instant and at the table's angles.
     pub plausibility: Vec<PlausibilitySample>,
     pub plausibility_rows: Vec<PlausibilityRow>,
+    /// The time [s] of the checkpoint the run went on from (`None`: from the start). The
+    /// samples, tendon rows and plausibility cover the whole squat; `steps`, the Newton
+    /// counts and reports and the timings only the part after it.
+    pub resumed_from: Option<f64>,
 }
 
 /// Run the squat of `activation` on `geometry` with `fibers`.
@@ -252,7 +269,7 @@ pub fn run_squat(
             )
         })
         .collect();
-    watcher.start(&SquatStart {
+    let resume_from = watcher.start(&SquatStart {
         mesh: &model.mesh,
         rigid_ties: model
             .loads
@@ -298,6 +315,11 @@ pub fn run_squat(
         )
     };
     let started = Instant::now();
+    if let Some(point) = &resume_from {
+        restore_study(&mut recorder, &point.study)
+            .context("the knee's state in the checkpoint")
+            .with_context(context)?;
+    }
     let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
     let analysis = match settings.solver {
         Solver::Implicit => {
@@ -334,7 +356,10 @@ pub fn run_squat(
         loads: &model.loads,
         interactions: &mut built.interactions,
     };
-    let outcome = run(problem, &analysis, &mut recorder);
+    let outcome = match &resume_from {
+        Some(point) => resume(problem, &analysis, &point.solver, &mut recorder),
+        None => run(problem, &analysis, &mut recorder),
+    };
     let outcome =
         finish(outcome.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
     let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match outcome {
@@ -384,5 +409,6 @@ pub fn run_squat(
         patella_approach: recorder.patella_clearance.closest,
         plausibility: std::mem::take(&mut recorder.plausibility),
         plausibility_rows: plausibility_table,
+        resumed_from: resume_from.map(|point| point.solver.time),
     })
 }
