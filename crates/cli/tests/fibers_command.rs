@@ -8,11 +8,11 @@ use support::run::{musclefem, test_dir, text};
 
 use std::path::Path;
 
-use musclefem_core::mesh::generate::{TetOrder, box_of_tets};
+use musclefem_core::mesh::generate::{TetOrder, box_of_tets, circumferential};
 use musclefem_io::csv::read_table;
 use nalgebra::Vector3;
 use support::mesh_files::{
-    CURVED_TUBE_DIVISIONS, abaqus_text, circumferential, curved_tube, element_tag, gmsh_text,
+    CURVED_TUBE_DIVISIONS, abaqus_text, curved_tube, element_tag, gmsh_text,
 };
 
 const FIBERS_HEADER: &str = "element,cx,cy,cz,fx,fy,fz";

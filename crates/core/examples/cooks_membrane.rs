@@ -1,5 +1,5 @@
 //! Cook's membrane table: tip displacement of the nearly incompressible plane-strain panel
-//! against mesh and element technology (the problem of `tests/common/cooks_membrane_setup.rs`).
+//! against mesh and element technology (the problem of `musclefem_core::verification::cooks_membrane`).
 //!
 //! ```text
 //! cargo run --release -p musclefem-core --example cooks_membrane [-- MAX_DIVISIONS [POISSON]]
@@ -11,13 +11,12 @@
 //! `target/cooks_membrane.csv`. Wall times are of one run on a shared machine: compare
 //! them within one table only.
 
-#[path = "../tests/common/cooks_membrane_setup.rs"]
-mod setup;
-
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use setup::{LITERATURE_TIP_DISPLACEMENT, POISSON, solve, technologies};
+use musclefem_core::verification::cooks_membrane::{
+    LITERATURE_TIP_DISPLACEMENT, POISSON, solve, technologies,
+};
 
 /// Load steps (the first increment; cutting may add more).
 const INCREMENTS: usize = 5;

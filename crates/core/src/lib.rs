@@ -30,6 +30,7 @@ pub mod element;
 /// `musclefem_core::mesh::...` paths work for users of the solvers.
 pub use musclefem_mesh as mesh;
 pub mod solver;
+pub mod verification;
 
 pub use mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
 

@@ -1,6 +1,6 @@
 //! Cook's membrane, plane strain, nearly incompressible neo-Hookean (E = 240.565 MPa,
 //! ν = 0.499), 100 N shear on the right edge in 5 quasi-static load steps: the locking
-//! benchmark. The problem is set up in `common/cooks_membrane_setup.rs`; the table over
+//! benchmark. The problem is set up in `musclefem_core::verification::cooks_membrane`; the table over
 //! meshes up to 32 per side is `examples/cooks_membrane.rs`.
 //!
 //! Reference: the tip displacement u_y(C) ≈ 6.89 mm of the literature (F-bar hex8 at 30
@@ -12,14 +12,10 @@
 //! 0.09 % (6.911 and 6.929 mm at 16 and 32 per side). So a converging element must land
 //! within a few percent of 6.89 mm at 16 per side, and a locking one far below.
 
-mod common {
-    pub mod cooks_membrane_setup;
-}
-
-use common::cooks_membrane_setup::{
+use musclefem_core::element::Technology;
+use musclefem_core::verification::cooks_membrane::{
     LITERATURE_TIP_DISPLACEMENT, Outcome, POISSON, solve, technologies,
 };
-use musclefem_core::element::Technology;
 
 const INCREMENTS: usize = 5;
 

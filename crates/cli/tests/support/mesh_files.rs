@@ -1,16 +1,13 @@
 //! Meshes for the `musclefem fibers` tests, written as Gmsh 4.1 ASCII and Abaqus text the
 //! way the importers read them: a box of tets and the annular sector of a torus (a curved
-//! tube) of hexes, with named end surfaces. Shared by the tests and the example that draws
-//! the docs' picture (`examples/fibers_curved_tube_mesh.rs`).
+//! tube) of hexes, with named end surfaces.
 
 #![allow(dead_code)]
 
-use std::f64::consts::PI;
 use std::fmt::Write;
 
-use musclefem_core::mesh::generate::box_of_hexes;
+use musclefem_core::mesh::generate;
 use musclefem_core::mesh::{ElementShape, Mesh};
-use nalgebra::Vector3;
 
 /// File tag of node `id` (1-based, in id order).
 pub fn node_tag(id: usize) -> i64 {
@@ -174,27 +171,7 @@ pub const TUBE_HEIGHT: f64 = 0.01;
 /// picture: 1024 hexes.
 pub const CURVED_TUBE_DIVISIONS: [usize; 3] = [8, 32, 4];
 
-/// A curved tube: the annular sector r ∈ [0.02, 0.04] m, θ ∈ [0, π/2], z ∈ [0, 0.01] m
-/// (a quarter of a torus of rectangular cross-section) in hex8, `divisions` = (radial,
-/// angular, axial). Its surfaces `y0` and `y1` are the cut faces θ = 0 and θ = π/2. The
-/// flow between them follows the circles about the z axis.
+/// The curved tube of the tests (see `musclefem_core::mesh::generate::curved_tube`).
 pub fn curved_tube(divisions: [usize; 3]) -> Mesh {
-    let mut mesh = box_of_hexes([1.0, 1.0, 1.0], divisions).expect("a valid box");
-    for i in 0..mesh.nodes.len() {
-        let p = mesh.nodes.position(i);
-        let r = TUBE_RADII[0] + (TUBE_RADII[1] - TUBE_RADII[0]) * p.x;
-        let theta = 0.5 * PI * p.y;
-        mesh.nodes.set_position(
-            i,
-            Vector3::new(r * theta.cos(), r * theta.sin(), TUBE_HEIGHT * p.z),
-        );
-    }
-    mesh
-}
-
-/// The exact fiber direction in the curved tube at `x`: e_θ, tangent to the circle about
-/// the z axis through x, pointing from θ = 0 to θ = π/2.
-pub fn circumferential(x: Vector3<f64>) -> Vector3<f64> {
-    let theta = x.y.atan2(x.x);
-    Vector3::new(-theta.sin(), theta.cos(), 0.0)
+    generate::curved_tube(TUBE_RADII, TUBE_HEIGHT, divisions).expect("a valid tube")
 }

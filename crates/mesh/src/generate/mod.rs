@@ -11,7 +11,8 @@
 //!
 //! The mesh has one block, named `hexes` or `tets`, with every fiber along e_x.
 //!
-//! [`cooks_membrane`] maps such a box onto Cook's tapered panel (a locking benchmark).
+//! [`cooks_membrane`] maps such a box onto Cook's tapered panel (a locking benchmark),
+//! [`curved_tube`] onto a quarter torus (the fiber solver's curved check).
 //!
 //! [`fusiform_mesh`] meshes the paper's elongation specimen, a fusiform muscle (or a
 //! cylinder), with hex8, tet4 or tet10 of a target size, on an O-grid cross-section, with
@@ -22,6 +23,7 @@
 //! quadriceps of the default knee.
 
 mod cooks_membrane;
+mod curved_tube;
 mod distort;
 mod end_sets;
 mod fusiform;
@@ -34,6 +36,7 @@ use nalgebra::Vector3;
 pub use cooks_membrane::{
     COOKS_MEMBRANE_AREA, COOKS_MEMBRANE_CORNERS, consistent_nodal_areas, cooks_membrane,
 };
+pub use curved_tube::{circumferential, curved_tube};
 pub use distort::distort;
 pub use fusiform::{
     PAPER_END_RADIUS, PAPER_LENGTH, PAPER_MID_RADIUS, SpecimenDivisions, SpecimenShape,

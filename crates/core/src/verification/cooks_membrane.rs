@@ -1,6 +1,6 @@
 //! Cook's membrane in plane strain with a nearly incompressible neo-Hookean solid: the
-//! problem shared by the test `tests/cooks_membrane.rs` and the table tool
-//! `examples/cooks_membrane.rs` (included by path in both).
+//! locking benchmark, shared by the test `tests/cooks_membrane.rs` and the table tool
+//! `examples/cooks_membrane.rs`.
 //!
 //! - Panel of [`cooks_membrane`] (corners (0,0), (48,44), (48,60), (0,44) mm), one
 //!   element of [`THICKNESS`] = 1 mm through the thickness.
@@ -17,17 +17,15 @@
 //!
 //! To add an element technology to the comparison, add one line to [`technologies`].
 
-#![allow(dead_code)]
-
 use std::collections::BTreeMap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use musclefem_core::element::Technology;
-use musclefem_core::mesh::Mesh;
-use musclefem_core::mesh::generate::{consistent_nodal_areas, cooks_membrane};
-use musclefem_core::solver::implicit::{ImplicitSettings, run_quasi_static};
-use musclefem_core::solver::{Loads, NodalForce, Part, PrescribedDisplacement, SolverError};
+use crate::element::Technology;
+use crate::mesh::Mesh;
+use crate::mesh::generate::{consistent_nodal_areas, cooks_membrane};
+use crate::solver::implicit::{ImplicitSettings, run_quasi_static};
+use crate::solver::{Loads, NodalForce, Part, PrescribedDisplacement, SolverError};
 use musclefem_materials::{Amplitude, Material, MaterialLibrary};
 
 /// Young's modulus E [Pa].
@@ -67,6 +65,7 @@ pub fn technologies(poisson: f64) -> Vec<(&'static str, Technology)> {
     ]
 }
 
+/// The panel's neo-Hookean solid at Poisson's ratio `poisson`.
 pub fn neo_hookean(poisson: f64) -> Arc<dyn Material> {
     let params = BTreeMap::from([
         ("mu".to_string(), shear_modulus(poisson)),
