@@ -16,7 +16,7 @@ use std::time::Instant;
 use musclefem_materials::{
     Material, MaterialLibrary, PointBlock, PointResponse, Tangent, VoigtStress,
 };
-use musclefem_vumat::{FiberConvention, Prop, VumatBuild, build_plugin};
+use musclefem_vumat::{FiberConvention, Prop, Subroutine, TangentSource, VumatBuild, build_plugin};
 use nalgebra::{Matrix3, Vector3};
 
 const POINTS: usize = 1 << 16;
@@ -44,6 +44,8 @@ fn vumat(dir: &Path, file: &str, name: &str, props: &str, initial: &[f64]) -> Pa
         fiber: FiberConvention::Orientation,
         out: dir.join(format!("lib{}.so", name.replace('-', "_"))),
         replace: true,
+        subroutine: Subroutine::Vumat,
+        tangent: TangentSource::Ddsdde,
     })
     .unwrap_or_else(|e| panic!("{e}"))
     .library
