@@ -3,10 +3,10 @@
  * first elasticity tensor A = dP/dF (P = J sigma F^-T, musclefem_material.h).
  *
  * Abaqus/Standard's finite-strain UMAT (NLGEOM) defines DDSDDE through the Jaumann rate of
- * the Kirchhoff stress tau = J sigma, divided by J (Abaqus Theory Guide, "Stress rates";
- * TFEL/MFront's `ABAQUS` tangent operator, "the moduli associated with the Jaumann rate of
- * the Kirchhoff stress divided by J"; the compressible neo-Hookean UMAT of Abaqus's own
- * examples has exactly this DDSDDE):
+ * the Kirchhoff stress tau = J sigma, divided by J (TFEL/MFront's `ABAQUS` tangent
+ * operator, "the moduli associated with the Jaumann rate of the Kirchhoff stress divided by
+ * J"; the compressible neo-Hookean UMAT of Abaqus's own examples has exactly this DDSDDE;
+ * docs/vumat.md, "The tangent"):
  *
  *     tau^J = tau' - W tau + tau W = J C : D,   D = sym(L), W = skew(L),
  *
