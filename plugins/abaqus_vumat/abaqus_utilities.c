@@ -1,22 +1,23 @@
 /*
- * abaqus_utilities.c — the guarded VUMAT call and the Abaqus/Explicit utility routines a
- * VUMAT may call to report errors:
+ * abaqus_utilities.c — the guarded call of a user subroutine (VUMAT or UMAT) and the Abaqus
+ * utility routines it may call to report errors:
  *
- *   CALL XPLB_ABQERR(LOP, STRING, INTV, REALV, CHARV)
+ *   CALL XPLB_ABQERR(LOP, STRING, INTV, REALV, CHARV)   (Abaqus/Explicit)
+ *   CALL STDB_ABQERR(LOP, STRING, INTV, REALV, CHARV)   (Abaqus/Standard)
  *     STRING with %I, %R, %S replaced by the next entries of INTV, REALV, CHARV
  *     (CHARACTER*8); LOP = 1 information and -1 warning (printed on stderr), -2 error (the
- *     block fails after the VUMAT returns), -3 error that stops at once;
- *   CALL XPLB_EXIT
+ *     block fails after the subroutine returns), -3 error that stops at once;
+ *   CALL XPLB_EXIT, CALL XIT
  *     stops at once.
  *
  * and Fortran's STOP and ERROR STOP, which would otherwise end the whole musclefem process
  * (with status 0 for STOP): the gfortran runtime's entry points for them are defined here,
- * hidden, so that the linker binds the VUMAT's STOP statements to these instead of
- * libgfortran's (the signatures of libgfortran 5, gfortran 8 and later). Outside a VUMAT
+ * hidden, so that the linker binds the subroutine's STOP statements to these instead of
+ * libgfortran's (the signatures of libgfortran 5, gfortran 8 and later). Outside a
  * call they exit as the runtime would.
  *
- * "At once" is a longjmp from the utility back to vumat_call_guarded, across the VUMAT's
- * Fortran frames (which hold no C++ objects; memory the VUMAT ALLOCATEd on the way is not
+ * "At once" is a longjmp from the utility back to abaqus_call_guarded, across the subroutine's
+ * Fortran frames (which hold no C++ objects; memory the subroutine ALLOCATEd on the way is not
  * freed). The jump never leaves the plugin: update() returns an error code to the host.
  * The context is thread-local, since the host calls update() from several threads.
  */
@@ -27,23 +28,16 @@
 
 #include "musclefem_vumat.h"
 
-static _Thread_local VumatCall* current_call = NULL;
+static _Thread_local AbaqusCall* current_call = NULL;
 
-int vumat_call_guarded(VumatCall* call, const VumatArguments* a) {
-    static const int ndir = 3, nshr = 3, nfieldv = 0, lanneal = 0;
+int abaqus_call_guarded(AbaqusCall* call, const char* routine, void (*body)(const void*),
+                        const void* arguments) {
+    call->routine = routine;
     call->failed = 0;
     call->message[0] = '\0';
-    VumatCall* previous = current_call;
+    AbaqusCall* previous = current_call;
     current_call = call;
-    if (setjmp(call->jump) == 0) {
-        vumat_(&a->nblock, &ndir, &nshr, &a->nstatev, &nfieldv, &a->nprops, &lanneal,
-               &a->step_time, &a->total_time, &a->dt, a->cmname, a->coord_mp, a->char_length,
-               a->props, a->density, a->strain_inc, a->rel_spin_inc, a->temp_old,
-               a->stretch_old, a->defgrad_old, a->field_old, a->stress_old, a->state_old,
-               a->ener_intern_old, a->ener_inelas_old, a->temp_new, a->stretch_new,
-               a->defgrad_new, a->field_new, a->stress_new, a->state_new, a->ener_intern_new,
-               a->ener_inelas_new, (size_t)80);
-    }
+    if (setjmp(call->jump) == 0) body(arguments);
     current_call = previous;
     return call->failed;
 }
@@ -87,43 +81,60 @@ static void format_message(const char* string, size_t string_length, const int* 
     }
 }
 
-void xplb_abqerr_(const int* lop, const char* string, const int* intv, const double* realv,
-                  const char* charv, size_t string_length, size_t charv_length) {
+/* XPLB_ABQERR and STDB_ABQERR (`utility` names which). */
+static void abqerr(const char* utility, const int* lop, const char* string, const int* intv,
+                   const double* realv, const char* charv, size_t string_length,
+                   size_t charv_length) {
     char text[480];
     format_message(string, string_length, intv, realv, charv, charv_length, text, sizeof text);
-    VumatCall* call = current_call;
+    AbaqusCall* call = current_call;
     if (*lop >= 0 || *lop == -1 || call == NULL) {
-        fprintf(stderr, "VUMAT %s: %s\n", *lop >= 0 ? "info" : (*lop == -1 ? "warning" : "error"),
-                text);
+        fprintf(stderr, "%s %s: %s\n", call == NULL ? "Abaqus routine" : call->routine,
+                *lop >= 0 ? "info" : (*lop == -1 ? "warning" : "error"), text);
         return;
     }
     if (!call->failed) {
-        snprintf(call->message, sizeof call->message, "XPLB_ABQERR (lop = %d): %s", *lop, text);
+        snprintf(call->message, sizeof call->message, "%s (lop = %d): %s", utility, *lop, text);
         call->failed = 1;
     }
     if (*lop <= -3) longjmp(call->jump, 1);
 }
 
-void xplb_exit_(void) {
-    VumatCall* call = current_call;
+void xplb_abqerr_(const int* lop, const char* string, const int* intv, const double* realv,
+                  const char* charv, size_t string_length, size_t charv_length) {
+    abqerr("XPLB_ABQERR", lop, string, intv, realv, charv, string_length, charv_length);
+}
+
+void stdb_abqerr_(const int* lop, const char* string, const int* intv, const double* realv,
+                  const char* charv, size_t string_length, size_t charv_length) {
+    abqerr("STDB_ABQERR", lop, string, intv, realv, charv, string_length, charv_length);
+}
+
+/* XPLB_EXIT and XIT: stop at once. */
+static void exit_routine(const char* utility) {
+    AbaqusCall* call = current_call;
     if (call == NULL) return;
     if (!call->failed) {
-        snprintf(call->message, sizeof call->message, "the VUMAT called XPLB_EXIT");
+        snprintf(call->message, sizeof call->message, "the %s called %s", call->routine, utility);
         call->failed = 1;
     }
     longjmp(call->jump, 1);
 }
 
+void xplb_exit_(void) { exit_routine("XPLB_EXIT"); }
+
+void xit_(void) { exit_routine("XIT"); }
+
 /* Record `text` as the call's error and jump back, or exit with `status` outside a call. */
 static void stop(int status, const char* what, const char* text, size_t length) {
-    VumatCall* call = current_call;
+    AbaqusCall* call = current_call;
     length = trimmed_length(text == NULL ? "" : text, text == NULL ? 0 : length);
     if (call == NULL) {
         fprintf(stderr, "%s %.*s\n", what, (int)length, text == NULL ? "" : text);
         exit(status);
     }
     if (!call->failed) {
-        snprintf(call->message, sizeof call->message, "the VUMAT executed %s%s%.*s", what,
+        snprintf(call->message, sizeof call->message, "the %s executed %s%s%.*s", call->routine, what,
                  length > 0 ? " " : "", (int)length, text == NULL ? "" : text);
         call->failed = 1;
     }

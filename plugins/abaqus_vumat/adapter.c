@@ -267,6 +267,18 @@ static int32_t scatter(const MusclefemPointBlock* block, uint64_t start, size_t 
     return 0;
 }
 
+/* The VUMAT's call with every argument by reference (abaqus_call_guarded's body). */
+static void call_vumat(const void* arguments) {
+    static const int ndir = 3, nshr = 3, nfieldv = 0, lanneal = 0;
+    const VumatArguments* a = (const VumatArguments*)arguments;
+    vumat_(&a->nblock, &ndir, &nshr, &a->nstatev, &nfieldv, &a->nprops, &lanneal, &a->step_time,
+           &a->total_time, &a->dt, a->cmname, a->coord_mp, a->char_length, a->props, a->density,
+           a->strain_inc, a->rel_spin_inc, a->temp_old, a->stretch_old, a->defgrad_old,
+           a->field_old, a->stress_old, a->state_old, a->ener_intern_old, a->ener_inelas_old,
+           a->temp_new, a->stretch_new, a->defgrad_new, a->field_new, a->stress_new, a->state_new,
+           a->ener_intern_new, a->ener_inelas_new, (size_t)80);
+}
+
 static int32_t advance(const MusclefemPointBlock* block, char* message, uint64_t capacity) {
     const uint64_t n = block->point_count;
     const size_t most = n < VUMAT_MAX_BLOCK ? (size_t)n : VUMAT_MAX_BLOCK;
@@ -295,8 +307,8 @@ static int32_t advance(const MusclefemPointBlock* block, char* message, uint64_t
             .field_new = w.empty, .stress_new = w.stress_new, .state_new = w.state_new,
             .ener_intern_new = w.ener_intern_new, .ener_inelas_new = w.ener_inelas_new,
         };
-        VumatCall call;
-        if (vumat_call_guarded(&call, &a) != 0) {
+        AbaqusCall call;
+        if (abaqus_call_guarded(&call, "VUMAT", call_vumat, &a) != 0) {
             code = fail(message, capacity, "the VUMAT stopped on points %" PRIu64 "..%" PRIu64
                         " of the block at stepTime = %g: %s", start, start + nb - 1, step_time,
                         call.message);

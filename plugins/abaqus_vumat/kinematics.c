@@ -1,12 +1,15 @@
 /*
- * kinematics.c — the tensors the VUMAT adapter hands to Abaqus/Explicit's VUMAT: polar
- * decomposition, material basis, strain and spin increments, and the component orders.
- * See musclefem_vumat.h for each function's contract and docs/vumat.md for the choices.
+ * kinematics.c — the tensors the adapters hand to Abaqus/Explicit's VUMAT (polar
+ * decomposition, material basis, strain and spin increments, component orders) and to
+ * Abaqus/Standard's UMAT (strain increment, rotation increment, component order). See
+ * musclefem_vumat.h and musclefem_umat.h for each function's contract and docs/vumat.md for
+ * the choices.
  */
 #include <math.h>
 #include <string.h>
 
 #include "matrix3.h"
+#include "musclefem_umat.h"
 #include "musclefem_vumat.h"
 
 static double frobenius_squared(const double a[3][3]) {
@@ -158,4 +161,51 @@ void put_host_voigt(const double s[3][3], double* out) {
     out[3] = s[1][2];
     out[4] = s[0][2];
     out[5] = s[0][1];
+}
+
+/* --- Abaqus/Standard (UMAT) ------------------------------------------------------------ */
+
+int umat_increment_kinematics(const double f_old[3][3], const double f_new[3][3],
+                              double dstran[6], double drot[3][3]) {
+    double f_mid[3][3], df[3][3], f_mid_inverse[3][3], dl[3][3], sym[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            f_mid[i][j] = 0.5 * (f_old[i][j] + f_new[i][j]);
+            df[i][j] = f_new[i][j] - f_old[i][j];
+        }
+    if (!(mat_inverse(f_mid, f_mid_inverse) > 0.0)) return 1;
+    mat_mul(df, f_mid_inverse, dl);
+    double minus[3][3], plus[3][3], minus_inverse[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double w = 0.5 * (dl[i][j] - dl[j][i]);
+            sym[i][j] = 0.5 * (dl[i][j] + dl[j][i]);
+            minus[i][j] = (i == j ? 1.0 : 0.0) - 0.5 * w;
+            plus[i][j] = (i == j ? 1.0 : 0.0) + 0.5 * w;
+        }
+    /* det(I - W/2) = 1 + |w|^2/4 > 0 for skew W. */
+    if (mat_inverse(minus, minus_inverse) == 0.0) return 1;
+    mat_mul(minus_inverse, plus, drot);
+    put_umat_symmetric(sym, 1, dstran);
+    return 0;
+}
+
+void put_umat_symmetric(const double s[3][3], int engineering, double out[6]) {
+    const double shear = engineering ? 2.0 : 1.0;
+    out[0] = s[0][0];
+    out[1] = s[1][1];
+    out[2] = s[2][2];
+    out[3] = shear * s[0][1];
+    out[4] = shear * s[0][2];
+    out[5] = shear * s[1][2];
+}
+
+void get_umat_symmetric(const double in[6], int engineering, double s[3][3]) {
+    const double shear = engineering ? 0.5 : 1.0;
+    s[0][0] = in[0];
+    s[1][1] = in[1];
+    s[2][2] = in[2];
+    s[0][1] = s[1][0] = shear * in[3];
+    s[0][2] = s[2][0] = shear * in[4];
+    s[1][2] = s[2][1] = shear * in[5];
 }

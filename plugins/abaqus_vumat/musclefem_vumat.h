@@ -67,17 +67,21 @@ typedef struct {
     double *stress_new, *state_new, *ener_intern_new, *ener_inelas_new;
 } VumatArguments;
 
-/* One guarded call: where XPLB_ABQERR (lop = -2, -3) and XPLB_EXIT leave their message,
- * and where lop = -3 and XPLB_EXIT jump back to. */
+/* One guarded call of a user subroutine (VUMAT or UMAT): where XPLB_ABQERR / STDB_ABQERR
+ * (lop = -2, -3), XPLB_EXIT / XIT and STOP leave their message, and where lop = -3, the exits
+ * and STOP jump back to. */
 typedef struct {
     jmp_buf jump;
-    int failed; /* an error was reported (lop = -2 or -3) or XPLB_EXIT was called */
+    const char* routine; /* "VUMAT" or "UMAT", for the messages */
+    int failed; /* an error was reported (lop = -2 or -3), an exit routine or STOP was called */
     char message[512];
-} VumatCall;
+} AbaqusCall;
 
-/* Calls vumat_ with `arguments`; returns 0, or 1 when the VUMAT reported an error or
- * stopped the analysis (the message is then in call->message). abaqus_utilities.c. */
-int vumat_call_guarded(VumatCall* call, const VumatArguments* arguments);
+/* Runs body(arguments), which calls the user's subroutine, with `call` as the thread's
+ * current call; returns 0, or 1 when the subroutine reported an error or stopped the
+ * analysis (the message is then in call->message). abaqus_utilities.c. */
+int abaqus_call_guarded(AbaqusCall* call, const char* routine, void (*body)(const void*),
+                        const void* arguments);
 
 /* --- kinematics.c (the 3x3 helpers are in matrix3.h) --------------------------------- */
 

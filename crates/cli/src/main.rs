@@ -12,8 +12,8 @@
 //! - `musclefem fibers`: fiber directions from a flow through a mesh file;
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
 //!   fusiform muscle (see the library's `elongation` module);
-//! - `musclefem vumat build`: an Abaqus/Explicit VUMAT compiled into a material plugin
-//!   (`musclefem-vumat`).
+//! - `musclefem vumat build`, `musclefem umat build`: an Abaqus/Explicit VUMAT or an
+//!   Abaqus/Standard UMAT compiled into a material plugin (`musclefem-vumat`).
 
 // Every crate that registers materials with `inventory` (today: materials) must be named
 // here, or the linker may drop its registrations (see docs/design.md, "Two traps").
@@ -94,6 +94,10 @@ enum Command {
     /// --nstatev N --out LIB.so` compiles a user's Fortran VUMAT, unchanged, into a
     /// material plugin (docs/vumat.md).
     Vumat(vumat_command::VumatArgs),
+    /// Abaqus/Standard UMATs as materials: `umat build FILE.f --name NAME --props ...
+    /// --out LIB.so` compiles a user's Fortran UMAT, unchanged, into a material plugin whose
+    /// tangent is its DDSDDE (docs/vumat.md, "UMAT").
+    Umat(vumat_command::UmatArgs),
 }
 
 #[derive(Debug, Args)]
@@ -202,6 +206,7 @@ fn main() -> ExitCode {
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),
         Some(Command::Vumat(args)) => vumat_command::vumat(&args),
+        Some(Command::Umat(args)) => vumat_command::umat(&args),
         None => commands::demo(&DemoArgs {
             out: PathBuf::from("out/demo"),
             force: false,

@@ -9,70 +9,8 @@
 
 mod support;
 
-use std::path::Path;
-
-use musclefem_vumat::toolchain::Tool;
+use support::fortran::{examples, gfortran_or_skip, reaction_difference, run_ok};
 use support::run::{musclefem, test_dir, text};
-
-fn gfortran_or_skip(test: &str) -> bool {
-    if Tool::fortran().is_available() {
-        return true;
-    }
-    assert!(
-        std::env::var_os("MUSCLEFEM_REQUIRE_GFORTRAN").is_none(),
-        "{test}: gfortran is required (MUSCLEFEM_REQUIRE_GFORTRAN is set) but not found"
-    );
-    eprintln!("SKIPPED {test}: gfortran is not installed (scripts/setup-fortran.sh installs it)");
-    false
-}
-
-fn examples() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/vumat")
-}
-
-/// history.csv of a run: the header and the rows.
-fn history(dir: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(dir.join("history.csv")).unwrap();
-    let mut lines = text.lines();
-    let header = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-        .collect();
-    (header, rows)
-}
-
-/// The largest difference of the reaction columns, relative to the largest reaction.
-fn reaction_difference(a: &Path, b: &Path) -> (f64, f64) {
-    let (header, rows) = history(a);
-    let (reference_header, reference_rows) = history(b);
-    assert_eq!(header, reference_header);
-    assert_eq!(rows.len(), reference_rows.len());
-    let columns: Vec<usize> = (0..header.len())
-        .filter(|&c| header[c].starts_with("reaction_"))
-        .collect();
-    assert!(!columns.is_empty(), "{header:?}");
-    let scale = reference_rows
-        .iter()
-        .flat_map(|r| columns.iter().map(|&c| r[c].abs()))
-        .fold(0.0, f64::max);
-    let difference = rows
-        .iter()
-        .zip(&reference_rows)
-        .flat_map(|(r, s)| columns.iter().map(move |&c| (r[c] - s[c]).abs()))
-        .fold(0.0, f64::max);
-    (difference / scale, scale)
-}
-
-fn run_ok(dir: &Path, args: &[&str]) -> String {
-    let out = musclefem(dir, args);
-    assert!(
-        out.status.success(),
-        "musclefem {args:?}:\n{}\n{}",
-        text(&out.stdout),
-        text(&out.stderr)
-    );
-    text(&out.stdout)
-}
 
 #[test]
 fn the_example_vumat_scene_matches_the_builtin_material_in_both_solvers() {

@@ -1,5 +1,6 @@
-//! Time per material-point update through the VUMAT path against the built-in materials:
-//! the neo-Hookean (also as the C plugin plugins/neo_hookean_c) and the active Hill muscle
+//! Time per material-point update through the VUMAT and UMAT paths against the built-in
+//! materials: the neo-Hookean (also as the C plugin plugins/neo_hookean_c and as the UMAT,
+//! with its DDSDDE and with the host's finite differences) and the active Hill muscle
 //! (n2 = 1), each against its VUMAT in examples/vumat, on one thread:
 //! blocks of 512 points (an explicit chunk of 64 hex8 elements), 64 Ki points per
 //! repetition, 15 repetitions, min and median in ns per point; then the same with the
@@ -16,7 +17,7 @@ use std::time::Instant;
 use musclefem_materials::{
     Material, MaterialLibrary, PointBlock, PointResponse, Tangent, VoigtStress,
 };
-use musclefem_vumat::{FiberConvention, Prop, VumatBuild, build_plugin};
+use musclefem_vumat::{FiberConvention, Prop, Subroutine, TangentSource, VumatBuild, build_plugin};
 use nalgebra::{Matrix3, Vector3};
 
 const POINTS: usize = 1 << 16;
@@ -34,6 +35,31 @@ const HILL_PROPS: &str = "D=5e-9:1/Pa,b=15,c=379:Pa,A=4,lambda_pe=1,sigma0=7e5:P
 
 /// Build examples/vumat/`file` as material `name` into `dir`.
 fn vumat(dir: &Path, file: &str, name: &str, props: &str, initial: &[f64]) -> PathBuf {
+    subroutine(
+        dir,
+        file,
+        name,
+        props,
+        initial,
+        Subroutine::Vumat,
+        TangentSource::Ddsdde,
+    )
+}
+
+/// Build examples/vumat/`file` as a `kind` subroutine, material `name`, into `dir`.
+fn subroutine(
+    dir: &Path,
+    file: &str,
+    name: &str,
+    props: &str,
+    initial: &[f64],
+    kind: Subroutine,
+    tangent: TangentSource,
+) -> PathBuf {
+    let fiber = match kind {
+        Subroutine::Vumat => FiberConvention::Orientation,
+        Subroutine::Umat => FiberConvention::None,
+    };
     build_plugin(&VumatBuild {
         source: workspace().join("examples/vumat").join(file),
         name: name.into(),
@@ -41,16 +67,18 @@ fn vumat(dir: &Path, file: &str, name: &str, props: &str, initial: &[f64]) -> Pa
         props: Prop::parse_list(props).unwrap(),
         nstatev: initial.len(),
         statev_initial: initial.to_vec(),
-        fiber: FiberConvention::Orientation,
+        fiber,
         out: dir.join(format!("lib{}.so", name.replace('-', "_"))),
         replace: true,
+        subroutine: kind,
+        tangent,
     })
     .unwrap_or_else(|e| panic!("{e}"))
     .library
 }
 
 /// The two VUMATs and the C plugin, built.
-fn plugins() -> [PathBuf; 3] {
+fn plugins() -> [PathBuf; 5] {
     let dir = workspace().join("target/vumat-timing");
     std::fs::create_dir_all(&dir).unwrap();
     let neo_hookean = vumat(
@@ -67,6 +95,13 @@ fn plugins() -> [PathBuf; 3] {
         HILL_PROPS,
         &[1.0, 1.0, 0.0],
     );
+    let umat = |name: &str, tangent| {
+        let props = "mu=11370:Pa,D=5e-9:1/Pa";
+        let file = "neo_hookean_umat.f";
+        subroutine(&dir, file, name, props, &[], Subroutine::Umat, tangent)
+    };
+    let umat_ddsdde = umat("neo-hookean-umat", TangentSource::Ddsdde);
+    let umat_fd = umat("neo-hookean-umat-fd", TangentSource::FiniteDifference);
     let c = dir.join("libneo_hookean_c.so");
     let status = Command::new(std::env::var("CC").unwrap_or_else(|_| "cc".into()))
         .args([
@@ -85,7 +120,7 @@ fn plugins() -> [PathBuf; 3] {
         .status()
         .unwrap();
     assert!(status.success());
-    [neo_hookean, hill, c]
+    [neo_hookean, hill, c, umat_ddsdde, umat_fd]
 }
 
 /// F_old, F_new and the fiber of every point.
@@ -187,6 +222,14 @@ fn main() {
         (
             "VUMAT neo_hookean_vumat.f",
             create("neo-hookean-vumat", 0.0),
+        ),
+        (
+            "UMAT neo_hookean_umat.f (DDSDDE)",
+            create("neo-hookean-umat", 0.0),
+        ),
+        (
+            "UMAT neo_hookean_umat.f (--tangent finite-difference)",
+            create("neo-hookean-umat-fd", 0.0),
         ),
         ("built-in hill, n2 = 1 (Rust)", create("hill", 1.0)),
         ("VUMAT hill_vumat.f, n2 = 1", create("hill-vumat", 1.0)),

@@ -1,5 +1,5 @@
-//! Building a plugin: the user's Fortran file with gfortran, the adapter with the C
-//! compiler, both linked by gfortran into one shared library in a scratch directory, which
+//! Building a plugin: the user's Fortran file (a VUMAT or a UMAT) with gfortran, its
+//! adapter with the C compiler, both linked by gfortran into one shared library in a scratch directory, which
 //! is loaded once as a material plugin to check it before it is moved to its place.
 
 use std::ffi::OsStr;
@@ -12,7 +12,7 @@ use musclefem_materials::{MaterialInfo, MaterialOrigin};
 use crate::config_header;
 use crate::error::VumatError;
 use crate::options::VumatBuild;
-use crate::sources::{ADAPTER_FILES, C_FILES};
+use crate::sources::ADAPTER_FILES;
 use crate::toolchain::{Tool, undefined_symbols};
 
 /// gfortran's options for the user's file, those of Abaqus's own Linux build where
@@ -116,7 +116,8 @@ pub fn build_plugin(build: &VumatBuild) -> Result<BuiltPlugin, VumatError> {
 
     let fortran = Tool::fortran();
     let c = Tool::c();
-    let vumat_object = dir.join("vumat.o");
+    let subroutine = build.subroutine;
+    let vumat_object = dir.join(format!("{}.o", subroutine.symbol().trim_end_matches('_')));
     let mut args: Vec<&OsStr> = FORTRAN_FLAGS.iter().map(OsStr::new).collect();
     args.extend([
         OsStr::new("-I"),
@@ -133,7 +134,7 @@ pub fn build_plugin(build: &VumatBuild) -> Result<BuiltPlugin, VumatError> {
     })?;
 
     let mut objects = vec![vumat_object.clone()];
-    for file in C_FILES {
+    for file in subroutine.c_files() {
         let object = dir.join(file).with_extension("o");
         let source = dir.join(file);
         let mut args: Vec<&OsStr> = C_FLAGS.iter().map(OsStr::new).collect();
@@ -152,8 +153,9 @@ pub fn build_plugin(build: &VumatBuild) -> Result<BuiltPlugin, VumatError> {
     }
 
     let library = dir.join(format!(
-        "{}vumat{}",
+        "{}{}{}",
         std::env::consts::DLL_PREFIX,
+        subroutine.symbol().trim_end_matches('_'),
         std::env::consts::DLL_SUFFIX
     ));
     let mut args: Vec<&OsStr> = vec![OsStr::new("-shared"), OsStr::new("-o"), library.as_os_str()];
@@ -172,6 +174,7 @@ pub fn build_plugin(build: &VumatBuild) -> Result<BuiltPlugin, VumatError> {
             }
         } else {
             VumatError::Undefined {
+                subroutine,
                 source: build.source.clone(),
                 routines,
                 output,

@@ -1,9 +1,11 @@
-//! `vumat_config.h`: what the adapter (plugins/abaqus_vumat/adapter.c) needs to know about
-//! one VUMAT — the material name and description, cmname, the props as parameters, the
-//! user's state variables and the fiber convention — as C macros.
+//! `vumat_config.h`: what the adapter (plugins/abaqus_vumat/adapter.c or umat_adapter.c)
+//! needs to know about one VUMAT or UMAT — the material name and description, cmname, the
+//! props as parameters, the user's state variables, the fiber convention and the UMAT's
+//! tangent source — as C macros.
 
 use std::fmt::Write;
 
+use crate::kind::Subroutine;
 use crate::options::VumatBuild;
 
 /// A C string literal of `text` (quotes and backslashes escaped, other bytes outside
@@ -40,14 +42,21 @@ pub fn render(build: &VumatBuild) -> String {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    let tangent = match build.subroutine {
+        Subroutine::Vumat => String::new(),
+        Subroutine::Umat => format!(", tangent {}", build.tangent),
+    };
     let description = format!(
-        "Abaqus/Explicit VUMAT from {file_name} (cmname {}, nstatev {}, fiber convention {})",
+        "{} {} from {file_name} (cmname {}, nstatev {}, fiber convention {}{tangent})",
+        build.subroutine.solver(),
+        build.subroutine,
         build.cmname(),
         build.nstatev,
         build.fiber
     );
     let mut text = String::from(
-        "/* vumat_config.h, written by `musclefem vumat build`: the VUMAT this plugin runs. */\n",
+        "/* vumat_config.h, written by `musclefem vumat build` or `musclefem umat build`: the \
+         subroutine this plugin runs (the macros are named VUMAT_ for both). */\n",
     );
     let _ = writeln!(text, "#define VUMAT_NAME {}", c_string(&build.name));
     let _ = writeln!(text, "#define VUMAT_DESCRIPTION {}", c_string(&description));
@@ -55,6 +64,7 @@ pub fn render(build: &VumatBuild) -> String {
     let _ = writeln!(text, "#define VUMAT_NPROPS {}", build.props.len());
     let _ = writeln!(text, "#define VUMAT_NSTATEV {}", build.nstatev);
     let _ = writeln!(text, "#define VUMAT_FIBER {}", build.fiber.c_macro());
+    let _ = writeln!(text, "#define UMAT_TANGENT {}", build.tangent.c_value());
     text.push_str("#define VUMAT_PROPS_TABLE");
     for (i, prop) in build.props.iter().enumerate() {
         let _ = write!(
@@ -62,7 +72,7 @@ pub fn render(build: &VumatBuild) -> String {
             " \\\n    {{{}, {}, {}, {}, -INFINITY, INFINITY, 0, 0}},",
             c_string(&prop.name),
             c_string(&prop.unit),
-            c_string(&format!("props({}) of the VUMAT", i + 1)),
+            c_string(&format!("props({}) of the {}", i + 1, build.subroutine)),
             c_double(prop.default)
         );
     }
@@ -78,6 +88,7 @@ pub fn render(build: &VumatBuild) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kind::TangentSource;
     use crate::options::{FiberConvention, Prop};
 
     #[test]
@@ -98,6 +109,8 @@ mod tests {
             fiber: FiberConvention::State,
             out: "libmuscle.so".into(),
             replace: false,
+            subroutine: Subroutine::Vumat,
+            tangent: TangentSource::Ddsdde,
         };
         let text = render(&build);
         for expected in [
@@ -112,6 +125,19 @@ mod tests {
             "{\"sdv1\", \"1\", 1.5}, \\\n    {\"sdv2\", \"1\", 0.0},\n",
         ] {
             assert!(text.contains(expected), "{expected}\nnot in\n{text}");
+        }
+        let umat = render(&VumatBuild {
+            subroutine: Subroutine::Umat,
+            tangent: TangentSource::FiniteDifference,
+            ..build
+        });
+        for expected in [
+            "Abaqus/Standard UMAT from muscle.f (cmname MUSCLE, nstatev 2, fiber convention \
+             state, tangent finite-difference)",
+            "#define UMAT_TANGENT 0\n",
+            "\"props(1) of the UMAT\"",
+        ] {
+            assert!(umat.contains(expected), "{expected}\nnot in\n{umat}");
         }
     }
 }

@@ -6,6 +6,8 @@ use std::path::PathBuf;
 
 use musclefem_materials::MaterialError;
 
+use crate::kind::Subroutine;
+
 /// A failed `musclefem vumat build`.
 #[derive(Debug)]
 pub enum VumatError {
@@ -20,8 +22,9 @@ pub enum VumatError {
     },
     /// The user's Fortran file did not compile: gfortran's messages.
     Compile { source: PathBuf, output: String },
-    /// The Fortran file calls routines nobody defines (or does not define VUMAT).
+    /// The Fortran file calls routines nobody defines (or does not define VUMAT / UMAT).
     Undefined {
+        subroutine: Subroutine,
         source: PathBuf,
         routines: Vec<String>,
         output: String,
@@ -40,9 +43,6 @@ pub enum VumatError {
     Load(MaterialError),
 }
 
-/// The Abaqus utility routines the adapter defines (abaqus_utilities.c).
-pub const PROVIDED_ROUTINES: &str = "XPLB_ABQERR and XPLB_EXIT";
-
 impl fmt::Display for VumatError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -60,28 +60,31 @@ impl fmt::Display for VumatError {
                 output.trim_end()
             ),
             VumatError::Undefined {
+                subroutine,
                 source,
                 routines,
                 output,
             } => {
-                if routines.iter().any(|r| r == "vumat_") {
+                if routines.iter().any(|r| r == subroutine.symbol()) {
                     write!(
                         f,
-                        "{} does not define SUBROUTINE VUMAT (the linker found no symbol \
-                         vumat_)",
-                        source.display()
+                        "{} does not define SUBROUTINE {subroutine} (the linker found no \
+                         symbol {})",
+                        source.display(),
+                        subroutine.symbol()
                     )?;
                 } else {
                     write!(
                         f,
                         "{} calls routines that neither it nor musclefem defines: {} \
-                         (musclefem provides the Abaqus utilities {PROVIDED_ROUTINES})",
+                         (musclefem provides the Abaqus utilities {})",
                         source.display(),
                         routines
                             .iter()
                             .map(|r| r.trim_end_matches('_').to_ascii_uppercase())
                             .collect::<Vec<_>>()
-                            .join(", ")
+                            .join(", "),
+                        subroutine.provided_routines()
                     )?;
                 }
                 write!(f, "\nlinker output:\n{}", output.trim_end())

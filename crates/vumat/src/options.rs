@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::str::FromStr;
 
 use crate::error::VumatError;
+use crate::kind::{Subroutine, TangentSource};
 
 /// Fortran source extensions gfortran recognises (fixed form: f, for, ftn, f77; free form:
 /// f90, f95, f03, f08; upper case: run through the preprocessor, which is on anyway).
@@ -15,8 +16,9 @@ pub const FORTRAN_EXTENSIONS: [&str; 8] = ["f", "for", "ftn", "f77", "f90", "f95
 /// Longest material name and cmname (Abaqus's cmname is CHARACTER*80).
 pub const MAX_NAME_LENGTH: usize = 80;
 
-/// Prefix of the parameters the adapter declares after the user's props.
-pub const ADAPTER_PARAMETER_PREFIX: &str = "vumat_";
+/// Prefixes of the parameters the adapters declare after the user's props (the VUMAT's,
+/// the UMAT's), refused as prop names for both.
+pub const ADAPTER_PARAMETER_PREFIXES: [&str; 2] = ["vumat_", "umat_"];
 
 /// Where the VUMAT finds the reference fiber direction (docs/vumat.md, "Fiber direction").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -134,10 +136,13 @@ fn check_prop_name(name: &str) -> Result<(), String> {
             "'{name}' is not a parameter name (a letter, then letters, digits or '_')"
         ));
     }
-    if name.starts_with(ADAPTER_PARAMETER_PREFIX) {
+    if let Some(prefix) = ADAPTER_PARAMETER_PREFIXES
+        .iter()
+        .find(|prefix| name.starts_with(**prefix))
+    {
         return Err(format!(
-            "'{name}': names starting with '{ADAPTER_PARAMETER_PREFIX}' are the adapter's \
-             (vumat_density, vumat_char_length, vumat_temperature)"
+            "'{name}': names starting with '{prefix}' are the adapters' (vumat_density, \
+             vumat_char_length, vumat_temperature; umat_char_length, umat_temperature)"
         ));
     }
     Ok(())
@@ -179,7 +184,9 @@ pub fn parse_initial_values(text: &str) -> Result<Vec<f64>, VumatError> {
 /// Everything a build needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VumatBuild {
-    /// The user's Fortran file with `SUBROUTINE VUMAT`.
+    /// Which subroutine the file defines and the plugin runs (VUMAT or UMAT).
+    pub subroutine: Subroutine,
+    /// The user's Fortran file with `SUBROUTINE VUMAT` (or `UMAT`).
     pub source: PathBuf,
     /// Registry name of the material (scene files' `model`).
     pub name: String,
@@ -199,6 +206,9 @@ pub struct VumatBuild {
     pub out: PathBuf,
     /// Replace an existing `out`.
     pub replace: bool,
+    /// Where a UMAT plugin's tangent comes from (ignored for a VUMAT, whose tangent the
+    /// host always differentiates).
+    pub tangent: TangentSource,
 }
 
 /// Most state variables a VUMAT may declare (per point; a bound against typos).
@@ -263,6 +273,14 @@ impl VumatBuild {
                 self.nstatev
             ));
         }
+        if self.subroutine == Subroutine::Umat && self.fiber == FiberConvention::Orientation {
+            return option(
+                "--fiber orientation is for VUMATs: a UMAT works in the global basis here; \
+                 give --fiber none, or --fiber state to find the fiber in state variables 1 \
+                 to 3 (docs/vumat.md, \"UMAT\")"
+                    .to_string(),
+            );
+        }
         if self.fiber == FiberConvention::State && self.nstatev < 3 {
             return option(format!(
                 "--fiber state puts the fiber direction into state variables 1 to 3, but \
@@ -316,8 +334,9 @@ mod tests {
             ("1mu=1", "'1mu' is not a parameter name"),
             (
                 "vumat_density=1",
-                "names starting with 'vumat_' are the adapter's",
+                "names starting with 'vumat_' are the adapters'",
             ),
+            ("umat_x=1", "names starting with 'umat_' are the adapters'"),
             ("mu=inf", "the default inf is not finite"),
             ("mu=1:P\"a", "the unit 'P\"a' holds the character '\"'"),
             ("mu=1,", "'' is not a parameter name"),
@@ -338,6 +357,8 @@ mod tests {
             fiber,
             out: "lib.so".into(),
             replace: false,
+            subroutine: Subroutine::Vumat,
+            tangent: TangentSource::Ddsdde,
         }
     }
 
@@ -363,6 +384,13 @@ mod tests {
             (
                 build("m", "m.f90", 20_000, FiberConvention::None),
                 "--nstatev 20000",
+            ),
+            (
+                VumatBuild {
+                    subroutine: Subroutine::Umat,
+                    ..build("m", "m.f", 0, FiberConvention::Orientation)
+                },
+                "--fiber orientation is for VUMATs",
             ),
             (
                 VumatBuild {

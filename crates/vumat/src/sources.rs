@@ -1,10 +1,17 @@
-//! The adapter's sources (`plugins/abaqus_vumat`) and the plugin ABI header, compiled into
-//! this crate so that an installed `musclefem` builds VUMAT plugins without the repository.
+//! The adapters' sources (`plugins/abaqus_vumat`) and the plugin ABI header, compiled into
+//! this crate so that an installed `musclefem` builds VUMAT and UMAT plugins without the
+//! repository.
 
 use musclefem_materials::plugin::C_HEADER;
 
-/// (file name, contents) of every file the build writes next to `vumat_config.h`.
-pub const ADAPTER_FILES: [(&str, &str); 7] = [
+/// Abaqus/Standard's include file for UMATs (`INCLUDE 'ABA_PARAM.INC'`).
+const ABA_PARAM: &str = include_str!("../../../plugins/abaqus_vumat/aba_param.inc");
+
+/// (file name, contents) of every file the build writes next to `vumat_config.h`. Both
+/// kinds get all of them; [`crate::Subroutine::c_files`] says which are compiled. The UMAT
+/// include file is written under both spellings UMATs use (Linux file names are
+/// case-sensitive).
+pub const ADAPTER_FILES: [(&str, &str); 12] = [
     ("musclefem_material.h", C_HEADER),
     (
         "matrix3.h",
@@ -15,8 +22,20 @@ pub const ADAPTER_FILES: [(&str, &str); 7] = [
         include_str!("../../../plugins/abaqus_vumat/musclefem_vumat.h"),
     ),
     (
+        "musclefem_umat.h",
+        include_str!("../../../plugins/abaqus_vumat/musclefem_umat.h"),
+    ),
+    (
         "adapter.c",
         include_str!("../../../plugins/abaqus_vumat/adapter.c"),
+    ),
+    (
+        "umat_adapter.c",
+        include_str!("../../../plugins/abaqus_vumat/umat_adapter.c"),
+    ),
+    (
+        "umat_tangent.c",
+        include_str!("../../../plugins/abaqus_vumat/umat_tangent.c"),
     ),
     (
         "kinematics.c",
@@ -30,7 +49,6 @@ pub const ADAPTER_FILES: [(&str, &str); 7] = [
         "vaba_param.inc",
         include_str!("../../../plugins/abaqus_vumat/vaba_param.inc"),
     ),
+    ("aba_param.inc", ABA_PARAM),
+    ("ABA_PARAM.INC", ABA_PARAM),
 ];
-
-/// The C files among [`ADAPTER_FILES`], compiled one by one.
-pub const C_FILES: [&str; 3] = ["adapter.c", "kinematics.c", "abaqus_utilities.c"];

@@ -13,7 +13,10 @@ use std::sync::{Arc, Mutex};
 
 use musclefem_materials::{Material, MaterialLibrary};
 use musclefem_vumat::toolchain::Tool;
-use musclefem_vumat::{BuiltPlugin, FiberConvention, Prop, VumatBuild, VumatError, build_plugin};
+use musclefem_vumat::{
+    BuiltPlugin, FiberConvention, Prop, Subroutine, TangentSource, VumatBuild, VumatError,
+    build_plugin,
+};
 
 /// Whether gfortran is there; prints the skip message if not (panics if it is required).
 pub fn gfortran_or_skip(test: &str) -> bool {
@@ -68,6 +71,8 @@ pub fn options(
         fiber,
         out: out_dir().join(format!("lib{}.so", name.replace('-', "_"))),
         replace: true,
+        subroutine: Subroutine::Vumat,
+        tangent: TangentSource::Ddsdde,
     }
 }
 
@@ -111,6 +116,34 @@ pub fn neo_hookean_vumat(name: &str, fiber: FiberConvention) -> BuiltPlugin {
         "mu=11370:Pa,D=5e-9:1/Pa",
         0,
         fiber,
+    ))
+    .unwrap()
+}
+
+/// The options of a UMAT build of `source` as material `name` into out_dir(), global basis.
+pub fn umat_options(
+    source: &Path,
+    name: &str,
+    props: &str,
+    nstatev: usize,
+    tangent: TangentSource,
+) -> VumatBuild {
+    VumatBuild {
+        subroutine: Subroutine::Umat,
+        tangent,
+        ..options(source, name, props, nstatev, FiberConvention::None)
+    }
+}
+
+/// examples/vumat/neo_hookean_umat.f as material `name` with the built-in's parameter
+/// names, defaults and units.
+pub fn neo_hookean_umat(name: &str, tangent: TangentSource) -> BuiltPlugin {
+    built(umat_options(
+        &example("neo_hookean_umat.f"),
+        name,
+        "mu=11370:Pa,D=5e-9:1/Pa",
+        0,
+        tangent,
     ))
     .unwrap()
 }
