@@ -119,7 +119,10 @@ fn read_delimited(path: &Path) -> Result<DelimitedTable, OutputError> {
 }
 
 /// Every row of `table` as numbers, one per column, with its line.
-fn numeric_rows(path: &Path, table: &DelimitedTable) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
+fn numeric_rows(
+    path: &Path,
+    table: &DelimitedTable,
+) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
     let columns = table.names.len();
     let error = |line: usize, message: String| OutputError::Parse {
         path: path.to_path_buf(),

@@ -164,8 +164,7 @@ mod tests {
     #[test]
     fn spreadsheet_variants_read_alike() {
         let plain = "engineering_strain,engineering_stress_pa\n0.05,1200\n0.1,2500.5\n";
-        let excel =
-            "\u{feff}\"engineering_strain\",\"engineering_stress_pa\"\r\n0.05,1200\r\n0.1,2500.5\r\n";
+        let excel = "\u{feff}\"engineering_strain\",\"engineering_stress_pa\"\r\n0.05,1200\r\n0.1,2500.5\r\n";
         let german = "engineering_strain;engineering_stress_pa\n0,05;1200\n0,1;2500,5\n\n";
         let tabs = "engineering_strain\tengineering_stress_pa\n0.05\t1200\n 0.1 \t 2500.5\n";
         let expected = parse_delimited(plain).unwrap();
