@@ -12,6 +12,7 @@ use musclefem_materials::driver::{UNIAXIAL_CSV_HEADER, UniaxialRow};
 
 use crate::OutputError;
 use crate::atomic::PendingFile;
+use crate::delimited::{DelimitedTable, parse_delimited};
 
 /// `x` as the shortest decimal that parses back to the same `f64`.
 pub fn format_number(x: f64) -> String {
@@ -77,64 +78,73 @@ pub fn read_table(path: &Path, header: &str) -> Result<Vec<Vec<f64>>, OutputErro
 }
 
 /// A numeric table with any header (a run's `history.csv`, say): the column names and
-/// the columns [one `Vec` per name]. Errors name the file and the line.
+/// the columns [one `Vec` per name]. Read as [`crate::delimited`] reads tables (a
+/// byte-order mark, `;` or tab separators, quotes); errors name the file and the line.
 pub fn read_columns(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>), OutputError> {
-    let text = std::fs::read_to_string(path).map_err(|e| OutputError::io("read", path, e))?;
-    let header = text
-        .lines()
-        .next()
-        .unwrap_or_default()
-        .trim_end()
-        .to_string();
-    let names: Vec<String> = header.split(',').map(str::to_string).collect();
-    let mut columns = vec![Vec::new(); names.len()];
-    for (_, row) in read_table_lines(path, &header)? {
+    let table = read_delimited(path)?;
+    let mut columns = vec![Vec::new(); table.names.len()];
+    for (_, row) in numeric_rows(path, &table)? {
         for (column, value) in columns.iter_mut().zip(row) {
             column.push(value);
         }
     }
-    Ok((names, columns))
+    Ok((table.names, columns))
 }
 
 /// [`read_table`] with the 1-based line of each row, for checks that name the line.
 pub fn read_table_lines(path: &Path, header: &str) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
+    let table = read_delimited(path)?;
+    let expected: Vec<&str> = header.split(',').collect();
+    if table.names != expected {
+        return Err(OutputError::Parse {
+            path: path.to_path_buf(),
+            line: 1,
+            message: format!(
+                "header '{}', expected '{header}'",
+                table.names.join(&table.separator.to_string())
+            ),
+        });
+    }
+    numeric_rows(path, &table)
+}
+
+/// The text of `path` as a [`DelimitedTable`].
+fn read_delimited(path: &Path) -> Result<DelimitedTable, OutputError> {
     let text = std::fs::read_to_string(path).map_err(|e| OutputError::io("read", path, e))?;
+    parse_delimited(&text).map_err(|e| OutputError::Parse {
+        path: path.to_path_buf(),
+        line: e.line,
+        message: e.message,
+    })
+}
+
+/// Every row of `table` as numbers, one per column, with its line.
+fn numeric_rows(
+    path: &Path,
+    table: &DelimitedTable,
+) -> Result<Vec<(usize, Vec<f64>)>, OutputError> {
+    let columns = table.names.len();
     let error = |line: usize, message: String| OutputError::Parse {
         path: path.to_path_buf(),
         line,
         message,
     };
-    let mut lines = text.lines();
-    match lines.next() {
-        Some(first) if first.trim_end() == header => {}
-        Some(first) => return Err(error(1, format!("header '{first}', expected '{header}'"))),
-        None => return Err(error(1, "empty file".to_string())),
-    }
-    let columns = header.split(',').count();
-    let mut rows = Vec::new();
-    for (index, line) in lines.enumerate() {
-        let number = index + 2;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let row = line
-            .split(',')
-            .map(|field| {
-                field
-                    .trim()
-                    .parse::<f64>()
-                    .map_err(|_| error(number, format!("'{field}' is not a number")))
-            })
-            .collect::<Result<Vec<f64>, _>>()?;
-        if row.len() != columns {
-            return Err(error(
-                number,
-                format!("{} fields, expected {columns}", row.len()),
-            ));
-        }
-        rows.push((number, row));
-    }
-    Ok(rows)
+    table
+        .rows
+        .iter()
+        .map(|row| {
+            if row.fields.len() != columns {
+                return Err(error(
+                    row.line,
+                    format!("{} fields, expected {columns}", row.fields.len()),
+                ));
+            }
+            let values = (0..columns)
+                .map(|c| table.number(row, c).map_err(|e| error(e.line, e.message)))
+                .collect::<Result<Vec<f64>, _>>()?;
+            Ok((row.line, values))
+        })
+        .collect()
 }
 
 /// Read back a driver history written by [`write_uniaxial_csv`].

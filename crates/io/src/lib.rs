@@ -26,6 +26,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod delimited;
 pub mod error;
 pub mod fiber_csv;
 pub mod fingerprint;

@@ -66,14 +66,12 @@ pub fn parse_curve(
     columns: &Columns,
     range: Range,
 ) -> Result<MeasuredCurve> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let Some((_, header)) = lines.next() else {
+    let table = musclefem_io::delimited::parse_delimited(text)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    if table.names.is_empty() {
         bail!("{}: empty (expected a header line)", path.display());
-    };
-    let names: Vec<String> = header.split(',').map(unquote).collect();
+    }
+    let names = &table.names;
     let find = |name: &str, flag: &str| -> Result<usize> {
         names.iter().position(|n| n == name).with_context(|| {
             format!(
@@ -87,18 +85,18 @@ pub fn parse_curve(
     let stress_at = find(&columns.stress, "--stress-column")?;
     let mut points = Vec::new();
     let mut left_out = 0;
-    for (index, line) in lines {
-        let cells: Vec<&str> = line.split(',').collect();
+    for row in &table.rows {
         let cell = |at: usize| -> Result<f64> {
-            let raw = cells.get(at).map(|c| unquote(c)).unwrap_or_default();
-            raw.parse::<f64>()
+            table
+                .number(row, at)
                 .ok()
                 .filter(|x| x.is_finite())
                 .with_context(|| {
                     format!(
-                        "{} line {}: '{raw}' in column '{}' is not a finite number",
+                        "{} line {}: '{}' in column '{}' is not a finite number",
                         path.display(),
-                        index + 1,
+                        row.line,
+                        row.fields.get(at).map_or("", String::as_str),
                         names[at]
                     )
                 })
@@ -117,10 +115,6 @@ pub fn parse_curve(
         stress: points.iter().map(|p| p.1).collect(),
         left_out,
     })
-}
-
-fn unquote(cell: &str) -> String {
-    cell.trim().trim_matches('"').to_string()
 }
 
 #[cfg(test)]
@@ -176,5 +170,30 @@ mod tests {
             bad.contains("d.csv line 3") && bad.contains("'abc'"),
             "{bad}"
         );
+    }
+
+    /// The issue's case: the curve saved by a spreadsheet as "CSV UTF-8" (a byte-order
+    /// mark before the header) read "no column 'engineering_strain'"; the same curve
+    /// with `;` and decimal commas, or tabs, reads as the plain one.
+    #[test]
+    fn a_spreadsheet_csv_reads_like_a_plain_one() {
+        let columns = Columns {
+            strain: "engineering_strain".into(),
+            stress: "engineering_stress_pa".into(),
+            strain_scale: 1.0,
+            stress_scale: 1.0,
+        };
+        let read = |text: &str| {
+            parse_curve(text, Path::new("m.csv"), &columns, STRAIN_TO_20_PERCENT).unwrap()
+        };
+        let plain = read("engineering_strain,engineering_stress_pa\n0.05,1200\n0.1,2500.5\n");
+        assert_eq!(plain.strain, vec![0.05, 0.1]);
+        for text in [
+            "\u{feff}engineering_strain,engineering_stress_pa\r\n0.05,1200\r\n0.1,2500.5\r\n",
+            "engineering_strain;engineering_stress_pa\n0,05;1200\n0,1;2500,5\n",
+            "engineering_strain\tengineering_stress_pa\n0.05\t1200\n0.1\t2500.5\n",
+        ] {
+            assert_eq!(read(text), plain, "{text:?}");
+        }
     }
 }
