@@ -8,7 +8,9 @@
 //! - [`parameters`]: typed parameter declarations (unit, default, range) and their checked
 //!   resolution from a name → value map;
 //! - [`registry`]: built-in materials registered with `inventory` plus run-time plugins;
-//! - [`neo_hookean`], [`hill`] and [`tendon`]: the built-in materials;
+//! - [`neo_hookean`], [`hill`] and [`tendon`]: the built-in materials; and, for models
+//!   brought from other codes (FEBio, felupe, the literature), [`neo_hookean_coupled`],
+//!   [`mooney_rivlin`] and [`trans_iso_mooney_rivlin`];
 //! - [`plugin`]: the C ABI (`include/musclefem_material.h`) and the plugin loader;
 //! - [`hosted`]: materials defined at run time by the host program (Python);
 //! - [`driver`]: a homogeneous material-point driver (uniaxial stress along the fiber).
@@ -21,12 +23,15 @@ pub mod error;
 pub mod hill;
 pub mod hosted;
 pub mod material;
+pub mod mooney_rivlin;
 pub mod neo_hookean;
+pub mod neo_hookean_coupled;
 pub mod parameters;
 pub mod plugin;
 pub mod registry;
 pub mod tendon;
 pub mod tensor;
+pub mod trans_iso_mooney_rivlin;
 
 pub use amplitude::Amplitude;
 pub use error::MaterialError;

@@ -158,8 +158,11 @@ mod tests {
             names,
             vec![
                 "hill".to_string(),
+                "mooney-rivlin".to_string(),
                 "neo-hookean".to_string(),
-                "tendon".to_string()
+                "neo-hookean-coupled".to_string(),
+                "tendon".to_string(),
+                "trans-iso-mooney-rivlin".to_string(),
             ]
         );
     }
@@ -206,7 +209,9 @@ mod tests {
             .unwrap_err();
         let text = err.to_string();
         assert!(
-            text.contains("'neohooke'") && text.contains("hill, neo-hookean, tendon"),
+            text.contains("'neohooke'") && text.contains(
+                    "hill, mooney-rivlin, neo-hookean, neo-hookean-coupled, tendon, trans-iso-mooney-rivlin"
+                ),
             "{text}"
         );
     }

@@ -76,6 +76,19 @@ pub fn volumetric_kirchhoff_slope(jacobian: f64, compressibility: f64) -> f64 {
     2.0 * (2.0 * jacobian - 1.0) / compressibility
 }
 
+/// Kirchhoff pressure J p = J dU/dJ = k ln J [Pa] of the logarithmic volumetric energy
+/// U = k/2 (ln J)² (FEBio's default for its uncoupled materials; k the bulk modulus [Pa]).
+#[inline]
+pub fn logarithmic_volumetric_kirchhoff(jacobian: f64, bulk_modulus: f64) -> f64 {
+    bulk_modulus * jacobian.ln()
+}
+
+/// d(J p)/dJ = k / J [Pa] of U = k/2 (ln J)², the slope of its Kirchhoff pressure.
+#[inline]
+pub fn logarithmic_volumetric_kirchhoff_slope(jacobian: f64, bulk_modulus: f64) -> f64 {
+    bulk_modulus / jacobian
+}
+
 /// Deviatoric part of a symmetric tensor in Voigt order.
 #[inline]
 pub fn deviatoric_voigt(a: &Vector6<f64>) -> Vector6<f64> {
