@@ -265,6 +265,31 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
     Ok(())
 }
 
+/// `musclefem knee`, which Ctrl-C stops cleanly at each squat's next recorded instant
+/// (exit 130; `--resume` goes on from the last frames).
+pub fn knee(args: &musclefem_studies::knee::command::KneeArgs) -> Result<()> {
+    let interrupted = crate::scene_run::directory::interrupt_flag();
+    musclefem_studies::knee::command::knee(args, &interrupted)
+}
+
+pub use musclefem_studies::interrupted::Interrupted;
+
+/// The one overwrite policy of the commands that write: an earlier result is replaced only
+/// with `--force`. Checked before any work, so a long run does not end in a refusal.
+pub fn refuse_existing(paths: &[PathBuf], force: bool) -> Result<()> {
+    if force {
+        return Ok(());
+    }
+    if let Some(existing) = paths.iter().find(|p| p.exists()) {
+        bail!(
+            "{} exists: an earlier result is there (use --force to replace it, or another \
+             --out)",
+            existing.display()
+        );
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -311,46 +336,4 @@ mod tests {
             musclefem_materials::driver::StretchHistory::parse(case.stretch).unwrap();
         }
     }
-}
-
-/// `musclefem knee`, which Ctrl-C stops cleanly at each squat's next recorded instant
-/// (exit 130; `--resume` goes on from the last frames).
-pub fn knee(args: &musclefem_studies::knee::command::KneeArgs) -> Result<()> {
-    use musclefem_studies::knee::command::KneeInterrupted;
-    let interrupted = crate::scene_run::directory::interrupt_flag();
-    musclefem_studies::knee::command::knee(args, &interrupted).map_err(|error| match error
-        .downcast_ref::<KneeInterrupted>(
-    ) {
-        Some(stopped) => Interrupted(stopped.0.clone()).into(),
-        None => error,
-    })
-}
-
-/// A run stopped by Ctrl-C after writing its outputs up to there: the command exits with
-/// 130 (128 + SIGINT, as shells report an interrupted program) and this message.
-#[derive(Debug)]
-pub struct Interrupted(pub String);
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Interrupted {}
-
-/// The one overwrite policy of the commands that write: an earlier result is replaced only
-/// with `--force`. Checked before any work, so a long run does not end in a refusal.
-pub fn refuse_existing(paths: &[PathBuf], force: bool) -> Result<()> {
-    if force {
-        return Ok(());
-    }
-    if let Some(existing) = paths.iter().find(|p| p.exists()) {
-        bail!(
-            "{} exists: an earlier result is there (use --force to replace it, or another \
-             --out)",
-            existing.display()
-        );
-    }
-    Ok(())
 }

@@ -26,6 +26,7 @@ pub mod elongation;
 pub mod fit;
 pub mod frame_interval;
 pub mod inertia;
+pub mod interrupted;
 pub mod knee;
 pub mod material_point;
 pub mod progress;

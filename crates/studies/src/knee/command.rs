@@ -31,6 +31,7 @@ use clap::Args;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 
 use crate::elongation::{ElementChoice, Solver};
+use crate::interrupted::Interrupted;
 use crate::knee::anatomy::export::write_anatomy;
 use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::patella::write_tendon_csv;
@@ -186,7 +187,7 @@ pub struct KneeOutcome {
 }
 
 /// `musclefem knee`; `stop` (set by Ctrl-C) stops both squats at their next recorded
-/// instant, and the study then ends with [`KneeInterrupted`].
+/// instant, and the study then ends with [`Interrupted`].
 pub fn knee(args: &KneeArgs, stop: &AtomicBool) -> Result<()> {
     let say = |text: &str| print!("{text}");
     let view = KneeView {
@@ -196,19 +197,6 @@ pub fn knee(args: &KneeArgs, stop: &AtomicBool) -> Result<()> {
     };
     run_knee(args, &view).map(drop)
 }
-
-/// The knee study was stopped on request (its squats' checkpoints stay: `--resume` goes
-/// on from them).
-#[derive(Debug)]
-pub struct KneeInterrupted(pub String);
-
-impl std::fmt::Display for KneeInterrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for KneeInterrupted {}
 
 /// The knee study of `args`: its files written under `args.out`, its lines said to
 /// `view`, its tables returned.
@@ -401,7 +389,7 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         return Err(errors.swap_remove(index));
     }
     if !errors.is_empty() {
-        return Err(KneeInterrupted(format!(
+        return Err(Interrupted(format!(
             "the knee study in {} was stopped; each squat's last frame is checkpointed: \
              run the same command with --resume to go on",
             args.out.display()
