@@ -23,6 +23,9 @@ impl Model {
             if let Some(warning) = locking_warning(part.technology, part.material.as_ref()) {
                 text += &format!("  warning: part '{name}': {warning}\n");
             }
+            if let Some(warning) = size_warning(&self.mesh, part.block) {
+                text += &format!("  warning: part '{name}': {warning}\n");
+            }
         }
         text += &format!(
             "  {} nodes; {} prescribed displacement components, {} nodal forces, {} rigid ties\n",
@@ -56,5 +59,37 @@ impl Model {
             text += &format!("  {why}\n");
         }
         text
+    }
+}
+
+/// Largest extent of a part that is plausible for a muscle (or a bone beside it) [m].
+pub const LARGEST_PLAUSIBLE_EXTENT: f64 = 2.0;
+/// Smallest plausible extent of a part [m].
+pub const SMALLEST_PLAUSIBLE_EXTENT: f64 = 1e-3;
+
+/// A warning when the block's bounding box is larger than [`LARGEST_PLAUSIBLE_EXTENT`]
+/// (a mesh in millimetres read as metres) or smaller than [`SMALLEST_PLAUSIBLE_EXTENT`]
+/// (one in metres scaled down, or in micrometres) along its longest side.
+pub fn size_warning(mesh: &musclefem_core::mesh::Mesh, block: usize) -> Option<String> {
+    let mut low = nalgebra::Vector3::repeat(f64::INFINITY);
+    let mut high = nalgebra::Vector3::repeat(f64::NEG_INFINITY);
+    for &id in &mesh.blocks[block].connectivity {
+        let x = mesh.nodes.position(id as usize);
+        low = low.inf(&x);
+        high = high.sup(&x);
+    }
+    let extent = (high - low).max();
+    if extent > LARGEST_PLAUSIBLE_EXTENT {
+        Some(format!(
+            "it is {extent:.3e} m across, more than any muscle: is its mesh in millimetres? \
+             (mesh = {{ file = ..., units = \"mm\" }})"
+        ))
+    } else if extent < SMALLEST_PLAUSIBLE_EXTENT {
+        Some(format!(
+            "it is {extent:.3e} m across, less than 1 mm: are its coordinates in the \
+             right unit? (the scene's lengths are in m)"
+        ))
+    } else {
+        None
     }
 }

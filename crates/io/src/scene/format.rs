@@ -103,8 +103,12 @@ pub struct MeshEntry {
     pub divisions: Option<Spanned<[usize; 3]>>,
     /// Corner of the box with the smallest coordinates [m]; default the origin.
     pub origin: Option<[f64; 3]>,
-    /// Abaqus `.inp` or Gmsh `.msh` file, relative to the scene file; coordinates in m.
+    /// Abaqus `.inp` or Gmsh `.msh` file, relative to the scene file; coordinates in m
+    /// unless `units` says otherwise.
     pub file: Option<Spanned<String>>,
+    /// The length unit of the file's coordinates: "m" (the default) or "mm" (what
+    /// segmentation tools and CAD write); read into metres.
+    pub units: Option<Spanned<String>>,
     /// The element block of the file to use (by name); needed when it has several.
     pub block: Option<Spanned<String>>,
 }

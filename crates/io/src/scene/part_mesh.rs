@@ -26,7 +26,17 @@ pub(super) fn part_mesh(
 ) -> Result<Mesh, SceneError> {
     let spec = &entry.mesh;
     let (mut mesh, labels) = match (&spec.generator, &spec.file) {
-        (Some(generator), None) => (generate_box(entry, generator, locator)?, None),
+        (Some(generator), None) => {
+            if let Some(units) = &spec.units {
+                return Err(locator.error(
+                    units.span(),
+                    "`units` is the unit of a mesh file's coordinates; a generated box's \
+                     size and origin are in m"
+                        .to_string(),
+                ));
+            }
+            (generate_box(entry, generator, locator)?, None)
+        }
         (None, Some(file)) => {
             let (mesh, labels) = read_block(entry, file, locator)?;
             (mesh, Some(labels))
@@ -255,6 +265,17 @@ fn read_block(
             ));
         }
     };
+    let scale = match entry.mesh.units.as_ref().map(|u| u.get_ref().as_str()) {
+        None | Some("m") => 1.0,
+        Some("mm") => 1e-3,
+        Some(other) => {
+            let units = entry.mesh.units.as_ref().map_or(0..0, |u| u.span());
+            return Err(locator.error(
+                units,
+                format!("units = \"{other}\": the mesh's length unit is \"m\" or \"mm\""),
+            ));
+        }
+    };
     let mut block = mesh.blocks[index].clone();
     // The block's nodes keep the file's order (a mesh written by a study reads back with
     // its own numbering, and with it the implicit solver's ordering and round-off).
@@ -265,7 +286,7 @@ fn read_block(
     let mut new_id = vec![u32::MAX; mesh.nodes.len()];
     let mut nodes = musclefem_core::mesh::Nodes::new();
     for old in (0..mesh.nodes.len()).filter(|&old| used[old]) {
-        new_id[old] = nodes.push(mesh.nodes.position(old));
+        new_id[old] = nodes.push(scale * mesh.nodes.position(old));
     }
     for id in block.connectivity.iter_mut() {
         *id = new_id[*id as usize];
