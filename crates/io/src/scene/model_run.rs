@@ -56,24 +56,11 @@ impl Model {
         }
     }
 
-    /// A fingerprint of what the model computes ([`crate::fingerprint::fnv1a`] of the
-    /// scene text, the analysis as it will run, and the mesh's nodes and connectivity):
+    /// A fingerprint of what the model computes ([`crate::fingerprint::model_fingerprint`]
+    /// of the scene text, the analysis as it will run, and the mesh):
     /// a checkpoint resumes only the model whose fingerprint it carries.
     pub fn fingerprint(&self, scene_text: &str, analysis: &Analysis) -> u64 {
-        let mut bytes = scene_text.as_bytes().to_vec();
-        bytes.extend(format!("{analysis:?}").as_bytes());
-        for node in 0..self.mesh.nodes.len() {
-            let x = self.mesh.nodes.position(node);
-            x.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
-        }
-        for block in &self.mesh.blocks {
-            bytes.extend(block.name.as_bytes());
-            block
-                .connectivity
-                .iter()
-                .for_each(|id| bytes.extend(id.to_le_bytes()));
-        }
-        crate::fingerprint::fnv1a(&bytes)
+        crate::fingerprint::model_fingerprint(&format!("{scene_text}{analysis:?}"), &self.mesh)
     }
 
     /// The names of the columns of this model's `history.csv`: a reaction per prescribed

@@ -58,25 +58,6 @@ pub(super) struct Outputs<'a> {
     pub(super) writer: Option<RunWriter<'a>>,
 }
 
-impl Outputs<'_> {
-    /// The fingerprint of the run: its identity and the mesh's nodes and connectivity.
-    fn fingerprint(&self) -> u64 {
-        let mut bytes = self.identity.as_bytes().to_vec();
-        for node in 0..self.mesh.nodes.len() {
-            let x = self.mesh.nodes.position(node);
-            x.iter().for_each(|c| bytes.extend(c.to_le_bytes()));
-        }
-        for block in &self.mesh.blocks {
-            bytes.extend(block.name.as_bytes());
-            block
-                .connectivity
-                .iter()
-                .for_each(|id| bytes.extend(id.to_le_bytes()));
-        }
-        musclefem_io::fingerprint::fnv1a(&bytes)
-    }
-}
-
 impl SquatWatcher for Outputs<'_> {
     fn start(&mut self, start: &SquatStart) -> Result<Option<SquatResume>> {
         let columns = HistoryColumns::new(Vec::new(), start.rigid_ties.clone())
@@ -90,7 +71,7 @@ impl SquatWatcher for Outputs<'_> {
             .progress
             .take()
             .context("a squat's outputs were started twice")?;
-        let fingerprint = self.fingerprint();
+        let fingerprint = musclefem_io::fingerprint::model_fingerprint(&self.identity, self.mesh);
         let (writer, resumed) = RunWriter::open(
             &self.root,
             self.start,
