@@ -32,6 +32,7 @@ pub mod fiber_csv;
 pub mod fingerprint;
 pub mod mesh_export;
 pub mod mesh_import;
+pub mod opensim_storage;
 #[cfg(feature = "results")]
 pub mod output;
 pub mod paths;

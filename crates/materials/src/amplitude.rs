@@ -50,19 +50,25 @@ impl Amplitude {
         (self.knots[0].0, self.knots[self.knots.len() - 1].0)
     }
 
-    /// Value at time `t` (linear between knots, constant outside).
+    /// The knots (time [s], value).
+    pub fn knots(&self) -> &[(f64, f64)] {
+        &self.knots
+    }
+
+    /// Value at time `t` (linear between knots, constant outside). The interval is found
+    /// by bisection: recorded histories have thousands of knots.
     pub fn value_at(&self, t: f64) -> f64 {
         let k = &self.knots;
         if t <= k[0].0 {
             return k[0].1;
         }
-        for w in k.windows(2) {
-            let ((t0, v0), (t1, v1)) = (w[0], w[1]);
-            if t <= t1 {
-                return v0 + (v1 - v0) * (t - t0) / (t1 - t0);
-            }
+        // The first knot at or after t; knots before it are earlier than t.
+        let next = k.partition_point(|&(time, _)| time < t);
+        if next == k.len() {
+            return k[k.len() - 1].1;
         }
-        k[k.len() - 1].1
+        let ((t0, v0), (t1, v1)) = (k[next - 1], k[next]);
+        v0 + (v1 - v0) * (t - t0) / (t1 - t0)
     }
 }
 

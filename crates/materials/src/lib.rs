@@ -17,6 +17,7 @@
 //!
 //! Units are SI throughout (Pa, s, m).
 
+pub mod activation_history;
 pub mod amplitude;
 pub mod driver;
 pub mod error;
@@ -33,6 +34,7 @@ pub mod tendon;
 pub mod tensor;
 pub mod trans_iso_mooney_rivlin;
 
+pub use activation_history::{ActivationDynamics, ActivationHistory, ActivationHistoryError};
 pub use amplitude::Amplitude;
 pub use error::MaterialError;
 pub use hosted::{HostedBuild, HostedMaterial};

@@ -97,6 +97,16 @@ pub trait Material: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// The same material driven by a recorded activation history instead of its own
+    /// activation parameters (a typed input, see [`crate::ActivationHistory`]); `None`
+    /// when the material has no activation to drive.
+    fn with_activation_history(
+        &self,
+        _history: std::sync::Arc<crate::ActivationHistory>,
+    ) -> Option<std::sync::Arc<dyn Material>> {
+        None
+    }
+
     /// Update a block whose shapes and inputs were already checked by `update`. Fills the
     /// tangent, when asked for, only if `provides_tangent()`; `update` completes it
     /// otherwise.

@@ -17,8 +17,9 @@ use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 use musclefem_core::solver::{
     Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
-use musclefem_materials::{Amplitude, Material, MaterialLibrary};
+use musclefem_materials::{ActivationHistory, Amplitude, Material, MaterialLibrary};
 
+use super::activation::{activation_history, driven_material};
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
@@ -26,6 +27,9 @@ use super::locking::small_strain_shear_modulus;
 use super::part_mesh::{append_part, part_mesh};
 use super::solver_choice::{AutoSolver, choose_solver};
 use super::trust::PluginPolicy;
+
+/// The Hill muscle's activation parameters, which a part's recorded activation replaces.
+const ACTIVATION_PARAMETERS: [&str; 5] = ["n1", "n2", "t0", "t1", "S"];
 
 /// Element technologies by scene name ([`ElementKind::NAMES`]).
 pub const ELEMENT_NAMES: [&str; 6] = ElementKind::NAMES;
@@ -57,6 +61,8 @@ pub struct Model {
     /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
     /// "material (plugin file)".
     pub unchecked_plugins: Vec<String>,
+    /// Per part: its recorded activation (`None`: the material's own).
+    pub activation_histories: Vec<Option<Arc<ActivationHistory>>>,
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
@@ -71,6 +77,7 @@ pub fn build_model(
     // Materials.
     let mut materials: BTreeMap<String, Arc<dyn Material>> = BTreeMap::new();
     let mut unchecked_plugins = Vec::new();
+    let mut stand_ins: Vec<&str> = Vec::new();
     for entry in &scene.materials {
         if let Some(plugin) = &entry.plugin {
             let path = locator.resolve(plugin.span(), plugin.get_ref())?;
@@ -101,6 +108,7 @@ pub fn build_model(
                         .create("neo-hookean", &BTreeMap::new())
                         .map_err(|e| at(plugin.span(), format!("neo-Hookean stand-in: {e}")))?;
                     materials.insert(entry.name.get_ref().clone(), stand_in);
+                    stand_ins.push(entry.name.get_ref());
                     continue;
                 }
             }
@@ -178,6 +186,7 @@ pub fn build_model(
         });
         part_names.push(name.clone());
     }
+
     if parts.is_empty() {
         return Err(locator.whole("the scene has no parts"));
     }
@@ -205,6 +214,39 @@ pub fn build_model(
                 format!("amplitude '{name}' is defined twice"),
             ));
         }
+    }
+    let mut activation_histories = vec![None; parts.len()];
+    for (index, entry) in scene.parts.iter().enumerate() {
+        let Some(activation) = &entry.activation else {
+            continue;
+        };
+        let part = entry.name.get_ref();
+        let history = Arc::new(activation_history(activation, part, &amplitudes, locator)?);
+        activation_histories[index] = Some(history.clone());
+        if stand_ins.contains(&entry.material.get_ref().as_str()) {
+            // `check` without the plugin: the stand-in has no activation to drive.
+            continue;
+        }
+        if let Some(set) = scene
+            .materials
+            .iter()
+            .find(|m| m.name.get_ref() == entry.material.get_ref())
+            .and_then(|m| m.parameters.as_ref())
+            && let Some(key) = ACTIVATION_PARAMETERS
+                .iter()
+                .find(|k| set.get_ref().contains_key(**k))
+        {
+            return Err(at(
+                set.span(),
+                format!(
+                    "material '{}' sets its activation parameter '{key}', but part '{part}'                      takes its activation from {}: remove one of the two",
+                    entry.material.get_ref(),
+                    history.source
+                ),
+            ));
+        }
+        parts[index].material =
+            driven_material(&parts[index].material, history, part, activation, locator)?;
     }
     let scaled = |name: &Option<Spanned<String>>, value: f64| -> Result<Amplitude, SceneError> {
         let knots = match name {
@@ -486,6 +528,7 @@ pub fn build_model(
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,
         unchecked_plugins,
+        activation_histories,
     })
 }
 

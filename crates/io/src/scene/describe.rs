@@ -20,6 +20,9 @@ impl Model {
                 part.technology,
                 part.density
             );
+            if let Some(line) = self.activation_line(part.block) {
+                text += &format!("  part '{name}': {line}\n");
+            }
             if let Some(warning) = locking_warning(part.technology, part.material.as_ref()) {
                 text += &format!("  warning: part '{name}': {warning}\n");
             }
@@ -59,6 +62,28 @@ impl Model {
             text += &format!("  {why}\n");
         }
         text
+    }
+}
+
+impl Model {
+    /// "activation 0 … 0.5 over the step (from column 'VL' of emg.csv)" for a part whose
+    /// material has an activation: its smallest and largest level at 1001 instants over
+    /// the step.
+    fn activation_line(&self, part: usize) -> Option<String> {
+        let material = &self.parts[part].material;
+        let end = self.analysis.end_time();
+        let mut levels = (0..=1000).map(|i| material.activation(end * i as f64 / 1000.0));
+        let first = levels.next()??;
+        let (low, high) = levels
+            .flatten()
+            .fold((first, first), |(l, h), a| (l.min(a), h.max(a)));
+        let source = match &self.activation_histories[part] {
+            Some(history) => format!("recorded {}", history.source),
+            None => format!("the material's own ({})", material.name()),
+        };
+        Some(format!(
+            "activation {low:.3} … {high:.3} over the step, {source}"
+        ))
     }
 }
 

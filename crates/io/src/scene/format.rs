@@ -89,6 +89,37 @@ pub struct PartEntry {
     /// Fiber direction of every element; default along x.
     #[serde(default)]
     pub fibers: Option<Spanned<FiberEntry>>,
+    /// A recorded activation history driving the part's material (which must have an
+    /// activation: the Hill muscle), in place of the material's own n1, n2, t0, t1, S.
+    #[serde(default)]
+    pub activation: Option<Spanned<ActivationEntry>>,
+}
+
+/// `[parts.activation]`: where a part's activation a(t) comes from — an amplitude of the
+/// scene, or a column of a CSV file or of an OpenSim storage file (`.sto`, `.mot`) — and
+/// whether those values are activations or excitations (then turned into activation by
+/// first-order dynamics).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActivationEntry {
+    /// An amplitude of the scene whose values are the activation (or excitation) levels.
+    pub amplitude: Option<Spanned<String>>,
+    /// A CSV or OpenSim storage file, relative to the scene file.
+    pub file: Option<Spanned<String>>,
+    /// The file's column for this part.
+    pub column: Option<Spanned<String>>,
+    /// The file's time column (default "time").
+    pub time_column: Option<Spanned<String>>,
+    /// The record's time [s] at the scene's t = 0 (default 0): a record from a longer
+    /// trial starts where the scene does.
+    pub time_offset: Option<Spanned<f64>>,
+    /// The values are excitations u ∈ [0, 1], not activations (default false).
+    #[serde(default)]
+    pub excitation: bool,
+    /// τ_act [s] of the activation dynamics (default 0.010; only with `excitation`).
+    pub activation_time_constant: Option<Spanned<f64>>,
+    /// τ_deact [s] of the activation dynamics (default 0.040; only with `excitation`).
+    pub deactivation_time_constant: Option<Spanned<f64>>,
 }
 
 /// `[parts.mesh]`: a generated box, or a block of a mesh file.

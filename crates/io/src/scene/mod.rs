@@ -3,6 +3,7 @@
 //! file and, where it concerns an entry, its line, column and key, with the nearest valid
 //! name suggested for a misspelt one. The format is documented in `docs/scene-format.md`.
 
+mod activation;
 mod build;
 mod describe;
 mod error;

@@ -59,8 +59,18 @@ impl Model {
     /// A fingerprint of what the model computes ([`crate::fingerprint::model_fingerprint`]
     /// of the scene text, the analysis as it will run, and the mesh):
     /// a checkpoint resumes only the model whose fingerprint it carries.
+    /// The recorded activations enter by their samples (their files are not in the text).
     pub fn fingerprint(&self, scene_text: &str, analysis: &Analysis) -> u64 {
-        crate::fingerprint::model_fingerprint(&format!("{scene_text}{analysis:?}"), &self.mesh)
+        let mut settings = format!("{scene_text}{analysis:?}");
+        for history in self.activation_histories.iter().flatten() {
+            let bytes: Vec<u8> = history
+                .samples()
+                .iter()
+                .flat_map(|(t, a)| t.to_le_bytes().into_iter().chain(a.to_le_bytes()))
+                .collect();
+            settings += &format!("{}{:x}", history.source, crate::fingerprint::fnv1a(&bytes));
+        }
+        crate::fingerprint::model_fingerprint(&settings, &self.mesh)
     }
 
     /// The names of the columns of this model's `history.csv`: a reaction per prescribed

@@ -47,7 +47,7 @@ use crate::tensor::{
     IsochoricSplit, decoupled_tangent, deviatoric_voigt, inverse_cube_root, outer_voigt,
     symmetric_from_voigt, volumetric_kirchhoff_slope, volumetric_pressure,
 };
-use crate::{Material, MaterialError, VoigtStress};
+use crate::{ActivationHistory, Material, MaterialError, VoigtStress};
 use functions::{force_length, parallel_element};
 use local_solve::{LocalEquation, LocalSolution};
 pub use parameters::{HILL_PARAMETERS, HillParameters};
@@ -75,9 +75,12 @@ static STATE_VARIABLES: LazyLock<[StateVariable; STATE_COUNT]> = LazyLock::new(|
 });
 
 /// The Hill-type active muscle material.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct HillMuscle {
     pub parameters: HillParameters,
+    /// A recorded activation a(t) in place of f_t of Eqs. 12–13 (`None`: the paper's
+    /// activation from n1, n2, t0, t1 and S).
+    pub activation_history: Option<Arc<ActivationHistory>>,
 }
 
 /// Everything the stress and the tangent need at one point after the local solve.
@@ -106,12 +109,14 @@ impl HillMuscle {
     ) -> Result<Arc<dyn Material>, MaterialError> {
         Ok(Arc::new(HillMuscle {
             parameters: parameters.checked()?,
+            activation_history: None,
         }))
     }
 
     fn from_parameters(p: &ParameterSet) -> Result<Arc<dyn Material>, MaterialError> {
         Ok(Arc::new(HillMuscle {
             parameters: HillParameters::from_set(p)?,
+            activation_history: None,
         }))
     }
 
@@ -202,9 +207,19 @@ impl Material for HillMuscle {
         STATE_VARIABLES.as_slice()
     }
 
-    /// f_t(t) of Eq. 12.
+    /// f_t(t) of Eq. 12, or the recorded history's a(t).
     fn activation(&self, time: f64) -> Option<f64> {
-        Some(self.parameters.activation.level(time))
+        Some(self.activation_level(time))
+    }
+
+    fn with_activation_history(
+        &self,
+        history: Arc<ActivationHistory>,
+    ) -> Option<Arc<dyn Material>> {
+        Some(Arc::new(HillMuscle {
+            parameters: self.parameters,
+            activation_history: Some(history),
+        }))
     }
 
     fn compute(
@@ -214,7 +229,7 @@ impl Material for HillMuscle {
     ) -> Result<(), MaterialError> {
         let k = self.parameters.length_ratio;
         // f_t(t + Δt) is the same for every point of the block.
-        let activation = self.parameters.activation.level(block.time);
+        let activation = self.activation_level(block.time);
         let mut tangents = response.tangent.as_deref_mut();
         for point in 0..block.len() {
             let state = &block.state_old[point * STATE_COUNT..(point + 1) * STATE_COUNT];
@@ -245,6 +260,15 @@ impl Material for HillMuscle {
 }
 
 impl HillMuscle {
+    /// f_t(t) [1]: the recorded history's a(t) when there is one, else Eq. 12.
+    #[inline]
+    fn activation_level(&self, time: f64) -> f64 {
+        match &self.activation_history {
+            Some(history) => history.level(time),
+            None => self.parameters.activation.level(time),
+        }
+    }
+
     /// The local solve needs λ_s > 0 and σ_SEE > −β (the SEE stress's lower limit).
     #[inline]
     fn check_state(&self, point: usize, state: &[f64]) -> Result<(), MaterialError> {
