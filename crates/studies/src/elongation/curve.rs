@@ -33,7 +33,8 @@ pub struct CurveScale {
     pub pulled: Amplitude,
     /// Reference length L [m].
     pub length: f64,
-    /// Reference mid-belly area π r_mid² [m²].
+    /// Reference area [m²]: the fusiform's π r_mid², the cylinder's own section
+    /// ([`super::specimen::SpecimenMesh::reference_area`]).
     pub area: f64,
 }
 
