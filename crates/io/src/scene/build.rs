@@ -11,9 +11,6 @@ use toml::Spanned;
 
 use musclefem_core::element::{ElementKind, Technology};
 use musclefem_core::mesh::Mesh;
-use musclefem_core::solver::bulk_viscosity::BulkViscosity;
-use musclefem_core::solver::explicit::ExplicitSettings;
-use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 use musclefem_core::solver::{
     Loads, NodalForce, Part, PrescribedDisplacement, RigidMotion, RigidRotation, RigidTie,
 };
@@ -25,7 +22,7 @@ use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::locking::small_strain_shear_modulus;
 use super::part_mesh::{append_part, part_mesh};
-use super::solver_choice::{AutoSolver, choose_solver};
+use super::step::step_settings;
 use super::trust::PluginPolicy;
 
 /// The Hill muscle's activation parameters, which a part's recorded activation replaces.
@@ -389,131 +386,14 @@ pub fn build_model(
     )?;
 
     // Step.
-    let step = &scene.step;
-    let duration = *step.duration.get_ref();
-    if !(duration.is_finite() && duration > 0.0) {
-        return Err(at(
-            step.duration.span(),
-            format!("duration {duration} s must be positive"),
-        ));
-    }
-    let output_interval = match &step.output_interval {
-        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() > 0.0) => {
-            return Err(at(
-                v.span(),
-                format!("output_interval {} s must be positive", v.get_ref()),
-            ));
-        }
-        Some(v) => *v.get_ref(),
-        None => duration / 100.0,
-    };
-    let frame_interval = match &scene.output.frame_interval {
-        Some(v) if !(v.get_ref().is_finite() && *v.get_ref() > 0.0) => {
-            return Err(at(
-                v.span(),
-                format!("frame_interval {} s must be positive", v.get_ref()),
-            ));
-        }
-        Some(v) => *v.get_ref(),
-        None => output_interval,
-    };
-    let solver_span = step
-        .solver
-        .as_ref()
-        .map_or(step.duration.span(), |s| s.span());
-    let (solver, solver_rationale) = match step.solver.as_ref().map(|s| s.get_ref().as_str()) {
-        None | Some("auto") => {
-            let (solver, why) = choose_solver(&mesh, &parts, duration, !interactions.is_empty());
-            (solver, Some(why))
-        }
-        Some("explicit") => (AutoSolver::Explicit, None),
-        Some("implicit") => (AutoSolver::Implicit { dynamic: false }, None),
-        Some(other) => {
-            return Err(at(
-                solver_span,
-                format!(
-                    "unknown solver '{other}'{}; use auto, explicit or implicit",
-                    suggestion(other, ["auto", "explicit", "implicit"])
-                ),
-            ));
-        }
-    };
-    // Every setting the file gives is checked, whichever solver runs (`run --solver` may
-    // switch it): `check` refuses what `run` would.
-    let in_range = |value: &Option<Spanned<f64>>,
-                    key: &str,
-                    what: &str,
-                    accepts: fn(f64) -> bool|
-     -> Result<(), SceneError> {
-        match value {
-            Some(v) if !accepts(*v.get_ref()) => Err(at(
-                v.span(),
-                format!("{key} = {} must be {what}", v.get_ref()),
-            )),
-            _ => Ok(()),
-        }
-    };
-    let explicit = &step.explicit;
-    in_range(
-        &explicit.safety_factor,
-        "safety_factor",
-        "in (0, 1] (a fraction of the stable time step)",
-        |x| x > 0.0 && x <= 1.0,
+    let step = step_settings(
+        scene,
+        &mesh,
+        &parts,
+        !interactions.is_empty(),
+        &rigid_bodies,
+        locator,
     )?;
-    in_range(
-        &explicit.mass_scaling_time_step,
-        "mass_scaling_time_step",
-        "a positive time [s]",
-        |x| x.is_finite() && x > 0.0,
-    )?;
-    in_range(
-        &explicit.energy_tolerance,
-        "energy_tolerance",
-        "a positive fraction of the largest energy",
-        |x| x.is_finite() && x > 0.0,
-    )?;
-    in_range(
-        &step.implicit.residual_tolerance,
-        "residual_tolerance",
-        "in (0, 1) (relative to the first residual)",
-        |x| x > 0.0 && x < 1.0,
-    )?;
-    let analysis = match solver {
-        AutoSolver::Explicit => {
-            let mut settings = ExplicitSettings::new(duration);
-            settings.history_interval = output_interval;
-            let e = &step.explicit;
-            if let Some(v) = &e.safety_factor {
-                settings.safety_factor = *v.get_ref();
-            }
-            settings.mass_scaling_time_step =
-                e.mass_scaling_time_step.as_ref().map(|v| *v.get_ref());
-            if let Some(v) = &e.energy_tolerance {
-                settings.energy_tolerance = *v.get_ref();
-            }
-            settings.bulk_viscosity = e.bulk_viscosity.then(BulkViscosity::default);
-            Analysis::Explicit(settings)
-        }
-        AutoSolver::Implicit { dynamic } => {
-            let i = &step.implicit;
-            let increments = i.increments.as_ref().map_or(10, |v| *v.get_ref());
-            if increments == 0 {
-                let span = i.increments.as_ref().map_or(solver_span, |v| v.span());
-                return Err(at(span, "increments must be at least 1".to_string()));
-            }
-            let mut settings = ImplicitSettings::new(duration, increments);
-            if i.step_cutting.unwrap_or(true) {
-                settings = settings.with_cutting();
-            }
-            if let Some(v) = &i.residual_tolerance {
-                settings.residual_tolerance = *v.get_ref();
-            }
-            if i.dynamic || dynamic {
-                settings.dynamics = Some(Newmark::default());
-            }
-            Analysis::Implicit(settings)
-        }
-    };
     Ok(Model {
         description: scene.description.clone(),
         mesh,
@@ -521,10 +401,10 @@ pub fn build_model(
         part_names,
         loads,
         displacement_names,
-        analysis,
-        solver_rationale,
-        output_interval,
-        frame_interval,
+        analysis: step.analysis,
+        solver_rationale: step.solver_rationale,
+        output_interval: step.output_interval,
+        frame_interval: step.frame_interval,
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,
         unchecked_plugins,

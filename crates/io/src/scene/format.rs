@@ -368,6 +368,19 @@ pub struct ImplicitEntry {
     pub step_cutting: Option<bool>,
     /// Relative residual tolerance; default that of the solver.
     pub residual_tolerance: Option<Spanned<f64>>,
+    /// Relative correction tolerance; default that of the solver (1e-6).
+    pub correction_tolerance: Option<Spanned<f64>>,
+    /// Newton iterations allowed per increment; default 25.
+    pub max_iterations: Option<Spanned<usize>>,
+    /// Halvings the line search may try per Newton iteration; default 8.
+    pub line_search_cuts: Option<Spanned<usize>>,
+    /// Reuse the last factor as a conjugate-gradient preconditioner; default true.
+    pub factor_reuse: Option<bool>,
+    /// With `dynamic`: Newmark's numerical dissipation α ∈ [0, 0.5] (γ = ½ + α,
+    /// β = (1 + α)²/4); default 0, the trapezoidal rule.
+    pub numerical_dissipation: Option<Spanned<f64>>,
+    /// A rigid body whose motion carries the model to each increment's first guess.
+    pub predictor_frame: Option<Spanned<String>>,
 }
 
 /// `[output]`.

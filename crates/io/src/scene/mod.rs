@@ -15,6 +15,7 @@ mod model_run;
 mod parse;
 mod part_mesh;
 mod solver_choice;
+mod step;
 mod trust;
 
 use std::path::Path;
@@ -30,6 +31,7 @@ pub use locking::{
 };
 pub use parse::{parse_scene, read_scene_file};
 pub use solver_choice::{AutoSolver, SLOW_MOTION_RATIO, choose_solver, fastest_wave_speed};
+pub use step::dissipative_newmark;
 pub use trust::{PluginPolicy, Trust};
 
 /// Read the scene at `path` and build its model, with no permissions beyond reading

@@ -10,11 +10,12 @@ use anyhow::{Context, Result};
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{
-    CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, Newmark, StepReport,
+    CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, StepReport,
 };
 use musclefem_core::solver::{Analysis, Checkpoint, Outcome, Problem, Snapshot, resume, run};
 use musclefem_fibers::FiberField;
 use musclefem_io::output::StudyRunWriter;
+use musclefem_io::scene::dissipative_newmark;
 
 use super::super::anatomy::Squat;
 use super::checkpoint::restore_study;
@@ -106,14 +107,6 @@ pub const KNEE_CORRECTION_TOLERANCE: f64 = 1e-5;
 /// it finished in 281 increments (30 cuts, 583 s), its vm95 at t ≈ 1.05 s (89°) within
 /// 2 % of the undamped run's.
 pub const KNEE_NEWMARK_DISSIPATION: f64 = 0.1;
-
-/// Newmark's parameters with numerical dissipation `alpha` (0: the trapezoidal rule).
-pub fn dissipative_newmark(alpha: f64) -> Newmark {
-    Newmark {
-        gamma: 0.5 + alpha,
-        beta: 0.25 * (1.0 + alpha).powi(2),
-    }
-}
 
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
