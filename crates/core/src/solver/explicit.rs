@@ -68,6 +68,7 @@ use super::explicit_settings::{check_settings, check_step_budget};
 use super::interaction::{Interaction, InteractionReport, NodalField};
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
 use super::observer::{NoObserver, Observer, Record, Snapshot};
+use super::rigid_motion::{observe_followers, restore_follower_states, save_follower_states};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::mesh::Mesh;
 
@@ -291,6 +292,7 @@ pub(super) fn explicit_run(
         for interaction in interactions.iter_mut() {
             interaction.restore_state(&mut input)?;
         }
+        restore_follower_states(&loads.rigid_ties, &mut input)?;
         input.finish()?;
         (stable_step, critical) = smallest_stable_step(&runs);
     }
@@ -337,6 +339,7 @@ pub(super) fn explicit_run(
                 for interaction in interactions.iter_mut() {
                     interaction.save_state(&mut out)?;
                 }
+                save_follower_states(&loads.rigid_ties, &mut out);
                 Ok(Checkpoint {
                     solver: "explicit".to_string(),
                     time,
@@ -459,6 +462,9 @@ pub(super) fn explicit_run(
                 interaction_work,
                 interactions: interactions.iter().map(|i| i.report()).collect(),
             });
+            if let Some(row) = history.last() {
+                observe_followers(&loads.rigid_ties, time, &row.rigid_reactions);
+            }
             next_record += settings.history_interval;
             let fields = || all_fields(mesh, &runs, time);
             let nodal = || all_nodal_fields(interactions, node_count);

@@ -61,6 +61,7 @@ use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
 use super::interaction::Interaction;
 use super::observer::{NoObserver, Observer, Record, Snapshot};
+use super::rigid_motion::{observe_followers, restore_follower_states};
 use super::sparse::PRESCRIBED;
 use super::{Loads, Part, SolverError};
 use crate::mesh::Mesh;
@@ -212,6 +213,7 @@ pub(super) fn implicit_run(
         }
         // The pattern as it had grown, so that the factorizations order alike.
         let pairs = input.u32s()?;
+        restore_follower_states(&loads.rigid_ties, &mut input)?;
         input.finish()?;
         if !pairs.is_empty() {
             model.coupled_pairs = pairs.chunks_exact(2).map(|p| (p[0], p[1])).collect();
@@ -290,6 +292,9 @@ pub(super) fn implicit_run(
                     energy,
                     interactions: model.interactions.iter().map(|i| i.report()).collect(),
                 });
+                if let Some(row) = history.last() {
+                    observe_followers(&loads.rigid_ties, time, &row.rigid_reactions);
+                }
                 let fields = || model.fields(time);
                 let nodal = || all_nodal_fields(model.interactions, node_count);
                 let snapshot =
@@ -325,6 +330,7 @@ pub(super) fn implicit_run(
                         easy,
                         &energy,
                         [&displacement, &internal_before, &external_before],
+                        &loads.rigid_ties,
                     );
                     if observer.checkpoint(checkpoint).is_break() {
                         return Err(SolverError::Interrupted { time });

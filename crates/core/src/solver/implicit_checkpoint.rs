@@ -3,14 +3,16 @@
 
 use nalgebra::Vector3;
 
-use super::SolverError;
 use super::checkpoint::{Checkpoint, CheckpointWriter};
 use super::implicit_dynamics::EnergyBalance;
 use super::implicit_model::Model;
+use super::rigid_motion::save_follower_states;
+use super::{RigidTie, SolverError};
 
 /// The state after a converged increment ending at `time`, with the step control
 /// (`increment`, `easy`), the energy books and the nodal `displacement`, internal and
-/// external forces (in that order), as [`implicit_run`] reads it back.
+/// external forces (in that order), then the states of the followers of `ties`, as
+/// [`implicit_run`] reads it back.
 pub(super) fn implicit_checkpoint(
     model: &mut Model,
     time: f64,
@@ -18,6 +20,7 @@ pub(super) fn implicit_checkpoint(
     easy: usize,
     energy: &EnergyBalance,
     nodal: [&[Vector3<f64>]; 3],
+    ties: &[RigidTie],
 ) -> Result<Checkpoint, SolverError> {
     let mut out = CheckpointWriter::new();
     out.f64(time);
@@ -45,6 +48,7 @@ pub(super) fn implicit_checkpoint(
         .flat_map(|&(a, b)| [a, b])
         .collect();
     out.u32s(&pairs);
+    save_follower_states(ties, &mut out);
     Ok(Checkpoint {
         solver: "implicit".to_string(),
         time,

@@ -48,7 +48,7 @@ pub use interaction::{Interaction, InteractionReport, NodalField};
 pub use loads::{Loads, NodalForce, PrescribedDisplacement, RigidReaction, RigidTie};
 pub use observer::{NoObserver, Observer, Record, Snapshot};
 pub use part::Part;
-pub use rigid_motion::{PoseFollower, RigidMotion, RigidRotation};
+pub use rigid_motion::{PoseFollower, RigidMotion, RigidRotation, tie_followers};
 pub use run::{Analysis, Outcome, Problem, resume, run};
 
 use thiserror::Error;

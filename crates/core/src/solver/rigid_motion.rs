@@ -18,16 +18,88 @@ pub struct RigidRotation {
     pub angle: Amplitude,
 }
 
-/// A pose that is not known before the run: the run's observer updates it from the state
-/// (e.g. a patella held by a tendon spring against the muscles' pull), and the solvers
-/// read it at the times they need. Implementations must be cheap to evaluate and give the
-/// same pose for the same time until the observer changes them.
+/// A pose that is not known before the run: the run updates it from the state (e.g. a
+/// patella held by a tendon spring against the muscles' pull, which it hears through
+/// [`PoseFollower::observe`]), and the solvers read it at the times they need.
+/// Implementations must be cheap to evaluate and give the same pose for the same time
+/// until an observation changes them.
 pub trait PoseFollower: Send + Sync + fmt::Debug {
     /// The body's pose at `time` [s]: a point at reference position X is at iso · X.
     fn isometry_at(&self, time: f64) -> Isometry3<f64>;
     /// The body's reference point in the reference configuration [m]: the moments of
     /// the reactions are taken about its current position.
     fn reference_point(&self) -> Vector3<f64>;
+    /// A recorded instant at `time` [s] with the reactions of the problem's rigid ties
+    /// (in the order of `Loads::rigid_ties`): the solvers call this for every follower of
+    /// a tie before the observer sees the instant, so a checkpoint taken there holds it.
+    fn observe(&self, _time: f64, _tie_reactions: &[super::RigidReaction]) {}
+    /// The follower's state for a checkpoint (nothing for a follower without one).
+    fn save_state(&self, _out: &mut super::checkpoint::CheckpointWriter) {}
+    /// The state [`PoseFollower::save_state`] wrote.
+    fn restore_state(
+        &self,
+        _input: &mut super::checkpoint::CheckpointReader,
+    ) -> Result<(), super::SolverError> {
+        Ok(())
+    }
+}
+
+/// The followers of `ties`, each once (ties may share one), in the order of their first
+/// tie.
+pub fn tie_followers(ties: &[super::RigidTie]) -> Vec<Arc<dyn PoseFollower>> {
+    let mut followers: Vec<Arc<dyn PoseFollower>> = Vec::new();
+    for follower in ties.iter().filter_map(|t| t.motion.follower.as_ref()) {
+        if !followers.iter().any(|f| Arc::ptr_eq(f, follower)) {
+            followers.push(follower.clone());
+        }
+    }
+    followers
+}
+
+/// Tell every follower of `ties` of the recorded instant at `time`.
+pub fn observe_followers(
+    ties: &[super::RigidTie],
+    time: f64,
+    tie_reactions: &[super::RigidReaction],
+) {
+    for follower in tie_followers(ties) {
+        follower.observe(time, tie_reactions);
+    }
+}
+
+/// Write the states of the followers of `ties` (see [`tie_followers`]).
+pub fn save_follower_states(
+    ties: &[super::RigidTie],
+    out: &mut super::checkpoint::CheckpointWriter,
+) {
+    let followers = tie_followers(ties);
+    out.u64(followers.len() as u64);
+    for follower in followers {
+        let mut state = super::checkpoint::CheckpointWriter::new();
+        follower.save_state(&mut state);
+        out.bytes(&state.into_bytes());
+    }
+}
+
+/// Restore what [`save_follower_states`] wrote into the followers of `ties`.
+pub fn restore_follower_states(
+    ties: &[super::RigidTie],
+    input: &mut super::checkpoint::CheckpointReader,
+) -> Result<(), super::SolverError> {
+    let followers = tie_followers(ties);
+    let count = input.u64()? as usize;
+    if count != followers.len() {
+        return Err(super::SolverError::Checkpoint(format!(
+            "the checkpoint holds the states of {count} followers, the problem has {}",
+            followers.len()
+        )));
+    }
+    for follower in followers {
+        let state = input.bytes()?;
+        let mut reader = super::checkpoint::CheckpointReader::new(&state);
+        follower.restore_state(&mut reader)?;
+    }
+    Ok(())
 }
 
 /// A point at reference position X goes to x(t) = c + R(t)(X − c) + T(t), with R the

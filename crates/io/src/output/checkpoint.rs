@@ -7,11 +7,12 @@
 //! files then end as an uninterrupted run's would, byte for byte. The file goes away when
 //! the run completes.
 //!
-//! Layout: the line `musclefem checkpoint 2`, then, in the little-endian encoding of
+//! Layout: the line `musclefem checkpoint 3` (3: the solver's state ends with its pose
+//! followers' states, e.g. the knee's patella's pull), then, in the little-endian encoding of
 //! `CheckpointWriter`, the fingerprint, the history header and rows, the frames (time,
 //! file), the solver's name, time and state, and the study's own state (bytes a study
-//! that observes the run beside the writer keeps, e.g. the knee's stress samples and its
-//! patella's pull; empty for a scene run).
+//! that observes the run beside the writer keeps, e.g. the knee's stress samples; empty for
+//! a scene run).
 
 use std::path::Path;
 
@@ -25,7 +26,7 @@ use crate::atomic::write_atomically;
 pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
 
 /// The first line of the file.
-const MAGIC: &[u8] = b"musclefem checkpoint 2\n";
+const MAGIC: &[u8] = b"musclefem checkpoint 3\n";
 
 /// A run's checkpoint (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]

@@ -1,10 +1,11 @@
 //! The knee's own part of a checkpoint: what its observer ([`Recorder`]) has gathered
 //! when the solver's state is taken (every stress sample, the tendon's rows, the
 //! plausibility samples, the explicit energy books, the stall window, the patella's
-//! closest approach) and the pull the patella's pose follows. A resumed squat reads it
-//! back into a recorder built for the same model, so that its tables cover the whole
-//! squat and the patella goes on from the pull it had: the run then computes what the
-//! uninterrupted one computes, bit for bit (`musclefem_core::solver::checkpoint`).
+//! closest approach). A resumed squat reads it back into a recorder built for the same
+//! model, so that its tables cover the whole squat; the pull the patella's pose follows
+//! is the patella's own state, which the solver keeps in its part of the checkpoint
+//! (`PoseFollower::save_state`): the run then computes what the uninterrupted one
+//! computes, bit for bit (`musclefem_core::solver::checkpoint`).
 //!
 //! Not stored: the solver's per-increment reports (`newton.csv`, `cuts.csv`), which a
 //! resumed run has only from the checkpoint on.
@@ -49,12 +50,10 @@ pub(super) fn save_study(recorder: &Recorder) -> Vec<u8> {
             out.u64(approach.node as u64);
         }
     }
-    recorder.patella.save_reports(&mut out);
     out.into_bytes()
 }
 
-/// Reads what [`save_study`] wrote into `recorder` (built for the same model) and its
-/// patella.
+/// Reads what [`save_study`] wrote into `recorder` (built for the same model).
 pub(super) fn restore_study(recorder: &mut Recorder, bytes: &[u8]) -> Result<(), SolverError> {
     let mut input = CheckpointReader::new(bytes);
     let samples = input.index()?;
@@ -87,7 +86,6 @@ pub(super) fn restore_study(recorder: &mut Recorder, bytes: &[u8]) -> Result<(),
             node: input.index()?,
         }),
     };
-    recorder.patella.restore_reports(&mut input)?;
     input.finish()
 }
 

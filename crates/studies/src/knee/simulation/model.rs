@@ -334,6 +334,7 @@ impl KneeModel {
                 motion: RigidMotion::followed(patella.clone()),
             });
         }
+        patella.pulled_by(insertion_ties.clone());
         Ok(KneeModel {
             mesh,
             parts,

@@ -29,13 +29,15 @@
 //! and the staggered coupling stays stable; it lags the measured pull by about 2τ dT/dt.
 
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use anyhow::{Result, bail};
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
 
-use musclefem_core::solver::PoseFollower;
+use musclefem_core::solver::{
+    CheckpointReader, CheckpointWriter, PoseFollower, RigidReaction, SolverError,
+};
 
 use crate::knee::anatomy::{ClosedChain, KneeKinematics, PatellaPose, Squat, TendonSpring};
 
@@ -289,6 +291,9 @@ pub struct TendonPatella {
     squat: Squat,
     chain: ClosedChain,
     reports: Mutex<Reports>,
+    /// The rigid ties (indices in the problem's `Loads::rigid_ties`) whose reactions are
+    /// the quadriceps' pull: the insertions ([`TendonPatella::pulled_by`]).
+    pulling_ties: OnceLock<Vec<usize>>,
 }
 
 #[derive(Debug, Default)]
@@ -312,6 +317,9 @@ impl Reports {
     fn stages(&self, time: f64) -> [f64; 2] {
         match self.latest {
             None => [0.0; 2],
+            // At the report's own time the stages are those it found (bit for bit: the
+            // formula below gives m + (T − m), which may differ in the last digit).
+            Some((t, _)) if time <= t => self.stages_at_latest,
             Some((t, measured)) => {
                 let s = (time - t).max(0.0) / PULL_RELAXATION_TIME;
                 let decay = (-s).exp();
@@ -359,7 +367,22 @@ impl TendonPatella {
             squat,
             chain,
             reports: Mutex::new(Reports::default()),
+            pulling_ties: OnceLock::new(),
         }
+    }
+
+    /// The rigid ties (indices in the problem's ties) whose reactions pull the patella:
+    /// the solver reports T = Σ |R| over them at every recorded instant
+    /// ([`PoseFollower::observe`]). Set once, when the ties are built.
+    pub fn pulled_by(&self, ties: Vec<usize>) {
+        let _ = self.pulling_ties.set(ties);
+    }
+
+    /// The pull T = Σ |R| [N] of the pulling ties among `tie_reactions`.
+    pub fn pull(&self, tie_reactions: &[RigidReaction]) -> f64 {
+        self.pulling_ties.get().map_or(0.0, |ties| {
+            ties.iter().map(|&i| tie_reactions[i].force.norm()).sum()
+        })
     }
 
     fn reports(&self) -> std::sync::MutexGuard<'_, Reports> {
@@ -419,6 +442,19 @@ impl PoseFollower for TendonPatella {
 
     fn reference_point(&self) -> Vector3<f64> {
         self.table.reference.centre
+    }
+
+    /// The quadriceps' pull measured at a recorded instant poses the patella from then on.
+    fn observe(&self, time: f64, tie_reactions: &[RigidReaction]) {
+        self.report(time, self.pull(tie_reactions));
+    }
+
+    fn save_state(&self, out: &mut CheckpointWriter) {
+        self.save_reports(out);
+    }
+
+    fn restore_state(&self, input: &mut CheckpointReader) -> Result<(), SolverError> {
+        self.restore_reports(input)
     }
 }
 

@@ -111,10 +111,11 @@ impl Recorder<'_> {
         .fold(f64::INFINITY, f64::min)
     }
 
-    /// Tells the patella the quadriceps' pull at `time`: T = Σ |R| over the insertions'
-    /// ties. Records the tendon's state the run had at that time (from the pull reported
-    /// before) and starts the instant's plausibility sample; stops the run if the measured
-    /// pull would stretch the tendon beyond the table.
+    /// The quadriceps' pull at `time`, T = Σ |R| over the insertions' ties, which the
+    /// solver has just reported to the patella ([`PoseFollower::observe`]): records the
+    /// tendon's state the run had at that time (from the pull reported before) and starts
+    /// the instant's plausibility sample; stops the run if the measured pull would stretch
+    /// the tendon beyond the table.
     fn report_pull(
         &mut self,
         time: f64,
@@ -128,7 +129,6 @@ impl Recorder<'_> {
             .collect();
         let tension: f64 = insertion_pull.iter().sum();
         let applied = self.patella.state_at(time);
-        self.patella.report(time, tension);
         let measured = self.patella.equilibrium(time, tension);
         self.tendon.push(TendonRow {
             time,
