@@ -8,7 +8,6 @@
 //! with `excitation = true` excitations that first-order activation dynamics turn into
 //! activation (time constants `activation_time_constant`, `deactivation_time_constant`).
 
-use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -16,8 +15,9 @@ use toml::Spanned;
 
 use musclefem_materials::{ActivationDynamics, ActivationHistory, Material};
 
+use super::amplitudes::Amplitudes;
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{ActivationEntry, AmplitudeEntry};
+use super::format::ActivationEntry;
 use crate::delimited::parse_delimited;
 use crate::opensim_storage::read_storage;
 
@@ -25,7 +25,7 @@ use crate::opensim_storage::read_storage;
 pub fn activation_history(
     entry: &Spanned<ActivationEntry>,
     part: &str,
-    amplitudes: &BTreeMap<String, &AmplitudeEntry>,
+    amplitudes: &Amplitudes,
     locator: &Locator,
 ) -> Result<ActivationHistory, SceneError> {
     let span = entry.span();
@@ -46,22 +46,7 @@ pub fn activation_history(
                     ));
                 }
             }
-            let amplitude = amplitudes.get(name.get_ref()).ok_or_else(|| {
-                at(
-                    name.span(),
-                    format!(
-                        "unknown amplitude '{}'{}",
-                        name.get_ref(),
-                        suggestion(name.get_ref(), amplitudes.keys().map(String::as_str))
-                    ),
-                )
-            })?;
-            let samples: Vec<(f64, f64)> = amplitude
-                .points
-                .get_ref()
-                .iter()
-                .map(|p| (p[0], p[1]))
-                .collect();
+            let samples = amplitudes.knots(name, locator)?;
             (format!("amplitude '{}'", name.get_ref()), samples)
         }
         (None, Some(file)) => {

@@ -17,8 +17,9 @@ use musclefem_core::solver::{
 use musclefem_materials::{ActivationHistory, Amplitude, Material, MaterialLibrary};
 
 use super::activation::{activation_history, driven_material};
+use super::amplitudes::Amplitudes;
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{AmplitudeEntry, PartEntry, RotationEntry, SceneFile};
+use super::format::{PartEntry, RotationEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::locking::small_strain_shear_modulus;
 use super::part_mesh::{append_part, part_mesh};
@@ -189,29 +190,7 @@ pub fn build_model(
     }
 
     // Amplitudes.
-    let mut amplitudes: BTreeMap<String, &AmplitudeEntry> = BTreeMap::new();
-    for entry in &scene.amplitudes {
-        let name = entry.name.get_ref();
-        let points = entry.points.get_ref();
-        if let Some(k) = points.iter().position(|p| p.len() != 2) {
-            return Err(at(
-                entry.points.span(),
-                format!(
-                    "amplitude '{name}': knot {} has {} values; a knot is [time, value]",
-                    k + 1,
-                    points[k].len()
-                ),
-            ));
-        }
-        Amplitude::new(points.iter().map(|p| (p[0], p[1])).collect())
-            .map_err(|e| at(entry.points.span(), format!("amplitude '{name}': {}", e.0)))?;
-        if amplitudes.insert(name.clone(), entry).is_some() {
-            return Err(at(
-                entry.name.span(),
-                format!("amplitude '{name}' is defined twice"),
-            ));
-        }
-    }
+    let amplitudes = Amplitudes::new(scene, locator)?;
     let mut activation_histories = vec![None; parts.len()];
     for (index, entry) in scene.parts.iter().enumerate() {
         let Some(activation) = &entry.activation else {
@@ -248,24 +227,11 @@ pub fn build_model(
     let scaled = |name: &Option<Spanned<String>>, value: f64| -> Result<Amplitude, SceneError> {
         let knots = match name {
             None => vec![(0.0, value)],
-            Some(name) => {
-                let entry = amplitudes.get(name.get_ref()).ok_or_else(|| {
-                    at(
-                        name.span(),
-                        format!(
-                            "unknown amplitude '{}'{}",
-                            name.get_ref(),
-                            suggestion(name.get_ref(), amplitudes.keys().map(String::as_str))
-                        ),
-                    )
-                })?;
-                entry
-                    .points
-                    .get_ref()
-                    .iter()
-                    .map(|p| (p[0], value * p[1]))
-                    .collect()
-            }
+            Some(name) => amplitudes
+                .knots(name, locator)?
+                .into_iter()
+                .map(|(t, v)| (t, value * v))
+                .collect(),
         };
         Amplitude::new(knots).map_err(|e| locator.whole(e.to_string()))
     };

@@ -4,6 +4,7 @@
 //! name suggested for a misspelt one. The format is documented in `docs/scene-format.md`.
 
 mod activation;
+mod amplitudes;
 mod build;
 mod describe;
 mod error;
