@@ -38,11 +38,12 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use super::abaqus_keywords::{Class, classify, nearest};
-use super::build::{Entry, Loc, RawMesh};
+use super::abaqus_keywords::{Class, classify, nearest, skip_reason};
+use super::build::{Entry, FiberRule, Loc, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
 mod data;
+mod orientation;
 
 /// Deepest `*INCLUDE` nesting accepted (deeper is taken for a cycle).
 const MAX_INCLUDE_DEPTH: usize = 16;
@@ -295,6 +296,7 @@ struct Reader {
     /// Block index by (element type, lower-case element set name).
     blocks: HashMap<(String, String), usize>,
     copied: usize,
+    orientations: orientation::Orientations,
 }
 
 impl Reader {
@@ -311,11 +313,17 @@ impl Reader {
             surfaces: Names::new(),
             blocks: HashMap::new(),
             copied: 0,
+            orientations: orientation::Orientations::default(),
         }
     }
 
     fn error(&self, loc: Loc, message: impl Into<String>) -> ImportError {
         self.raw.error(loc, message)
+    }
+
+    /// Records a warning at `loc` about `keyword`.
+    fn warn(&mut self, loc: Loc, keyword: &str, message: String) {
+        self.raw.warnings.push((loc, keyword.to_string(), message));
     }
 
     fn run(&mut self, lines: &[Line]) -> Result<(), ImportError> {
@@ -372,11 +380,20 @@ impl Reader {
                 "ELSET" => self.set(keyword, data, true),
                 "SURFACE" => self.surface(keyword, data),
                 "INSTANCE" => self.instance(keyword, data),
+                "SOLID SECTION" => {
+                    self.raw.skipped.push((keyword.loc, keyword.name.clone()));
+                    self.solid_section(keyword)
+                }
+                "ORIENTATION" => self.orientation(keyword, data),
+                "DISTRIBUTION" => self.distribution(keyword, data),
+                "DISTRIBUTION TABLE" => self.distribution_table(keyword, data),
                 "HEADING" | "INCLUDE" => Ok(()),
                 _ => self.structure(keyword, data),
             },
             Class::Skipped => {
                 self.raw.skipped.push((keyword.loc, keyword.name.clone()));
+                let message = format!("*{name} ignored: {}", skip_reason(name));
+                self.warn(keyword.loc, name, message);
                 Ok(())
             }
             Class::Refused => Err(self.error(
@@ -498,6 +515,7 @@ impl Reader {
                 format!("*PART '{part}' is never instanced (no *INSTANCE, PART={part})"),
             ));
         }
+        self.raw.fiber_assignments = self.fiber_assignments()?;
         if let Some(instance) = self.instance.take() {
             self.place(instance.translation, instance.rotation)
                 .map_err(|m| self.raw.error(instance.loc, m))?;
@@ -528,19 +546,26 @@ impl Reader {
         let k = axis.map(|c| c / length);
         let (s, c) = degrees.to_radians().sin_cos();
         for i in 0..nodes.len() {
-            // Rodrigues: v' = v cos + (k × v) sin + k (k·v)(1 − cos), v relative to a.
             let v = [nodes.x[i] - a[0], nodes.y[i] - a[1], nodes.z[i] - a[2]];
-            let kxv = [
-                k[1] * v[2] - k[2] * v[1],
-                k[2] * v[0] - k[0] * v[2],
-                k[0] * v[1] - k[1] * v[0],
-            ];
-            let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-            let r: [f64; 3] =
-                std::array::from_fn(|d| v[d] * c + kxv[d] * s + k[d] * kv * (1.0 - c));
+            let r = rodrigues(v, k, s, c);
             nodes.x[i] = a[0] + r[0];
             nodes.y[i] = a[1] + r[1];
             nodes.z[i] = a[2] + r[2];
+        }
+        // The fibers turn with the part.
+        let rotate = |v: &mut [f64; 3]| *v = rodrigues(*v, k, s, c);
+        for assignment in &mut self.raw.fiber_assignments {
+            match &mut assignment.rule {
+                FiberRule::Uniform(d) => rotate(d),
+                FiberRule::PerElement {
+                    default,
+                    per_element,
+                    ..
+                } => {
+                    default.iter_mut().for_each(rotate);
+                    per_element.iter_mut().for_each(|(_, d)| rotate(d));
+                }
+            }
         }
         Ok(())
     }
@@ -579,6 +604,18 @@ impl Reader {
         }
         Ok(())
     }
+}
+
+/// Rodrigues: v' = v cos + (k × v) sin + k (k·v)(1 − cos), for the unit axis k and
+/// the sine s and cosine c of the angle.
+fn rodrigues(v: [f64; 3], k: [f64; 3], s: f64, c: f64) -> [f64; 3] {
+    let kxv = [
+        k[1] * v[2] - k[2] * v[1],
+        k[2] * v[0] - k[0] * v[2],
+        k[0] * v[1] - k[1] * v[0],
+    ];
+    let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    std::array::from_fn(|d| v[d] * c + kxv[d] * s + k[d] * kv * (1.0 - c))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -70,6 +70,7 @@ pub fn parse_gmsh(text: &str, name: impl AsRef<Path>) -> Result<ImportedMesh, Im
         physical_names: HashMap::new(),
         entity_groups: HashMap::new(),
         blocks: HashMap::new(),
+        entity_blocks: HashMap::new(),
         group_nodes: BTreeMap::new(),
         group_elements: BTreeMap::new(),
         surface_elements: Vec::new(),
@@ -107,6 +108,8 @@ fn check_format(line: &str) -> Result<(), String> {
 struct SurfaceElement {
     tag: i64,
     entity: i64,
+    /// Physical surface groups it belongs to.
+    groups: Vec<i64>,
     /// Corner node tags in the element's order.
     corners: Vec<i64>,
     loc: Loc,
@@ -121,6 +124,8 @@ struct Reader<'t> {
     entity_groups: HashMap<(i64, i64), Vec<i64>>,
     /// Block index by (name, shape).
     blocks: HashMap<(String, ElementShape), usize>,
+    /// Block index by (entity, its first physical group, shape).
+    entity_blocks: HashMap<(i64, Option<i64>, ElementShape), usize>,
     /// Node tags of the elements of each physical group (dim, tag).
     group_nodes: BTreeMap<(i64, i64), Vec<Entry>>,
     group_elements: BTreeMap<(i64, i64), Vec<Entry>>,
@@ -145,6 +150,24 @@ fn surface_type(element_type: i64) -> Option<(usize, usize)> {
         10 => Some((9, 4)),
         _ => None,
     }
+}
+
+/// Why an element type cannot be read in an entity of dimension `dim` (`grouped`: the
+/// entity is in a physical group), if it cannot.
+fn unsupported_type(dim: i64, entity: i64, element_type: i64, grouped: bool) -> Option<String> {
+    if dim == 3 && volume_type(element_type).is_none() {
+        return Some(format!(
+            "$Elements: element type {element_type} in volume {entity} is not supported \
+             (supported: 4 tet4, 5 hex8, 11 tet10)"
+        ));
+    }
+    if dim == 2 && grouped && surface_type(element_type).is_none() {
+        return Some(format!(
+            "$Elements: element type {element_type} on physical surface {entity} is not \
+             supported (supported: 2, 3, 9, 10, 16, 20, 21)"
+        ));
+    }
+    None
 }
 
 fn volume_type(element_type: i64) -> Option<ElementShape> {
@@ -398,92 +421,13 @@ impl Reader<'_> {
                 .get(&(dim, entity))
                 .cloned()
                 .unwrap_or_default();
-            let raw_block = match dim {
-                3 => {
-                    let shape = volume_type(element_type).ok_or_else(|| {
-                        self.error(format!(
-                            "$Elements: element type {element_type} in volume {entity} is not supported \
-                             (supported: 4 tet4, 5 hex8, 11 tet10)"
-                        ))
-                    })?;
-                    Some((self.block(entity, &groups, shape), shape))
-                }
-                2 if !groups.is_empty() => {
-                    if surface_type(element_type).is_none() {
-                        return Err(self.error(format!(
-                            "$Elements: element type {element_type} on physical surface {entity} is not \
-                             supported (supported: 2, 3, 9, 10, 16, 20, 21)"
-                        )));
-                    }
-                    None
-                }
-                _ => None,
-            };
+            if let Some(m) = unsupported_type(dim, entity, element_type, !groups.is_empty()) {
+                return Err(self.error(m));
+            }
             for _ in 0..n {
                 let tags = self.integers(2, "$Elements: elementTag nodeTag ...")?;
                 let loc = self.loc();
-                let tag = tags[0];
-                if tags.iter().any(|&t| t <= 0) {
-                    return Err(
-                        self.error(format!("$Elements: element {tag}: tags must be positive"))
-                    );
-                }
-                let nodes = &tags[1..];
-                self.group_entries = self
-                    .group_entries
-                    .saturating_add(groups.len() * nodes.len());
-                if self.group_entries > MAX_GROUP_ENTRIES {
-                    return Err(self.error(format!(
-                        "$Elements: physical groups hold more than {MAX_GROUP_ENTRIES} node entries"
-                    )));
-                }
-                for &g in &groups {
-                    let set = self.group_nodes.entry((dim, g)).or_default();
-                    set.extend(nodes.iter().map(|&l| Entry {
-                        member: Member::Label(l),
-                        loc,
-                    }));
-                }
-                if let Some((b, shape)) = raw_block {
-                    let expected = shape.nodes_per_element();
-                    if nodes.len() != expected {
-                        return Err(self.error(format!(
-                            "$Elements: element {tag} ({shape}): expected {expected} node tags, found {}",
-                            nodes.len()
-                        )));
-                    }
-                    let mut ordered = nodes.to_vec();
-                    if shape == ElementShape::Tet10 {
-                        ordered.swap(8, 9);
-                    }
-                    let block = &mut self.raw.blocks[b];
-                    block.labels.push(tag);
-                    block.nodes.extend(ordered);
-                    block.locs.push(loc);
-                    for &g in &groups {
-                        let set = self.group_elements.entry((3, g)).or_default();
-                        set.push(Entry {
-                            member: Member::Label(tag),
-                            loc,
-                        });
-                    }
-                } else if dim == 2
-                    && !groups.is_empty()
-                    && let Some((count, corners)) = surface_type(element_type)
-                {
-                    if nodes.len() != count {
-                        return Err(self.error(format!(
-                            "$Elements: surface element {tag} (type {element_type}): expected {count} node tags, found {}",
-                            nodes.len()
-                        )));
-                    }
-                    self.surface_elements.push(SurfaceElement {
-                        tag,
-                        entity,
-                        corners: nodes[..corners].to_vec(),
-                        loc,
-                    });
-                }
+                self.add_element(dim, entity, element_type, &groups, tags[0], &tags[1..], loc)?;
             }
             read += n;
         }
@@ -492,6 +436,96 @@ impl Reader<'_> {
                 header_loc,
                 format!("$Elements: the header announces {total} elements, the blocks hold {read}"),
             ));
+        }
+        Ok(())
+    }
+
+    /// One element of entity (`dim`, `entity`) in the physical `groups`: a volume element
+    /// goes to its block and element sets, a 2-D element of a physical surface is kept to
+    /// be matched to a volume face, and every element's nodes go to its groups' node sets.
+    #[allow(clippy::too_many_arguments)]
+    fn add_element(
+        &mut self,
+        dim: i64,
+        entity: i64,
+        element_type: i64,
+        groups: &[i64],
+        tag: i64,
+        nodes: &[i64],
+        loc: Loc,
+    ) -> Result<(), ImportError> {
+        let error = |m: String| self.raw.error(loc, m);
+        if tag <= 0 || nodes.iter().any(|&t| t <= 0) {
+            return Err(error(format!(
+                "$Elements: element {tag}: tags must be positive"
+            )));
+        }
+        self.group_entries = self
+            .group_entries
+            .saturating_add(groups.len() * nodes.len());
+        if self.group_entries > MAX_GROUP_ENTRIES {
+            return Err(error(format!(
+                "$Elements: physical groups hold more than {MAX_GROUP_ENTRIES} node entries"
+            )));
+        }
+        for &g in groups {
+            let set = self.group_nodes.entry((dim, g)).or_default();
+            set.extend(nodes.iter().map(|&l| Entry {
+                member: Member::Label(l),
+                loc,
+            }));
+        }
+        if let Some(m) = unsupported_type(dim, entity, element_type, !groups.is_empty()) {
+            return Err(error(m));
+        }
+        match dim {
+            3 => {
+                let Some(shape) = volume_type(element_type) else {
+                    return Ok(());
+                };
+                let expected = shape.nodes_per_element();
+                if nodes.len() != expected {
+                    return Err(error(format!(
+                        "$Elements: element {tag} ({shape}): expected {expected} node tags, found {}",
+                        nodes.len()
+                    )));
+                }
+                let b = self.block(entity, groups, shape);
+                let block = &mut self.raw.blocks[b];
+                block.labels.push(tag);
+                let start = block.nodes.len();
+                block.nodes.extend_from_slice(nodes);
+                if shape == ElementShape::Tet10 {
+                    block.nodes.swap(start + 8, start + 9);
+                }
+                block.locs.push(loc);
+                for &g in groups {
+                    let set = self.group_elements.entry((3, g)).or_default();
+                    set.push(Entry {
+                        member: Member::Label(tag),
+                        loc,
+                    });
+                }
+            }
+            2 if !groups.is_empty() => {
+                let Some((count, corners)) = surface_type(element_type) else {
+                    return Ok(());
+                };
+                if nodes.len() != count {
+                    return Err(error(format!(
+                        "$Elements: surface element {tag} (type {element_type}): expected {count} node tags, found {}",
+                        nodes.len()
+                    )));
+                }
+                self.surface_elements.push(SurfaceElement {
+                    tag,
+                    entity,
+                    groups: groups.to_vec(),
+                    corners: nodes[..corners].to_vec(),
+                    loc,
+                });
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -506,6 +540,16 @@ impl Reader<'_> {
 
     /// The block of a volume entity's elements of one shape.
     fn block(&mut self, entity: i64, groups: &[i64], shape: ElementShape) -> usize {
+        let cached = (entity, groups.first().copied(), shape);
+        if let Some(&b) = self.entity_blocks.get(&cached) {
+            return b;
+        }
+        let b = self.named_block(entity, groups, shape);
+        self.entity_blocks.insert(cached, b);
+        b
+    }
+
+    fn named_block(&mut self, entity: i64, groups: &[i64], shape: ElementShape) -> usize {
         let name = match groups.first() {
             Some(&g) => self.group_name(3, g),
             None => format!("volume_{entity}"),
