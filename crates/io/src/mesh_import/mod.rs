@@ -1,4 +1,5 @@
-//! Mesh import: Abaqus `.inp` and Gmsh `.msh` (format 4.1, ASCII) into a [`Mesh`].
+//! Mesh import: Abaqus `.inp` and Gmsh `.msh` (4.1 ASCII or binary, 2.2 ASCII) into a
+//! [`Mesh`].
 //!
 //! [`read_mesh`] picks the reader by the file extension (`.inp` → [`read_abaqus`],
 //! `.msh` → [`read_gmsh`]); [`parse_abaqus`] and [`parse_gmsh`] read text already in
@@ -14,7 +15,8 @@
 //! - local node order is Abaqus's (see [`musclefem_mesh::ElementShape`]); Gmsh's
 //!   10-node tetrahedron is reordered (its last two mid-edge nodes are swapped);
 //! - node sets, element sets and surfaces are sorted by id and free of duplicates;
-//! - every fiber direction is e_x (fibers come from elsewhere);
+//! - every fiber direction is e_x, except where an Abaqus `*ORIENTATION` gives one
+//!   ([`ImportedMesh::fiber_sources`] says which blocks);
 //! - the mesh has passed [`Mesh::validate`] (no inverted or degenerate element).
 //!
 //! Errors ([`ImportError`]) never panic and read `FILE:LINE: message`, naming the keyword
