@@ -127,19 +127,28 @@ fn unreadable_gmsh_variants_say_what_to_do() {
         read_mesh(&path).unwrap_err().to_string()
     };
     // 2.2 binary.
-    let text = write("v22b.msh", b"$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n");
+    let text = write(
+        "v22b.msh",
+        b"$MeshFormat\n2.2 1 8\n\x01\x00\x00\x00\n$EndMeshFormat\n",
+    );
     assert!(text.ends_with("v22b.msh:2: $MeshFormat: binary 2.2 files are not supported: save as 4.1 (Mesh.MshFileVersion = 4.1) or as ASCII (Mesh.Binary = 0)"), "{text}");
     // Big-endian: the integer 1 written 00 00 00 01.
     let mut big = binary.clone();
     let at = big.windows(4).position(|w| w == [1, 0, 0, 0]).unwrap();
     big[at..at + 4].copy_from_slice(&[0, 0, 0, 1]);
     let text = write("big.msh", &big);
-    assert!(text.contains("big-endian files are not supported"), "{text}");
+    assert!(
+        text.contains("big-endian files are not supported"),
+        "{text}"
+    );
     // Cut within the node coordinates: the section and byte are named.
     let nodes = binary.windows(7).position(|w| w == b"$Nodes\n").unwrap();
     let text = write("cut.msh", &binary[..nodes + 200]);
     assert!(text.contains("$Nodes (binary, byte"), "{text}");
-    assert!(text.contains("6 items cannot fit in the 141 bytes left"), "{text}");
+    assert!(
+        text.contains("6 items cannot fit in the 141 bytes left"),
+        "{text}"
+    );
     // 4.0 is not read.
     let text = write("v40.msh", b"$MeshFormat\n4 0 8\n$EndMeshFormat\n");
     assert!(text.contains("version 4 is not supported"), "{text}");

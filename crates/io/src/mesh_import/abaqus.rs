@@ -8,6 +8,17 @@
 //!   line ending in a comma continues on the next line (C3D10 often wraps); one block per
 //!   (type, `ELSET`), named after the element set (or the type), and `ELSET=` also makes
 //!   the element set;
+//! - 2-D elements (R3D3/R3D4, S3/S3R/S4/S4R, M3D3/M3D4(R)/M3D6/M3D8, SFM3D3/4(R)/6,
+//!   STRI65) as surfaces: each is matched by its corners to a volume element's face, and
+//!   the `*ELEMENT`'s `ELSET=` (or its type, e.g. `R3D3`) and every `*ELSET` listing it
+//!   name a surface of those faces and a node set of its nodes (one on no volume face is
+//!   only in the node set, with a warning);
+//! - `*ORIENTATION` (rectangular; points a, b[, c] or a `*DISTRIBUTION` name; optional
+//!   rotation line), `*DISTRIBUTION, LOCATION=ELEMENT` with its `*DISTRIBUTION TABLE`
+//!   `COORD3D, COORD3D`, and `*SOLID SECTION, ELSET=..., ORIENTATION=...`: the elements of
+//!   the set get the local 1-axis as their fiber (the convention of transversely
+//!   isotropic UMATs: e1 = (a − c)/|a − c|, turned by the rotation line); the section's
+//!   material is ignored with a warning;
 //! - `*NSET` / `*ELSET` with labels, names of sets defined earlier (also
 //!   `instance.set`), or `GENERATE` (`first, last[, step]`, step ≥ 1);
 //! - `*SURFACE, NAME=..., TYPE=ELEMENT` (the default) with `element set or label, Sn`
@@ -26,42 +37,33 @@
 //! Keywords and parameters are case-insensitive, `**` starts a comment line, labels are
 //! any positive integers (not necessarily contiguous). Model and history keywords that do
 //! not shape the mesh (`*MATERIAL`, `*STEP`, `*BOUNDARY`, ...) are skipped with their
-//! data and listed in [`super::ImportedMesh::skipped_keywords`].
+//! data, listed in [`super::ImportedMesh::skipped_keywords`] and warned about, with the
+//! reason, in [`super::ImportedMesh::warnings`].
 //!
 //! Refused with an error naming them (never silently skipped): mesh generation keywords
-//! (`*NGEN`, `*NFILL`, `*ELGEN`, `*NCOPY`, ...), `*SYSTEM`, `*PARAMETER`, other element
-//! types (C3D20, C3D6, shells, ...), node-based surfaces, several parts or instances,
+//! (`*NGEN`, `*NFILL`, `*ELGEN`, `*NCOPY`, ...), `*SYSTEM`, `*TRANSFORM`, `*PARAMETER`,
+//! other element types (C3D20, C3D6, beams, ...), cylindrical, spherical or node-based
+//! orientations, node-based surfaces, several parts or instances,
 //! assembly-level nodes and elements (reference points), unknown parameters of the read
 //! keywords, and any keyword that is not an Abaqus keyword at all (with the nearest known
 //! one suggested).
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::abaqus_keywords::{Class, classify, nearest, skip_reason};
 use super::build::{Entry, FiberRule, Loc, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
 mod data;
+mod include;
 mod orientation;
 
-/// Deepest `*INCLUDE` nesting accepted (deeper is taken for a cycle).
-const MAX_INCLUDE_DEPTH: usize = 16;
+use include::{Includes, flatten};
 
 /// Set and surface entries over the whole file (guards against sets that double in size
 /// line after line by naming themselves).
 const MAX_COPIED_ENTRIES: usize = 1 << 24;
-
-/// Where `*INCLUDE` may reach.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Includes {
-    /// Text in memory: no file to be relative to.
-    Refused,
-    /// Files in the top file's folder or below it.
-    InFolder,
-    /// Any file.
-    Anywhere,
-}
 
 /// Reads an Abaqus input file and the files it includes (from its folder or below).
 pub fn read_abaqus(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
@@ -110,80 +112,6 @@ struct Line {
 
 fn is_keyword(text: &str) -> bool {
     text.starts_with('*') && !text.starts_with("**")
-}
-
-/// Appends the lines of `text` (file `file`) to `out`, replacing each `*INCLUDE` line by
-/// the lines of the included file.
-fn flatten(
-    files: &mut Vec<PathBuf>,
-    out: &mut Vec<Line>,
-    text: &str,
-    file: u32,
-    includes: Includes,
-    depth: usize,
-) -> Result<(), ImportError> {
-    let path = files.get(file as usize).cloned().unwrap_or_default();
-    for (i, line) in text.lines().enumerate() {
-        let loc = Loc {
-            file,
-            line: u32::try_from(i + 1).unwrap_or(u32::MAX),
-        };
-        let text = line.trim();
-        let error = |message: String| ImportError::Parse {
-            file: path.clone(),
-            line: i + 1,
-            message,
-        };
-        if is_keyword(text)
-            && let Ok(keyword) = Keyword::parse(text, loc)
-            && keyword.name == "INCLUDE"
-        {
-            let input = keyword
-                .get("INPUT")
-                .ok_or_else(|| error("*INCLUDE: parameter INPUT= is missing".into()))?;
-            if includes == Includes::Refused {
-                return Err(error(format!(
-                    "*INCLUDE, INPUT={input}: includes need a file to be relative to; \
-                     read the file with read_abaqus"
-                )));
-            }
-            if depth >= MAX_INCLUDE_DEPTH {
-                return Err(error(format!(
-                    "*INCLUDE, INPUT={input}: includes nested more than {MAX_INCLUDE_DEPTH} \
-                     deep (does a file include itself?)"
-                )));
-            }
-            let included = path.parent().unwrap_or(Path::new("")).join(input);
-            if includes == Includes::InFolder {
-                let top = &files[0];
-                if !crate::paths::lies_in_folder(&included, top.parent().unwrap_or(Path::new(""))) {
-                    return Err(error(format!(
-                        "*INCLUDE, INPUT={input}: '{}' lies outside the folder of '{}': \
-                         included files must be in the deck's folder or below it (a scene \
-                         allows others with --allow-outside-paths)",
-                        included.display(),
-                        top.display()
-                    )));
-                }
-            }
-            let bytes = std::fs::read(&included).map_err(|e| {
-                error(format!(
-                    "*INCLUDE: cannot read '{}': {e}",
-                    included.display()
-                ))
-            })?;
-            let text = utf8(bytes, &included)?;
-            let id = u32::try_from(files.len()).map_err(|_| error("too many files".into()))?;
-            files.push(included);
-            flatten(files, out, &text, id, includes, depth + 1)?;
-            continue;
-        }
-        out.push(Line {
-            loc,
-            text: text.to_string(),
-        });
-    }
-    Ok(())
 }
 
 /// A keyword line: the name in upper case with single spaces, and the parameters (keys

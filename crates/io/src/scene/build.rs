@@ -57,6 +57,9 @@ pub struct Model {
     /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
     /// "material (plugin file)".
     pub unchecked_plugins: Vec<String>,
+    /// Lines on each part's mesh file (in the order of `parts`): its reader's warnings
+    /// (skipped keywords, ...) and where the fibers come from when the file gives them.
+    pub part_notes: Vec<Vec<String>>,
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
@@ -139,6 +142,7 @@ pub fn build_model(
     let mut mesh = Mesh::new(Default::default(), Vec::new());
     let mut parts = Vec::new();
     let mut part_names: Vec<String> = Vec::new();
+    let mut part_notes: Vec<Vec<String>> = Vec::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -168,8 +172,9 @@ pub fn build_model(
                 format!("density {density} kg/m3 must be positive"),
             ));
         }
-        let part_mesh = part_mesh(entry, technology.shape(), locator)?;
+        let (part_mesh, notes) = part_mesh(entry, technology.shape(), locator)?;
         append_part(&mut mesh, part_mesh, name);
+        part_notes.push(notes);
         parts.push(Part {
             block: parts.len(),
             technology,
@@ -486,6 +491,7 @@ pub fn build_model(
         write_frames: scene.output.frames.unwrap_or(true),
         interactions,
         unchecked_plugins,
+        part_notes,
     })
 }
 

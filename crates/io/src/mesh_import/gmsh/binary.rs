@@ -106,7 +106,9 @@ fn read(reader: &mut Reader, c: &mut Cursor) -> Result<(), String> {
     c.line()?;
     let one = c.take(4)?;
     if one == [0, 0, 0, 1] {
-        return Err(c.error("big-endian files are not supported: write it on a little-endian machine or as ASCII"));
+        return Err(c.error(
+            "big-endian files are not supported: write it on a little-endian machine or as ASCII",
+        ));
     }
     if one != [1, 0, 0, 0] {
         return Err(c.error("expected the integer 1 after the format line"));
@@ -272,7 +274,9 @@ fn elements(reader: &mut Reader, c: &mut Cursor, loc: Loc) -> Result<(), String>
             .get(&(dim, entity))
             .cloned()
             .unwrap_or_default();
-        if let Some(m) = super::elements::unsupported_type(dim, entity, element_type, !groups.is_empty()) {
+        if let Some(m) =
+            super::elements::unsupported_type(dim, entity, element_type, !groups.is_empty())
+        {
             return Err(c.error(m));
         }
         let mut tags = vec![0i64; nodes];

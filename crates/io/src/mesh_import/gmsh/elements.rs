@@ -27,7 +27,12 @@ pub(super) fn surface_type(element_type: i64) -> Option<(usize, usize)> {
 
 /// Why an element type cannot be read in an entity of dimension `dim` (`grouped`: the
 /// entity is in a physical group), if it cannot.
-pub(super) fn unsupported_type(dim: i64, entity: i64, element_type: i64, grouped: bool) -> Option<String> {
+pub(super) fn unsupported_type(
+    dim: i64,
+    entity: i64,
+    element_type: i64,
+    grouped: bool,
+) -> Option<String> {
     if dim == 3 && volume_type(element_type).is_none() {
         return Some(format!(
             "$Elements: element type {element_type} in volume {entity} is not supported \
@@ -222,5 +227,4 @@ impl Reader<'_> {
         self.blocks.insert(key, self.raw.blocks.len() - 1);
         self.raw.blocks.len() - 1
     }
-
 }

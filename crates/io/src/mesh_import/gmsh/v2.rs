@@ -13,12 +13,14 @@ impl Reader<'_> {
             let line = self.line("$Nodes: 'node-number x y z'")?.to_string();
             let fields: Vec<&str> = line.split_whitespace().collect();
             let tag = fields.first().and_then(|f| f.parse::<i64>().ok());
-            let x: Option<Vec<f64>> = fields.get(1..).map(|c| {
-                c.iter()
-                    .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
-                    .collect::<Option<Vec<f64>>>()
-            })
-            .flatten();
+            let x: Option<Vec<f64>> = fields
+                .get(1..)
+                .map(|c| {
+                    c.iter()
+                        .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
+                        .collect::<Option<Vec<f64>>>()
+                })
+                .flatten();
             let (Some(tag), Some(x)) = (tag.filter(|&t| t > 0), x.filter(|x| x.len() == 3)) else {
                 return Err(self.error(format!(
                     "$Nodes: expected 'node-number x y z' (a positive tag, 3 finite numbers), \
@@ -62,7 +64,10 @@ impl Reader<'_> {
             }
             let physical = fields.get(3).copied().filter(|_| tags >= 1).unwrap_or(0);
             let entity = fields.get(4).copied().filter(|_| tags >= 2).unwrap_or(0);
-            let groups: Vec<i64> = (physical != 0).then_some(physical.abs()).into_iter().collect();
+            let groups: Vec<i64> = (physical != 0)
+                .then_some(physical.abs())
+                .into_iter()
+                .collect();
             let nodes = nodes.to_vec();
             self.add_element(dim, entity, element_type, &groups, tag, &nodes, loc)?;
         }
