@@ -236,3 +236,42 @@ fn two_d_elements_are_read_as_surfaces_and_node_sets() {
     assert_eq!(mesh.element_set("everything").unwrap(), &[tet]);
     assert_eq!(mesh.surface("everything").unwrap().len(), 2);
 }
+
+#[test]
+fn a_partly_oriented_block_and_an_unused_orientation_are_warned() {
+    let deck = format!(
+        "{TWO_HEXES}\
+*ELSET, ELSET=FIRST
+1
+*ORIENTATION, NAME=ALONG_Z
+0., 0., 1., 1., 0., 0.
+*ORIENTATION, NAME=SPARE
+1., 0., 0., 0., 1., 0.
+*SOLID SECTION, ELSET=FIRST, ORIENTATION=ALONG_Z
+"
+    );
+    let imported = parse_abaqus(&deck, "part.inp").unwrap();
+    let fibers = &imported.mesh.blocks[0].fiber_direction;
+    assert_close(fibers[0], [0.0, 0.0, 1.0]);
+    assert_close(fibers[1], [1.0, 0.0, 0.0]);
+    let source = imported.fiber_sources[0].as_deref().unwrap();
+    assert!(
+        source.ends_with(
+            "(1 of the 2 elements of block 'MUSCLE' are oriented: the others keep the fiber e_x)"
+        ),
+        "{source}"
+    );
+    let lines = summarize_warnings(&imported.warnings);
+    assert!(
+        lines.contains(
+            &"part.inp:21: *ORIENTATION SPARE ignored: no *SOLID SECTION names it".into()
+        ),
+        "{lines:?}"
+    );
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("part.inp:23: 1 of the 2 elements")),
+        "{lines:?}"
+    );
+}

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use musclefem_io::mesh_import::{ImportedMesh, read_mesh};
+use musclefem_io::mesh_import::{ImportedMesh, parse_gmsh_bytes, read_mesh};
 use musclefem_mesh::Face;
 
 fn fixture(name: &str) -> std::path::PathBuf {
@@ -153,4 +153,37 @@ fn unreadable_gmsh_variants_say_what_to_do() {
     let text = write("v40.msh", b"$MeshFormat\n4 0 8\n$EndMeshFormat\n");
     assert!(text.contains("version 4 is not supported"), "{text}");
     std::fs::remove_dir_all(&directory).unwrap();
+}
+
+/// Random byte changes of the binary fixture (a fixed linear congruential sequence):
+/// every one gives a mesh or an error, never a panic.
+#[test]
+fn mutated_binary_files_never_panic() {
+    let binary = std::fs::read(fixture("two_hexes_41_binary.msh")).unwrap();
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) as usize
+    };
+    let (mut read, mut refused) = (0, 0);
+    for _ in 0..3000 {
+        let mut bytes = binary.clone();
+        for _ in 0..1 + next() % 4 {
+            let at = next() % bytes.len();
+            match next() % 3 {
+                0 => bytes[at] = next() as u8,
+                1 => bytes.truncate(at.max(1)),
+                _ => bytes[at] ^= 0x80,
+            }
+        }
+        let outcome = std::panic::catch_unwind(|| parse_gmsh_bytes(bytes, "m.msh").is_ok());
+        match outcome.expect("a mutated binary file made the reader panic") {
+            true => read += 1,
+            false => refused += 1,
+        }
+    }
+    // Both outcomes occur: the mutations reach the data, not only the header.
+    assert!(read > 0 && refused > 0, "{read} read, {refused} refused");
 }

@@ -4,7 +4,7 @@
 //! `$Entities` (4.1), `$Nodes` (parametric coordinates are read over), `$Elements`.
 //! Other sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to their
 //! `$End...` line. A 4.1 binary file (little-endian, `size_t` of 8 bytes) is read by
-//! [`read_gmsh`] (not [`parse_gmsh`], which takes text); in a 2.2 file the first tag of
+//! [`read_gmsh`] and [`parse_gmsh_bytes`] (not [`parse_gmsh`], which takes text); in a 2.2 file the first tag of
 //! an element is its physical group (0: none) and the second its elementary entity, and
 //! everything below applies with the element's physical group as the entity's.
 //!
@@ -43,7 +43,16 @@ mod v4;
 /// Reads a Gmsh file: 4.1 (ASCII or binary) or 2.2 (ASCII).
 pub fn read_gmsh(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
     let path = path.as_ref();
-    let bytes = read_bytes(path)?;
+    parse_gmsh_bytes(read_bytes(path)?, path)
+}
+
+/// Reads the bytes of a Gmsh file (4.1 ASCII or binary, 2.2 ASCII) already in memory;
+/// `name` is used in error messages.
+pub fn parse_gmsh_bytes(
+    bytes: Vec<u8>,
+    name: impl AsRef<Path>,
+) -> Result<ImportedMesh, ImportError> {
+    let path = name.as_ref();
     // The header is text in every encoding: it says whether the rest is binary.
     let head = String::from_utf8_lossy(bytes.get(..64).unwrap_or(&bytes)).into_owned();
     let mut lines = head.lines();
@@ -235,7 +244,7 @@ impl Reader<'_> {
                     let format = check_format(&line).map_err(|m| self.error(m))?;
                     if format == Format::Binary41 {
                         return Err(self.error(
-                            "$MeshFormat: a binary file given as text: read it with read_gmsh",
+                            "$MeshFormat: a binary file given as text: read it with read_gmsh or parse_gmsh_bytes",
                         ));
                     }
                     self.format = Some(format);

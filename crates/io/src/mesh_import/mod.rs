@@ -36,7 +36,7 @@ use musclefem_mesh::Mesh;
 
 pub use abaqus::{parse_abaqus, read_abaqus, read_abaqus_with};
 pub use error::ImportError;
-pub use gmsh::{parse_gmsh, read_gmsh};
+pub use gmsh::{parse_gmsh, parse_gmsh_bytes, read_gmsh};
 
 /// A mesh read from a file, with the file's labels.
 #[derive(Clone, Debug)]

@@ -346,10 +346,7 @@ impl Reader {
     /// The fibers the sections give their elements, once the whole file is read.
     pub(super) fn fiber_assignments(&mut self) -> Result<Vec<FiberAssignment>, ImportError> {
         let orientations = std::mem::take(&mut self.orientations);
-        let mut used = vec![false; 0];
-        let mut names: Vec<&String> = orientations.orientations.keys().collect();
-        names.sort_by_key(|n| orientations.orientations[*n].loc.line);
-        used.resize(names.len(), false);
+        let mut used = std::collections::HashSet::new();
         let mut assignments = Vec::new();
         for section in &orientations.sections {
             let head = format!("*SOLID SECTION, ELSET={}", short(&section.elset));
@@ -363,9 +360,7 @@ impl Reader {
                     ),
                 ));
             };
-            if let Some(i) = names.iter().position(|n| **n == lower) {
-                used[i] = true;
-            }
+            used.insert(lower);
             let elements = self
                 .named(SetKind::Element, &section.elset)
                 .ok_or_else(|| {
@@ -426,18 +421,19 @@ impl Reader {
                 rule,
             });
         }
-        for (name, used) in names.iter().zip(used) {
-            if !used {
-                let o = &orientations.orientations[*name];
-                self.warn(
-                    o.loc,
-                    "ORIENTATION",
-                    format!(
-                        "*ORIENTATION {} ignored: no *SOLID SECTION names it",
-                        o.name
-                    ),
-                );
-            }
+        let mut unused: Vec<&Orientation> = orientations
+            .orientations
+            .iter()
+            .filter(|(name, _)| !used.contains(*name))
+            .map(|(_, o)| o)
+            .collect();
+        unused.sort_by_key(|o| (o.loc.file, o.loc.line));
+        for o in unused {
+            let message = format!(
+                "*ORIENTATION {} ignored: no *SOLID SECTION names it",
+                o.name
+            );
+            self.warn(o.loc, "ORIENTATION", message);
         }
         Ok(assignments)
     }

@@ -14,13 +14,10 @@ impl Reader<'_> {
             let fields: Vec<&str> = line.split_whitespace().collect();
             let tag = fields.first().and_then(|f| f.parse::<i64>().ok());
             let x: Option<Vec<f64>> = fields
-                .get(1..)
-                .map(|c| {
-                    c.iter()
-                        .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
-                        .collect::<Option<Vec<f64>>>()
-                })
-                .flatten();
+                .iter()
+                .skip(1)
+                .map(|f| f.parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect();
             let (Some(tag), Some(x)) = (tag.filter(|&t| t > 0), x.filter(|x| x.len() == 3)) else {
                 return Err(self.error(format!(
                     "$Nodes: expected 'node-number x y z' (a positive tag, 3 finite numbers), \
