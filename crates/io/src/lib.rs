@@ -13,8 +13,8 @@
 //!   labels with units, legend) drawn with a bundled font, so no system font is needed;
 //! - [`mesh_export`]: meshes as Abaqus `.inp` text that [`mesh_import`] reads back
 //!   unchanged (a study's generated mesh handed to a scene file);
-//! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` 4.1 files, with file and
-//!   line in every error;
+//! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` (4.1, 2.2) files, with
+//!   file and line in every error;
 //! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built
 //!   into what the solvers take, with errors that name the line and key.
 //!

@@ -8,6 +8,17 @@
 //!   line ending in a comma continues on the next line (C3D10 often wraps); one block per
 //!   (type, `ELSET`), named after the element set (or the type), and `ELSET=` also makes
 //!   the element set;
+//! - 2-D elements (R3D3/R3D4, S3/S3R/S4/S4R, M3D3/M3D4(R)/M3D6/M3D8, SFM3D3/4(R)/6,
+//!   STRI65) as surfaces: each is matched by its corners to a volume element's face, and
+//!   the `*ELEMENT`'s `ELSET=` (or its type, e.g. `R3D3`) and every `*ELSET` listing it
+//!   name a surface of those faces and a node set of its nodes (one on no volume face is
+//!   only in the node set, with a warning);
+//! - `*ORIENTATION` (rectangular; points a, b[, c] or a `*DISTRIBUTION` name; optional
+//!   rotation line), `*DISTRIBUTION, LOCATION=ELEMENT` with its `*DISTRIBUTION TABLE`
+//!   `COORD3D, COORD3D`, and `*SOLID SECTION, ELSET=..., ORIENTATION=...`: the elements of
+//!   the set get the local 1-axis as their fiber (the convention of transversely
+//!   isotropic UMATs: e1 = (a − c)/|a − c|, turned by the rotation line); the section's
+//!   material is ignored with a warning;
 //! - `*NSET` / `*ELSET` with labels, names of sets defined earlier (also
 //!   `instance.set`), or `GENERATE` (`first, last[, step]`, step ≥ 1);
 //! - `*SURFACE, NAME=..., TYPE=ELEMENT` (the default) with `element set or label, Sn`
@@ -26,41 +37,33 @@
 //! Keywords and parameters are case-insensitive, `**` starts a comment line, labels are
 //! any positive integers (not necessarily contiguous). Model and history keywords that do
 //! not shape the mesh (`*MATERIAL`, `*STEP`, `*BOUNDARY`, ...) are skipped with their
-//! data and listed in [`super::ImportedMesh::skipped_keywords`].
+//! data, listed in [`super::ImportedMesh::skipped_keywords`] and warned about, with the
+//! reason, in [`super::ImportedMesh::warnings`].
 //!
 //! Refused with an error naming them (never silently skipped): mesh generation keywords
-//! (`*NGEN`, `*NFILL`, `*ELGEN`, `*NCOPY`, ...), `*SYSTEM`, `*PARAMETER`, other element
-//! types (C3D20, C3D6, shells, ...), node-based surfaces, several parts or instances,
+//! (`*NGEN`, `*NFILL`, `*ELGEN`, `*NCOPY`, ...), `*SYSTEM`, `*TRANSFORM`, `*PARAMETER`,
+//! other element types (C3D20, C3D6, beams, ...), cylindrical, spherical or node-based
+//! orientations, node-based surfaces, several parts or instances,
 //! assembly-level nodes and elements (reference points), unknown parameters of the read
 //! keywords, and any keyword that is not an Abaqus keyword at all (with the nearest known
 //! one suggested).
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::abaqus_keywords::{Class, classify, nearest};
-use super::build::{Entry, Loc, RawMesh};
+use super::abaqus_keywords::{Class, classify, nearest, skip_reason};
+use super::build::{Entry, FiberRule, Loc, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
 mod data;
+mod include;
+mod orientation;
 
-/// Deepest `*INCLUDE` nesting accepted (deeper is taken for a cycle).
-const MAX_INCLUDE_DEPTH: usize = 16;
+use include::{Includes, flatten};
 
 /// Set and surface entries over the whole file (guards against sets that double in size
 /// line after line by naming themselves).
 const MAX_COPIED_ENTRIES: usize = 1 << 24;
-
-/// Where `*INCLUDE` may reach.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Includes {
-    /// Text in memory: no file to be relative to.
-    Refused,
-    /// Files in the top file's folder or below it.
-    InFolder,
-    /// Any file.
-    Anywhere,
-}
 
 /// Reads an Abaqus input file and the files it includes (from its folder or below).
 pub fn read_abaqus(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
@@ -109,80 +112,6 @@ struct Line {
 
 fn is_keyword(text: &str) -> bool {
     text.starts_with('*') && !text.starts_with("**")
-}
-
-/// Appends the lines of `text` (file `file`) to `out`, replacing each `*INCLUDE` line by
-/// the lines of the included file.
-fn flatten(
-    files: &mut Vec<PathBuf>,
-    out: &mut Vec<Line>,
-    text: &str,
-    file: u32,
-    includes: Includes,
-    depth: usize,
-) -> Result<(), ImportError> {
-    let path = files.get(file as usize).cloned().unwrap_or_default();
-    for (i, line) in text.lines().enumerate() {
-        let loc = Loc {
-            file,
-            line: u32::try_from(i + 1).unwrap_or(u32::MAX),
-        };
-        let text = line.trim();
-        let error = |message: String| ImportError::Parse {
-            file: path.clone(),
-            line: i + 1,
-            message,
-        };
-        if is_keyword(text)
-            && let Ok(keyword) = Keyword::parse(text, loc)
-            && keyword.name == "INCLUDE"
-        {
-            let input = keyword
-                .get("INPUT")
-                .ok_or_else(|| error("*INCLUDE: parameter INPUT= is missing".into()))?;
-            if includes == Includes::Refused {
-                return Err(error(format!(
-                    "*INCLUDE, INPUT={input}: includes need a file to be relative to; \
-                     read the file with read_abaqus"
-                )));
-            }
-            if depth >= MAX_INCLUDE_DEPTH {
-                return Err(error(format!(
-                    "*INCLUDE, INPUT={input}: includes nested more than {MAX_INCLUDE_DEPTH} \
-                     deep (does a file include itself?)"
-                )));
-            }
-            let included = path.parent().unwrap_or(Path::new("")).join(input);
-            if includes == Includes::InFolder {
-                let top = &files[0];
-                if !crate::paths::lies_in_folder(&included, top.parent().unwrap_or(Path::new(""))) {
-                    return Err(error(format!(
-                        "*INCLUDE, INPUT={input}: '{}' lies outside the folder of '{}': \
-                         included files must be in the deck's folder or below it (a scene \
-                         allows others with --allow-outside-paths)",
-                        included.display(),
-                        top.display()
-                    )));
-                }
-            }
-            let bytes = std::fs::read(&included).map_err(|e| {
-                error(format!(
-                    "*INCLUDE: cannot read '{}': {e}",
-                    included.display()
-                ))
-            })?;
-            let text = utf8(bytes, &included)?;
-            let id = u32::try_from(files.len()).map_err(|_| error("too many files".into()))?;
-            files.push(included);
-            flatten(files, out, &text, id, includes, depth + 1)?;
-            continue;
-        }
-        out.push(Line {
-            loc,
-            text: text.to_string(),
-        });
-    }
-    Ok(())
 }
 
 /// A keyword line: the name in upper case with single spaces, and the parameters (keys
@@ -295,6 +224,7 @@ struct Reader {
     /// Block index by (element type, lower-case element set name).
     blocks: HashMap<(String, String), usize>,
     copied: usize,
+    orientations: orientation::Orientations,
 }
 
 impl Reader {
@@ -311,11 +241,17 @@ impl Reader {
             surfaces: Names::new(),
             blocks: HashMap::new(),
             copied: 0,
+            orientations: orientation::Orientations::default(),
         }
     }
 
     fn error(&self, loc: Loc, message: impl Into<String>) -> ImportError {
         self.raw.error(loc, message)
+    }
+
+    /// Records a warning at `loc` about `keyword`.
+    fn warn(&mut self, loc: Loc, keyword: &str, message: String) {
+        self.raw.warnings.push((loc, keyword.to_string(), message));
     }
 
     fn run(&mut self, lines: &[Line]) -> Result<(), ImportError> {
@@ -372,11 +308,20 @@ impl Reader {
                 "ELSET" => self.set(keyword, data, true),
                 "SURFACE" => self.surface(keyword, data),
                 "INSTANCE" => self.instance(keyword, data),
+                "SOLID SECTION" => {
+                    self.raw.skipped.push((keyword.loc, keyword.name.clone()));
+                    self.solid_section(keyword)
+                }
+                "ORIENTATION" => self.orientation(keyword, data),
+                "DISTRIBUTION" => self.distribution(keyword, data),
+                "DISTRIBUTION TABLE" => self.distribution_table(keyword, data),
                 "HEADING" | "INCLUDE" => Ok(()),
                 _ => self.structure(keyword, data),
             },
             Class::Skipped => {
                 self.raw.skipped.push((keyword.loc, keyword.name.clone()));
+                let message = format!("*{name} ignored: {}", skip_reason(name));
+                self.warn(keyword.loc, name, message);
                 Ok(())
             }
             Class::Refused => Err(self.error(
@@ -498,6 +443,7 @@ impl Reader {
                 format!("*PART '{part}' is never instanced (no *INSTANCE, PART={part})"),
             ));
         }
+        self.raw.fiber_assignments = self.fiber_assignments()?;
         if let Some(instance) = self.instance.take() {
             self.place(instance.translation, instance.rotation)
                 .map_err(|m| self.raw.error(instance.loc, m))?;
@@ -528,19 +474,26 @@ impl Reader {
         let k = axis.map(|c| c / length);
         let (s, c) = degrees.to_radians().sin_cos();
         for i in 0..nodes.len() {
-            // Rodrigues: v' = v cos + (k × v) sin + k (k·v)(1 − cos), v relative to a.
             let v = [nodes.x[i] - a[0], nodes.y[i] - a[1], nodes.z[i] - a[2]];
-            let kxv = [
-                k[1] * v[2] - k[2] * v[1],
-                k[2] * v[0] - k[0] * v[2],
-                k[0] * v[1] - k[1] * v[0],
-            ];
-            let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
-            let r: [f64; 3] =
-                std::array::from_fn(|d| v[d] * c + kxv[d] * s + k[d] * kv * (1.0 - c));
+            let r = rodrigues(v, k, s, c);
             nodes.x[i] = a[0] + r[0];
             nodes.y[i] = a[1] + r[1];
             nodes.z[i] = a[2] + r[2];
+        }
+        // The fibers turn with the part.
+        let rotate = |v: &mut [f64; 3]| *v = rodrigues(*v, k, s, c);
+        for assignment in &mut self.raw.fiber_assignments {
+            match &mut assignment.rule {
+                FiberRule::Uniform(d) => rotate(d),
+                FiberRule::PerElement {
+                    default,
+                    per_element,
+                    ..
+                } => {
+                    default.iter_mut().for_each(rotate);
+                    per_element.iter_mut().for_each(|(_, d)| rotate(d));
+                }
+            }
         }
         Ok(())
     }
@@ -579,6 +532,18 @@ impl Reader {
         }
         Ok(())
     }
+}
+
+/// Rodrigues: v' = v cos + (k × v) sin + k (k·v)(1 − cos), for the unit axis k and
+/// the sine s and cosine c of the angle.
+fn rodrigues(v: [f64; 3], k: [f64; 3], s: f64, c: f64) -> [f64; 3] {
+    let kxv = [
+        k[1] * v[2] - k[2] * v[1],
+        k[2] * v[0] - k[0] * v[2],
+        k[0] * v[1] - k[1] * v[0],
+    ];
+    let kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    std::array::from_fn(|d| v[d] * c + kxv[d] * s + k[d] * kv * (1.0 - c))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -19,6 +19,34 @@ pub(crate) const ELEMENT_TYPES: [(&str, ElementShape); 11] = [
     ("C3D10MH", ElementShape::Tet10),
 ];
 
+/// Abaqus 2-D element types read as surfaces: name, corner count, node count.
+pub(crate) const SURFACE_ELEMENT_TYPES: [(&str, usize, usize); 16] = [
+    ("R3D3", 3, 3),
+    ("S3", 3, 3),
+    ("S3R", 3, 3),
+    ("M3D3", 3, 3),
+    ("SFM3D3", 3, 3),
+    ("M3D6", 3, 6),
+    ("SFM3D6", 3, 6),
+    ("STRI65", 3, 6),
+    ("R3D4", 4, 4),
+    ("S4", 4, 4),
+    ("S4R", 4, 4),
+    ("M3D4", 4, 4),
+    ("M3D4R", 4, 4),
+    ("SFM3D4", 4, 4),
+    ("SFM3D4R", 4, 4),
+    ("M3D8", 4, 8),
+];
+
+/// Corner and node counts of a 2-D element type (upper case) read as a surface.
+pub(crate) fn surface_element(type_name: &str) -> Option<(usize, usize)> {
+    SURFACE_ELEMENT_TYPES
+        .iter()
+        .find(|(name, ..)| *name == type_name)
+        .map(|&(_, corners, nodes)| (corners, nodes))
+}
+
 /// The shape of an Abaqus element type (upper case), if it is supported.
 pub(crate) fn element_shape(type_name: &str) -> Option<ElementShape> {
     ELEMENT_TYPES
@@ -29,15 +57,17 @@ pub(crate) fn element_shape(type_name: &str) -> Option<ElementShape> {
 
 /// The supported element types as a list for messages.
 pub(crate) fn supported_types() -> String {
-    ELEMENT_TYPES
-        .iter()
-        .map(|(name, _)| *name)
-        .collect::<Vec<_>>()
-        .join(", ")
+    let volumes = ELEMENT_TYPES.iter().map(|(name, _)| *name);
+    let surfaces = SURFACE_ELEMENT_TYPES.iter().map(|(name, ..)| *name);
+    format!(
+        "{}; as surfaces: {}",
+        volumes.collect::<Vec<_>>().join(", "),
+        surfaces.collect::<Vec<_>>().join(", ")
+    )
 }
 
 /// Keywords the reader interprets.
-pub(crate) const READ: [&str; 13] = [
+pub(crate) const READ: [&str; 17] = [
     "NODE",
     "ELEMENT",
     "NSET",
@@ -51,10 +81,14 @@ pub(crate) const READ: [&str; 13] = [
     "END INSTANCE",
     "INCLUDE",
     "HEADING",
+    "SOLID SECTION",
+    "ORIENTATION",
+    "DISTRIBUTION",
+    "DISTRIBUTION TABLE",
 ];
 
 /// Mesh-defining keywords the reader refuses: skipping them would give a wrong mesh.
-pub(crate) const REFUSED: [&str; 12] = [
+pub(crate) const REFUSED: [&str; 13] = [
     "NGEN",
     "NFILL",
     "NCOPY",
@@ -67,11 +101,12 @@ pub(crate) const REFUSED: [&str; 12] = [
     "IMPORT",
     "SUBMODEL",
     "EMBEDDED ELEMENT",
+    "TRANSFORM",
 ];
 
 /// Model and history keywords that do not change the mesh: skipped with their data
 /// lines and listed in [`super::ImportedMesh::skipped_keywords`].
-pub(crate) const SKIPPED: [&str; 92] = [
+pub(crate) const SKIPPED: [&str; 87] = [
     "PREPRINT",
     "PHYSICAL CONSTANTS",
     "MATERIAL",
@@ -92,7 +127,6 @@ pub(crate) const SKIPPED: [&str; 92] = [
     "DAMAGE EVOLUTION",
     "MULLINS EFFECT",
     "ANISOTROPIC HYPERELASTIC",
-    "SOLID SECTION",
     "SHELL SECTION",
     "MEMBRANE SECTION",
     "BEAM SECTION",
@@ -100,10 +134,6 @@ pub(crate) const SKIPPED: [&str; 92] = [
     "CONNECTOR SECTION",
     "SECTION CONTROLS",
     "HOURGLASS STIFFNESS",
-    "ORIENTATION",
-    "DISTRIBUTION",
-    "DISTRIBUTION TABLE",
-    "TRANSFORM",
     "AMPLITUDE",
     "INITIAL CONDITIONS",
     "BOUNDARY",
@@ -165,6 +195,64 @@ pub(crate) const SKIPPED: [&str; 92] = [
     "MPC",
     "MODEL CHANGE",
 ];
+
+/// Why a skipped keyword is not read, for its warning.
+pub(crate) fn skip_reason(keyword: &str) -> &'static str {
+    const MATERIAL: [&str; 17] = [
+        "MATERIAL",
+        "ELASTIC",
+        "HYPERELASTIC",
+        "HYPERFOAM",
+        "VISCOELASTIC",
+        "PLASTIC",
+        "DENSITY",
+        "DEPVAR",
+        "USER MATERIAL",
+        "EXPANSION",
+        "CONDUCTIVITY",
+        "SPECIFIC HEAT",
+        "DAMPING",
+        "DAMAGE INITIATION",
+        "DAMAGE EVOLUTION",
+        "MULLINS EFFECT",
+        "ANISOTROPIC HYPERELASTIC",
+    ];
+    const INTERACTION: [&str; 16] = [
+        "SURFACE INTERACTION",
+        "SURFACE BEHAVIOR",
+        "FRICTION",
+        "COHESIVE BEHAVIOR",
+        "CONTACT",
+        "CONTACT PAIR",
+        "CONTACT INCLUSIONS",
+        "CONTACT EXCLUSIONS",
+        "CONTACT PROPERTY ASSIGNMENT",
+        "CONTACT CONTROLS",
+        "TIE",
+        "COUPLING",
+        "KINEMATIC",
+        "DISTRIBUTING",
+        "EQUATION",
+        "MPC",
+    ];
+    if MATERIAL.contains(&keyword) {
+        "musclefem takes materials and densities from the scene file"
+    } else if INTERACTION.contains(&keyword) {
+        "musclefem takes contact and ties from the scene file's interactions"
+    } else if keyword.contains("OUTPUT")
+        || keyword.contains("PRINT")
+        || keyword.contains("FILE")
+        || ["MONITOR", "RESTART", "DIAGNOSTICS"].contains(&keyword)
+    {
+        "musclefem writes the output its scene file's [output] asks for"
+    } else if keyword.contains("SECTION") || keyword == "HOURGLASS STIFFNESS" {
+        "musclefem takes each part's element and material from the scene file"
+    } else if keyword == "PREPRINT" {
+        "a printing option of Abaqus"
+    } else {
+        "musclefem takes loads, boundary conditions and steps from the scene file"
+    }
+}
 
 /// What the reader does with a keyword (upper case, single spaces).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -229,6 +317,10 @@ mod tests {
         assert_eq!(nearest("MATERAIL"), "MATERIAL");
         assert_eq!(classify("NGEN"), Class::Refused);
         assert_eq!(classify("STEP"), Class::Skipped);
+        assert_eq!(classify("TRANSFORM"), Class::Refused);
+        assert!(skip_reason("STEP").contains("steps"));
+        assert!(skip_reason("DENSITY").contains("materials"));
+        assert!(skip_reason("NODE OUTPUT").contains("[output]"));
         assert_eq!(classify("FOO"), Class::Unknown);
         assert_eq!(element_shape("C3D8R"), Some(ElementShape::Hex8));
         assert_eq!(element_shape("C3D20"), None);

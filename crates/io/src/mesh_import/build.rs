@@ -8,7 +8,12 @@ use std::path::PathBuf;
 
 use musclefem_mesh::{ElementBlock, ElementRef, ElementShape, Face, Mesh, MeshError, Nodes};
 
-use super::{ImportError, ImportedMesh, SkippedKeyword};
+use super::{ImportError, ImportWarning, ImportedMesh, SkippedKeyword};
+
+mod fibers;
+mod surface_elements;
+
+pub(crate) use surface_elements::RawSurfaceElement;
 
 /// A place in the input: file index into [`RawMesh::files`] and 1-based line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -56,6 +61,35 @@ pub(crate) struct RawMesh {
     /// Surfaces: entries are element labels (or ranges), each with a 0-based face.
     pub surfaces: Vec<(String, Vec<(Entry, u8)>)>,
     pub skipped: Vec<(Loc, String)>,
+    /// Warnings: place, keyword or section, message.
+    pub warnings: Vec<(Loc, String, String)>,
+    /// Fibers given to element sets by the file (Abaqus `*ORIENTATION`).
+    pub fiber_assignments: Vec<FiberAssignment>,
+    /// 2-D elements (Abaqus R3D3, S4, M3D3, ...) read as surfaces.
+    pub surface_elements: Vec<RawSurfaceElement>,
+}
+
+/// The fibers of a set of elements.
+#[derive(Debug)]
+pub(crate) struct FiberAssignment {
+    pub elements: Vec<Entry>,
+    /// The `*SOLID SECTION` line.
+    pub section: Loc,
+    /// How `check` names the source, e.g. `*ORIENTATION ORI (deck.inp:12)`.
+    pub source: String,
+    pub rule: FiberRule,
+}
+
+#[derive(Debug)]
+pub(crate) enum FiberRule {
+    /// One unit direction for all.
+    Uniform([f64; 3]),
+    /// A unit direction per element (`*DISTRIBUTION`), with the default for the others.
+    PerElement {
+        distribution: String,
+        default: Option<[f64; 3]>,
+        per_element: Vec<(Entry, [f64; 3])>,
+    },
 }
 
 impl RawMesh {
@@ -148,6 +182,8 @@ impl RawMesh {
                 })?;
             blocks.push(block);
         }
+        let mut warnings = Vec::new();
+        let targets = self.surface_targets(&element_ids, &mut warnings)?;
         let mut mesh = Mesh::new(self.nodes.clone(), blocks);
         for (name, entries) in &self.node_sets {
             let mut ids = self.resolve(entries, &node_ids, "node set", name, "node")?;
@@ -155,8 +191,16 @@ impl RawMesh {
             ids.dedup();
             mesh.node_sets.insert(name.clone(), ids);
         }
+        let mut element_surfaces = Vec::new();
         for (name, entries) in &self.element_sets {
-            let mut refs = self.resolve(entries, &element_ids, "element set", name, "element")?;
+            let all = self.resolve(entries, &targets, "element set", name, "element")?;
+            let mut refs: Vec<ElementRef> = all.iter().filter_map(|t| t.volume()).collect();
+            if refs.len() < all.len() {
+                element_surfaces.push((name.clone(), all));
+                if refs.is_empty() {
+                    continue;
+                }
+            }
             refs.sort_unstable();
             refs.dedup();
             mesh.element_sets.insert(name.clone(), refs);
@@ -194,8 +238,26 @@ impl RawMesh {
             faces.dedup();
             mesh.surfaces.insert(name.clone(), faces);
         }
+        self.add_element_surfaces(&mut mesh, &node_ids, &targets, element_surfaces)?;
+        let fiber_sources = self.apply_fibers(&mut mesh, &element_ids, &mut warnings)?;
         mesh.validate().map_err(|e| self.translate(e, &main_file))?;
+        warnings.extend(
+            self.warnings
+                .iter()
+                .map(|(loc, keyword, message)| (*loc, keyword.clone(), message.clone())),
+        );
+        warnings.sort_by_key(|(loc, _, _)| (loc.file, loc.line));
         Ok(ImportedMesh {
+            fiber_sources,
+            warnings: warnings
+                .into_iter()
+                .map(|(loc, keyword, message)| ImportWarning {
+                    file: self.file(loc),
+                    line: loc.line as usize,
+                    keyword,
+                    message,
+                })
+                .collect(),
             node_labels: self.node_labels.clone(),
             element_labels: self.blocks.iter().map(|b| b.labels.clone()).collect(),
             element_types: self.blocks.iter().map(|b| b.type_name.clone()).collect(),
@@ -221,7 +283,7 @@ impl RawMesh {
     }
 
     /// The ids of the entries of a set; an unknown label is an error at its line.
-    fn resolve<T: Copy>(
+    pub(crate) fn resolve<T: Copy>(
         &self,
         entries: &[Entry],
         ids: &HashMap<i64, T>,

@@ -1,8 +1,12 @@
-//! Gmsh mesh files (`.msh`), format 4.1 in ASCII.
+//! Gmsh mesh files (`.msh`): format 4.1 in ASCII or binary, format 2.2 in ASCII.
 //!
-//! Read sections: `$MeshFormat` (must say `4.1 0 8`), `$PhysicalNames`, `$Entities`,
-//! `$Nodes` (parametric coordinates are read over), `$Elements`. Other sections
-//! (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to their `$End...` line.
+//! Read sections: `$MeshFormat` (`4.1 0 8`, `4.1 1 8` or `2.2 0 8`), `$PhysicalNames`,
+//! `$Entities` (4.1), `$Nodes` (parametric coordinates are read over), `$Elements`.
+//! Other sections (`$Periodic`, `$NodeData`, `$Comments`, ...) are skipped up to their
+//! `$End...` line. A 4.1 binary file (little-endian, `size_t` of 8 bytes) is read by
+//! [`read_gmsh`] and [`parse_gmsh_bytes`] (not [`parse_gmsh`], which takes text); in a 2.2 file the first tag of
+//! an element is its physical group (0: none) and the second its elementary entity, and
+//! everything below applies with the element's physical group as the entity's.
 //!
 //! - Volume elements: Gmsh types 4 (tet4), 5 (hex8) and 11 (tet10), one line each. Node
 //!   order: tet4 and hex8 are Abaqus's; Gmsh's tet10 puts its mid-edge nodes on the edges
@@ -19,94 +23,107 @@
 //!   Unnamed groups are named `physical_DIM_TAG`.
 //! - Points and lines (dimensions 0 and 1) only contribute to node sets.
 //!
-//! Refused: binary files (save with `Mesh.Binary = 0`), format versions other than 4.1
-//! (save with `Mesh.MshFileVersion = 4.1`).
+//! Refused: 2.2 binary files, big-endian binary files, other versions (save with
+//! `Mesh.MshFileVersion = 4.1`, or as ASCII with `Mesh.Binary = 0`).
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use musclefem_mesh::ElementShape;
 
-use super::build::{Entry, Loc, Member, RawBlock, RawMesh};
+use super::build::{Entry, Loc, RawMesh};
 use super::{ImportError, ImportedMesh, read_bytes, utf8};
 
+mod binary;
+mod elements;
 mod faces;
+mod v2;
+mod v4;
 
-/// Reads a Gmsh 4.1 ASCII file.
+/// Reads a Gmsh file: 4.1 (ASCII or binary) or 2.2 (ASCII).
 pub fn read_gmsh(path: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
     let path = path.as_ref();
-    let bytes = read_bytes(path)?;
-    let text = match String::from_utf8(bytes) {
-        Ok(text) => text,
-        Err(e) => {
-            // A binary file has a text header: say what it is rather than "not UTF-8".
-            let bytes = e.into_bytes();
-            let head = String::from_utf8_lossy(bytes.get(..64).unwrap_or(&bytes)).into_owned();
-            let mut lines = head.lines();
-            if lines.next().map(str::trim) == Some("$MeshFormat")
-                && let Some(format) = lines.next()
-            {
-                check_format(format).map_err(|m| ImportError::Parse {
-                    file: path.to_path_buf(),
-                    line: 2,
-                    message: m,
-                })?;
-            }
-            utf8(bytes, path)?
-        }
-    };
-    parse_gmsh(&text, path)
+    parse_gmsh_bytes(read_bytes(path)?, path)
 }
 
-/// Reads Gmsh 4.1 ASCII text already in memory; `name` is used in error messages.
+/// Reads the bytes of a Gmsh file (4.1 ASCII or binary, 2.2 ASCII) already in memory;
+/// `name` is used in error messages.
+pub fn parse_gmsh_bytes(
+    bytes: Vec<u8>,
+    name: impl AsRef<Path>,
+) -> Result<ImportedMesh, ImportError> {
+    let path = name.as_ref();
+    // The header is text in every encoding: it says whether the rest is binary.
+    let head = String::from_utf8_lossy(bytes.get(..64).unwrap_or(&bytes)).into_owned();
+    let mut lines = head.lines();
+    if lines.next().map(str::trim) == Some("$MeshFormat")
+        && let Some(format) = lines.next()
+    {
+        let format = check_format(format).map_err(|m| ImportError::Parse {
+            file: path.to_path_buf(),
+            line: 2,
+            message: m,
+        })?;
+        if format == Format::Binary41 {
+            return binary::parse(&bytes, path);
+        }
+    }
+    parse_gmsh(&utf8(bytes, path)?, path)
+}
+
+/// Reads Gmsh ASCII text (4.1 or 2.2) already in memory; `name` is used in error
+/// messages.
 pub fn parse_gmsh(text: &str, name: impl AsRef<Path>) -> Result<ImportedMesh, ImportError> {
-    let mut reader = Reader {
-        raw: RawMesh {
-            files: vec![name.as_ref().to_path_buf()],
-            ..RawMesh::default()
-        },
-        lines: text.lines().enumerate(),
-        last_line: 0,
-        physical_names: HashMap::new(),
-        entity_groups: HashMap::new(),
-        blocks: HashMap::new(),
-        group_nodes: BTreeMap::new(),
-        group_elements: BTreeMap::new(),
-        surface_elements: Vec::new(),
-        group_entries: 0,
-        format_seen: false,
-    };
+    let mut reader = Reader::new(name.as_ref(), text);
     reader.run()?;
     reader.finish()?.build()
 }
 
-/// Errors unless the `$MeshFormat` line is `4.1 0 <size>`.
-fn check_format(line: &str) -> Result<(), String> {
+/// The versions and encodings read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Ascii41,
+    Binary41,
+    Ascii22,
+}
+
+/// The format of the `$MeshFormat` line `version file-type data-size`, or why it is not
+/// read.
+fn check_format(line: &str) -> Result<Format, String> {
     let fields: Vec<&str> = line.split_whitespace().collect();
     let (Some(&version), Some(&file_type)) = (fields.first(), fields.get(1)) else {
         return Err(format!(
             "$MeshFormat: expected 'version file-type data-size', found '{}'",
-            line.trim()
+            short(line.trim())
         ));
     };
-    if version != "4.1" {
-        return Err(format!(
-            "$MeshFormat: version {version} is not supported: only 4.1 is (save with Mesh.MshFileVersion = 4.1)"
-        ));
-    }
-    if file_type != "0" {
-        return Err(
-            "$MeshFormat: binary .msh files are not supported: save as ASCII (Mesh.Binary = 0)"
+    match (version, file_type) {
+        ("4.1", "0") => Ok(Format::Ascii41),
+        ("4.1", "1") if fields.get(2) == Some(&"8") => Ok(Format::Binary41),
+        ("4.1", "1") => Err(format!(
+            "$MeshFormat: binary data size {} is not supported: only 8 (size_t of 64 bits) is",
+            fields.get(2).map_or("(missing)", |s| s)
+        )),
+        ("2.2", "0") => Ok(Format::Ascii22),
+        ("2.2", _) => Err(
+            "$MeshFormat: binary 2.2 files are not supported: save as 4.1 \
+             (Mesh.MshFileVersion = 4.1) or as ASCII (Mesh.Binary = 0)"
                 .into(),
-        );
+        ),
+        _ => Err(format!(
+            "$MeshFormat: version {} is not supported: 4.1 (ASCII or binary) and 2.2 (ASCII) \
+             are (save with Mesh.MshFileVersion = 4.1)",
+            short(version)
+        )),
     }
-    Ok(())
 }
 
 /// A 2-D element on a physical surface, kept to be matched to a volume face.
 struct SurfaceElement {
     tag: i64,
     entity: i64,
+    /// Physical surface groups it belongs to.
+    groups: Vec<i64>,
     /// Corner node tags in the element's order.
     corners: Vec<i64>,
     loc: Loc,
@@ -121,38 +138,36 @@ struct Reader<'t> {
     entity_groups: HashMap<(i64, i64), Vec<i64>>,
     /// Block index by (name, shape).
     blocks: HashMap<(String, ElementShape), usize>,
+    /// Block index by (entity, its first physical group, shape).
+    entity_blocks: HashMap<(i64, Option<i64>, ElementShape), usize>,
     /// Node tags of the elements of each physical group (dim, tag).
     group_nodes: BTreeMap<(i64, i64), Vec<Entry>>,
     group_elements: BTreeMap<(i64, i64), Vec<Entry>>,
     surface_elements: Vec<SurfaceElement>,
-    /// Entries in `group_nodes`, bounded by [`MAX_GROUP_ENTRIES`].
+    /// Entries in `group_nodes`, bounded by [`elements::MAX_GROUP_ENTRIES`].
     group_entries: usize,
-    format_seen: bool,
+    format: Option<Format>,
 }
 
-/// Node entries over all physical groups (an entity in many groups multiplies them).
-const MAX_GROUP_ENTRIES: usize = 1 << 26;
-
-/// Gmsh types of 2-D elements and their number of nodes (corners first).
-fn surface_type(element_type: i64) -> Option<(usize, usize)> {
-    match element_type {
-        2 => Some((3, 3)),
-        9 => Some((6, 3)),
-        20 => Some((9, 3)),
-        21 => Some((10, 3)),
-        3 => Some((4, 4)),
-        16 => Some((8, 4)),
-        10 => Some((9, 4)),
-        _ => None,
-    }
-}
-
-fn volume_type(element_type: i64) -> Option<ElementShape> {
-    match element_type {
-        4 => Some(ElementShape::Tet4),
-        5 => Some(ElementShape::Hex8),
-        11 => Some(ElementShape::Tet10),
-        _ => None,
+impl<'t> Reader<'t> {
+    fn new(name: &Path, text: &'t str) -> Self {
+        Reader {
+            raw: RawMesh {
+                files: vec![name.to_path_buf()],
+                ..RawMesh::default()
+            },
+            lines: text.lines().enumerate(),
+            last_line: 0,
+            physical_names: HashMap::new(),
+            entity_groups: HashMap::new(),
+            blocks: HashMap::new(),
+            entity_blocks: HashMap::new(),
+            group_nodes: BTreeMap::new(),
+            group_elements: BTreeMap::new(),
+            surface_elements: Vec::new(),
+            group_entries: 0,
+            format: None,
+        }
     }
 }
 
@@ -205,7 +220,7 @@ impl Reader<'_> {
 
     fn run(&mut self) -> Result<(), ImportError> {
         loop {
-            let format_seen = self.format_seen;
+            let format_seen = self.format.is_some();
             let header = match self.line("a section") {
                 Ok(line) => line.to_string(),
                 Err(_) if format_seen => return Ok(()),
@@ -217,7 +232,7 @@ impl Reader<'_> {
                     short(&header)
                 )));
             };
-            if !self.format_seen && section != "MeshFormat" {
+            if self.format.is_none() && section != "MeshFormat" {
                 return Err(self.error(format!(
                     "expected $MeshFormat first, found '{}'",
                     short(&header)
@@ -226,11 +241,18 @@ impl Reader<'_> {
             match section {
                 "MeshFormat" => {
                     let line = self.line("the format line")?.to_string();
-                    check_format(&line).map_err(|m| self.error(m))?;
-                    self.format_seen = true;
+                    let format = check_format(&line).map_err(|m| self.error(m))?;
+                    if format == Format::Binary41 {
+                        return Err(self.error(
+                            "$MeshFormat: a binary file given as text: read it with read_gmsh or parse_gmsh_bytes",
+                        ));
+                    }
+                    self.format = Some(format);
                 }
                 "PhysicalNames" => self.physical_names()?,
                 "Entities" => self.entities()?,
+                "Nodes" if self.format == Some(Format::Ascii22) => self.nodes_v2()?,
+                "Elements" if self.format == Some(Format::Ascii22) => self.elements_v2()?,
                 "Nodes" => self.nodes()?,
                 "Elements" => self.elements()?,
                 _ => {}
@@ -257,282 +279,15 @@ impl Reader<'_> {
         let n = self.integers(1, "$PhysicalNames: the number of names")?[0];
         for _ in 0..self.count(n, "$PhysicalNames")? {
             let line = self.line("$PhysicalNames: 'dim tag \"name\"'")?.to_string();
-            let mut fields = line.splitn(3, char::is_whitespace);
-            let dim = fields.next().and_then(|f| f.parse::<i64>().ok());
-            let tag = fields.next().and_then(|f| f.parse::<i64>().ok());
-            let name = fields
-                .next()
-                .map(|f| f.trim().trim_matches('"').to_string());
-            match (dim, tag, name) {
-                (Some(dim), Some(tag), Some(name)) if !name.is_empty() => {
-                    self.physical_names.insert((dim, tag), name);
-                }
-                _ => {
-                    return Err(self.error(format!(
-                        "$PhysicalNames: expected 'dim tag \"name\"', found '{}'",
-                        short(&line)
-                    )));
-                }
-            }
+            let (dim, tag, name) = physical_name(&line).map_err(|m| self.error(m))?;
+            self.physical_names.insert((dim, tag), name);
         }
         Ok(())
-    }
-
-    fn entities(&mut self) -> Result<(), ImportError> {
-        let counts = self.integers(4, "$Entities: numPoints numCurves numSurfaces numVolumes")?;
-        for dim in 0..4 {
-            let n = self.count(counts[dim], "$Entities")?;
-            // Points: tag x y z numPhysical ...; others: tag and a bounding box first.
-            let physical_at = if dim == 0 { 4 } else { 7 };
-            for _ in 0..n {
-                let line = self.line("an entity line")?.to_string();
-                let fields: Vec<&str> = line.split_whitespace().collect();
-                let bad = || {
-                    self.error(format!(
-                        "$Entities: malformed entity of dimension {dim}: '{}'",
-                        short(&line)
-                    ))
-                };
-                let tag = fields
-                    .first()
-                    .and_then(|f| f.parse::<i64>().ok())
-                    .ok_or_else(bad)?;
-                let n_physical = fields
-                    .get(physical_at)
-                    .and_then(|f| f.parse::<usize>().ok())
-                    .ok_or_else(bad)?;
-                let groups: Option<Vec<i64>> = fields
-                    .get(physical_at + 1..(physical_at + 1).saturating_add(n_physical))
-                    .and_then(|g| {
-                        g.iter()
-                            .map(|f| f.parse::<i64>().ok().map(i64::abs))
-                            .collect()
-                    });
-                self.entity_groups
-                    .insert((dim as i64, tag), groups.ok_or_else(bad)?);
-            }
-        }
-        Ok(())
-    }
-
-    fn nodes(&mut self) -> Result<(), ImportError> {
-        let header = self.integers(4, "$Nodes: numEntityBlocks numNodes minNodeTag maxNodeTag")?;
-        let header_loc = self.loc();
-        let (blocks, total) = (
-            self.count(header[0], "$Nodes")?,
-            self.count(header[1], "$Nodes")?,
-        );
-        let first_node = self.raw.node_labels.len();
-        for _ in 0..blocks {
-            let block =
-                self.integers(4, "$Nodes: entityDim entityTag parametric numNodesInBlock")?;
-            if !(0..=3).contains(&block[0]) {
-                return Err(
-                    self.error(format!("$Nodes: entity dimension {} is not 0..3", block[0]))
-                );
-            }
-            let extra = if block[2] != 0 { block[0] as usize } else { 0 };
-            let n = self.count(block[3], "$Nodes: numNodesInBlock")?;
-            let mut tags = Vec::new();
-            for _ in 0..n {
-                let tag = self.integers(1, "$Nodes: a node tag")?[0];
-                if tag <= 0 {
-                    return Err(self.error(format!("$Nodes: node tag {tag} is not positive")));
-                }
-                tags.push((tag, self.loc()));
-            }
-            for &(tag, loc) in &tags {
-                let line = self.line("$Nodes: node coordinates")?.to_string();
-                let values: Option<Vec<f64>> =
-                    line.split_whitespace().map(|f| f.parse().ok()).collect();
-                let x = match values {
-                    Some(v) if v.len() == 3 + extra => v,
-                    _ => {
-                        return Err(self.error(format!(
-                            "$Nodes: node {tag}: expected {} numbers, found '{}'",
-                            3 + extra,
-                            short(&line)
-                        )));
-                    }
-                };
-                if x.iter().any(|c| !c.is_finite()) {
-                    return Err(self.error(format!(
-                        "$Nodes: node {tag}: coordinates '{}' are not finite",
-                        short(&line)
-                    )));
-                }
-                self.raw.node_labels.push(tag);
-                self.raw.nodes.x.push(x[0]);
-                self.raw.nodes.y.push(x[1]);
-                self.raw.nodes.z.push(x[2]);
-                self.raw.node_locs.push(loc);
-            }
-        }
-        let read = self.raw.node_labels.len() - first_node;
-        if read != total {
-            return Err(self.raw.error(
-                header_loc,
-                format!("$Nodes: the header announces {total} nodes, the blocks hold {read}"),
-            ));
-        }
-        Ok(())
-    }
-
-    fn elements(&mut self) -> Result<(), ImportError> {
-        let header = self.integers(4, "$Elements: numEntityBlocks numElements minTag maxTag")?;
-        let header_loc = self.loc();
-        let (blocks, total) = (
-            self.count(header[0], "$Elements")?,
-            self.count(header[1], "$Elements")?,
-        );
-        let mut read = 0usize;
-        for _ in 0..blocks {
-            let block = self.integers(
-                4,
-                "$Elements: entityDim entityTag elementType numElementsInBlock",
-            )?;
-            let (dim, entity, element_type) = (block[0], block[1], block[2]);
-            let n = self.count(block[3], "$Elements: numElementsInBlock")?;
-            let groups = self
-                .entity_groups
-                .get(&(dim, entity))
-                .cloned()
-                .unwrap_or_default();
-            let raw_block = match dim {
-                3 => {
-                    let shape = volume_type(element_type).ok_or_else(|| {
-                        self.error(format!(
-                            "$Elements: element type {element_type} in volume {entity} is not supported \
-                             (supported: 4 tet4, 5 hex8, 11 tet10)"
-                        ))
-                    })?;
-                    Some((self.block(entity, &groups, shape), shape))
-                }
-                2 if !groups.is_empty() => {
-                    if surface_type(element_type).is_none() {
-                        return Err(self.error(format!(
-                            "$Elements: element type {element_type} on physical surface {entity} is not \
-                             supported (supported: 2, 3, 9, 10, 16, 20, 21)"
-                        )));
-                    }
-                    None
-                }
-                _ => None,
-            };
-            for _ in 0..n {
-                let tags = self.integers(2, "$Elements: elementTag nodeTag ...")?;
-                let loc = self.loc();
-                let tag = tags[0];
-                if tags.iter().any(|&t| t <= 0) {
-                    return Err(
-                        self.error(format!("$Elements: element {tag}: tags must be positive"))
-                    );
-                }
-                let nodes = &tags[1..];
-                self.group_entries = self
-                    .group_entries
-                    .saturating_add(groups.len() * nodes.len());
-                if self.group_entries > MAX_GROUP_ENTRIES {
-                    return Err(self.error(format!(
-                        "$Elements: physical groups hold more than {MAX_GROUP_ENTRIES} node entries"
-                    )));
-                }
-                for &g in &groups {
-                    let set = self.group_nodes.entry((dim, g)).or_default();
-                    set.extend(nodes.iter().map(|&l| Entry {
-                        member: Member::Label(l),
-                        loc,
-                    }));
-                }
-                if let Some((b, shape)) = raw_block {
-                    let expected = shape.nodes_per_element();
-                    if nodes.len() != expected {
-                        return Err(self.error(format!(
-                            "$Elements: element {tag} ({shape}): expected {expected} node tags, found {}",
-                            nodes.len()
-                        )));
-                    }
-                    let mut ordered = nodes.to_vec();
-                    if shape == ElementShape::Tet10 {
-                        ordered.swap(8, 9);
-                    }
-                    let block = &mut self.raw.blocks[b];
-                    block.labels.push(tag);
-                    block.nodes.extend(ordered);
-                    block.locs.push(loc);
-                    for &g in &groups {
-                        let set = self.group_elements.entry((3, g)).or_default();
-                        set.push(Entry {
-                            member: Member::Label(tag),
-                            loc,
-                        });
-                    }
-                } else if dim == 2
-                    && !groups.is_empty()
-                    && let Some((count, corners)) = surface_type(element_type)
-                {
-                    if nodes.len() != count {
-                        return Err(self.error(format!(
-                            "$Elements: surface element {tag} (type {element_type}): expected {count} node tags, found {}",
-                            nodes.len()
-                        )));
-                    }
-                    self.surface_elements.push(SurfaceElement {
-                        tag,
-                        entity,
-                        corners: nodes[..corners].to_vec(),
-                        loc,
-                    });
-                }
-            }
-            read += n;
-        }
-        if read != total {
-            return Err(self.raw.error(
-                header_loc,
-                format!("$Elements: the header announces {total} elements, the blocks hold {read}"),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The name of physical group (dim, tag).
-    fn group_name(&self, dim: i64, tag: i64) -> String {
-        self.physical_names
-            .get(&(dim, tag))
-            .cloned()
-            .unwrap_or_else(|| format!("physical_{dim}_{tag}"))
-    }
-
-    /// The block of a volume entity's elements of one shape.
-    fn block(&mut self, entity: i64, groups: &[i64], shape: ElementShape) -> usize {
-        let name = match groups.first() {
-            Some(&g) => self.group_name(3, g),
-            None => format!("volume_{entity}"),
-        };
-        let key = (name.clone(), shape);
-        if let Some(&b) = self.blocks.get(&key) {
-            return b;
-        }
-        let mut unique = name.clone();
-        if self.raw.blocks.iter().any(|b| b.name == unique) {
-            unique = format!("{name}_{shape}");
-        }
-        self.raw.blocks.push(RawBlock {
-            name: unique,
-            type_name: shape.name().to_string(),
-            shape,
-            labels: Vec::new(),
-            nodes: Vec::new(),
-            locs: Vec::new(),
-        });
-        self.blocks.insert(key, self.raw.blocks.len() - 1);
-        self.raw.blocks.len() - 1
     }
 
     /// Turns physical groups into sets and surfaces.
     fn finish(mut self) -> Result<RawMesh, ImportError> {
-        if !self.format_seen {
+        if self.format.is_none() {
             return Err(self.error("no $MeshFormat section"));
         }
         let mut node_sets: BTreeMap<String, Vec<Entry>> = BTreeMap::new();
@@ -550,6 +305,23 @@ impl Reader<'_> {
             .collect();
         self.raw.surfaces = faces::surfaces(&self)?;
         Ok(self.raw)
+    }
+}
+
+/// A `$PhysicalNames` line `dim tag "name"`.
+fn physical_name(line: &str) -> Result<(i64, i64, String), String> {
+    let mut fields = line.splitn(3, char::is_whitespace);
+    let dim = fields.next().and_then(|f| f.parse::<i64>().ok());
+    let tag = fields.next().and_then(|f| f.parse::<i64>().ok());
+    let name = fields
+        .next()
+        .map(|f| f.trim().trim_matches('"').to_string());
+    match (dim, tag, name) {
+        (Some(dim), Some(tag), Some(name)) if !name.is_empty() => Ok((dim, tag, name)),
+        _ => Err(format!(
+            "$PhysicalNames: expected 'dim tag \"name\"', found '{}'",
+            short(line)
+        )),
     }
 }
 

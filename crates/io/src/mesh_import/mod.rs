@@ -1,4 +1,5 @@
-//! Mesh import: Abaqus `.inp` and Gmsh `.msh` (format 4.1, ASCII) into a [`Mesh`].
+//! Mesh import: Abaqus `.inp` and Gmsh `.msh` (4.1 ASCII or binary, 2.2 ASCII) into a
+//! [`Mesh`].
 //!
 //! [`read_mesh`] picks the reader by the file extension (`.inp` → [`read_abaqus`],
 //! `.msh` → [`read_gmsh`]); [`parse_abaqus`] and [`parse_gmsh`] read text already in
@@ -14,7 +15,8 @@
 //! - local node order is Abaqus's (see [`musclefem_mesh::ElementShape`]); Gmsh's
 //!   10-node tetrahedron is reordered (its last two mid-edge nodes are swapped);
 //! - node sets, element sets and surfaces are sorted by id and free of duplicates;
-//! - every fiber direction is e_x (fibers come from elsewhere);
+//! - every fiber direction is e_x, except where an Abaqus `*ORIENTATION` gives one
+//!   ([`ImportedMesh::fiber_sources`] says which blocks);
 //! - the mesh has passed [`Mesh::validate`] (no inverted or degenerate element).
 //!
 //! Errors ([`ImportError`]) never panic and read `FILE:LINE: message`, naming the keyword
@@ -25,6 +27,7 @@ pub mod abaqus;
 mod abaqus_keywords;
 mod build;
 mod error;
+mod face_match;
 pub mod gmsh;
 
 use std::path::{Path, PathBuf};
@@ -33,7 +36,7 @@ use musclefem_mesh::Mesh;
 
 pub use abaqus::{parse_abaqus, read_abaqus, read_abaqus_with};
 pub use error::ImportError;
-pub use gmsh::{parse_gmsh, read_gmsh};
+pub use gmsh::{parse_gmsh, parse_gmsh_bytes, read_gmsh};
 
 /// A mesh read from a file, with the file's labels.
 #[derive(Clone, Debug)]
@@ -50,6 +53,52 @@ pub struct ImportedMesh {
     /// Keywords the reader skipped because they do not describe the mesh (materials,
     /// steps, loads, ...), in file order. Always empty for Gmsh.
     pub skipped_keywords: Vec<SkippedKeyword>,
+    /// What the reader read over or could not place, in file order: every skipped keyword
+    /// with the reason, surface elements on no volume face, partly oriented blocks, ...
+    /// [`summarize_warnings`] groups them for a terminal.
+    pub warnings: Vec<ImportWarning>,
+    /// Where the fibers of each block come from: `Some("*ORIENTATION ORI (file:line)")`
+    /// when every element of the block got its fiber from the file (Abaqus
+    /// `*ORIENTATION`, local 1-axis), `None` when they are the default e_x.
+    pub fiber_sources: Vec<Option<String>>,
+}
+
+/// Something the reader read over without failing, and where.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ImportWarning {
+    /// The file, as given or as named by `*INCLUDE`.
+    pub file: PathBuf,
+    /// 1-based line.
+    pub line: usize,
+    /// The keyword (Abaqus, upper case without the star) or section (Gmsh) concerned.
+    pub keyword: String,
+    /// What was ignored and why.
+    pub message: String,
+}
+
+/// The warnings as lines, one per (keyword, message): the first place, and how many
+/// more times it occurs, e.g. `deck.inp:812: *STEP ignored: ... (and 3 more)`.
+pub fn summarize_warnings(warnings: &[ImportWarning]) -> Vec<String> {
+    let mut lines: Vec<(&ImportWarning, usize)> = Vec::new();
+    for w in warnings {
+        match lines
+            .iter_mut()
+            .find(|(first, _)| first.keyword == w.keyword && first.message == w.message)
+        {
+            Some((_, count)) => *count += 1,
+            None => lines.push((w, 1)),
+        }
+    }
+    lines
+        .into_iter()
+        .map(|(w, count)| {
+            let more = match count {
+                1 => String::new(),
+                n => format!(" (and {} more)", n - 1),
+            };
+            format!("{}:{}: {}{more}", w.file.display(), w.line, w.message)
+        })
+        .collect()
 }
 
 /// A keyword that was read over (Abaqus), and where.

@@ -61,6 +61,9 @@ pub struct Model {
     pub unchecked_plugins: Vec<String>,
     /// Per part: its recorded activation (`None`: the material's own).
     pub activation_histories: Vec<Option<Arc<ActivationHistory>>>,
+    /// Lines on each part's mesh file (in the order of `parts`): its reader's warnings
+    /// (skipped keywords, ...) and where the fibers come from when the file gives them.
+    pub part_notes: Vec<Vec<String>>,
 }
 
 /// Build the model of `scene` (parsed from the file `locator` names). Plugins are loaded
@@ -145,6 +148,7 @@ pub fn build_model(
     let mut mesh = Mesh::new(Default::default(), Vec::new());
     let mut parts = Vec::new();
     let mut part_names: Vec<String> = Vec::new();
+    let mut part_notes: Vec<Vec<String>> = Vec::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -174,8 +178,9 @@ pub fn build_model(
                 format!("density {density} kg/m3 must be positive"),
             ));
         }
-        let part_mesh = part_mesh(entry, technology.shape(), locator)?;
+        let (part_mesh, notes) = part_mesh(entry, technology.shape(), locator)?;
         append_part(&mut mesh, part_mesh, name);
+        part_notes.push(notes);
         parts.push(Part {
             block: parts.len(),
             technology,
@@ -375,6 +380,7 @@ pub fn build_model(
         interactions,
         unchecked_plugins,
         activation_histories,
+        part_notes,
     })
 }
 

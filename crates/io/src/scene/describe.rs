@@ -29,6 +29,12 @@ impl Model {
             if let Some(warning) = size_warning(&self.mesh, part.block) {
                 text += &format!("  warning: part '{name}': {warning}\n");
             }
+            for note in self.part_notes.get(part.block).into_iter().flatten() {
+                match note.strip_prefix("warning: ") {
+                    Some(warning) => text += &format!("  warning: part '{name}': {warning}\n"),
+                    None => text += &format!("  part '{name}': {note}\n"),
+                }
+            }
         }
         text += &format!(
             "  {} nodes; {} prescribed displacement components, {} nodal forces, {} rigid ties\n",

@@ -86,7 +86,8 @@ pub struct PartEntry {
     /// Reference mass density [kg/m³].
     pub density: Spanned<f64>,
     pub mesh: MeshEntry,
-    /// Fiber direction of every element; default along x.
+    /// Fiber direction of every element; default: the mesh file's Abaqus orientations,
+    /// else along x.
     #[serde(default)]
     pub fibers: Option<Spanned<FiberEntry>>,
     /// A recorded activation history driving the part's material (which must have an

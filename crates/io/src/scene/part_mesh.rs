@@ -15,16 +15,30 @@ use super::error::{Locator, SceneError, suggestion};
 use super::format::{FiberEntry, OneOrMany, PartEntry};
 use super::memory;
 use crate::fiber_csv::read_fibers_csv;
-use crate::mesh_import::read_mesh_with;
+use crate::mesh_import::{read_mesh_with, summarize_warnings};
 use musclefem_fibers::{FlowBoundary, FlowSettings, compute_fibers};
 
-/// The mesh of a part (generated, or one block of a file), with its fibers.
+/// What a mesh file says of a part beyond its mesh: where its fibers come from and the
+/// reader's warnings, as lines for `check` and `run`.
+#[derive(Debug, Default)]
+pub(super) struct FileNotes {
+    /// `Some` when the file gives the block's fibers (Abaqus `*ORIENTATION`).
+    fiber_source: Option<String>,
+    warnings: Vec<String>,
+}
+
+/// The mesh of a part (generated, or one block of a file), with its fibers, and the
+/// lines `check` prints about it: the mesh file's warnings, where the fibers come from.
+///
+/// Fibers: the scene's `fibers` table when it has one; otherwise the mesh file's
+/// orientations when it has them; otherwise e_x.
 pub(super) fn part_mesh(
     entry: &PartEntry,
     shape: ElementShape,
     locator: &Locator,
-) -> Result<Mesh, SceneError> {
+) -> Result<(Mesh, Vec<String>), SceneError> {
     let spec = &entry.mesh;
+    let mut notes = FileNotes::default();
     let (mut mesh, labels) = match (&spec.generator, &spec.file) {
         (Some(generator), None) => {
             if let Some(units) = &spec.units {
@@ -38,7 +52,7 @@ pub(super) fn part_mesh(
             (generate_box(entry, generator, locator)?, None)
         }
         (None, Some(file)) => {
-            let (mesh, labels) = read_block(entry, file, locator)?;
+            let (mesh, labels) = read_block(entry, file, locator, &mut notes)?;
             (mesh, Some(labels))
         }
         _ => {
@@ -62,11 +76,25 @@ pub(super) fn part_mesh(
             ),
         ));
     }
-    if let Some(fibers) = &entry.fibers {
-        let directions = fiber_directions(fibers, &mesh, labels.as_deref(), locator)?;
-        mesh.blocks[0].fiber_direction = directions;
+    let mut lines: Vec<String> = notes
+        .warnings
+        .iter()
+        .map(|w| format!("warning: mesh file {w}"))
+        .collect();
+    match (&entry.fibers, notes.fiber_source) {
+        (Some(fibers), source) => {
+            let directions = fiber_directions(fibers, &mesh, labels.as_deref(), locator)?;
+            mesh.blocks[0].fiber_direction = directions;
+            if let Some(source) = source {
+                lines.push(format!(
+                    "fibers from the scene's fibers table (the mesh file's {source} is not used)"
+                ));
+            }
+        }
+        (None, Some(source)) => lines.push(format!("fibers from the mesh file: {source}")),
+        (None, None) => {}
     }
-    Ok(mesh)
+    Ok((mesh, lines))
 }
 
 /// The fiber direction of every element of the part's (one) block: a constant, or read
@@ -229,10 +257,12 @@ fn read_block(
     entry: &PartEntry,
     file: &Spanned<String>,
     locator: &Locator,
+    notes: &mut FileNotes,
 ) -> Result<(Mesh, Vec<i64>), SceneError> {
     let path = locator.resolve(file.span(), file.get_ref())?;
     let imported = read_mesh_with(&path, locator.trust().outside_paths)
         .map_err(|e| locator.error(file.span(), e.to_string()))?;
+    notes.warnings = summarize_warnings(&imported.warnings);
     let mesh = imported.mesh;
     let mut element_labels = imported.element_labels;
     let names: Vec<&str> = mesh.blocks.iter().map(|b| b.name.as_str()).collect();
@@ -276,6 +306,7 @@ fn read_block(
             ));
         }
     };
+    notes.fiber_source = imported.fiber_sources.get(index).cloned().flatten();
     let mut block = mesh.blocks[index].clone();
     // The block's nodes keep the file's order (a mesh written by a study reads back with
     // its own numbering, and with it the implicit solver's ordering and round-off).

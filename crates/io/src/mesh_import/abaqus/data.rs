@@ -1,8 +1,8 @@
 //! The data lines of the Abaqus keywords that define the mesh: `*NODE`, `*ELEMENT`,
 //! `*NSET`, `*ELSET`, `*SURFACE`, `*INSTANCE`.
 
-use super::super::abaqus_keywords::{element_shape, supported_types};
-use super::super::build::{Entry, Member, RawBlock};
+use super::super::abaqus_keywords::{element_shape, supported_types, surface_element};
+use super::super::build::{Entry, Member, RawBlock, RawSurfaceElement};
 use super::{Data, Instance, Keyword, Reader, Scope, SetKind, short};
 use crate::mesh_import::ImportError;
 
@@ -95,6 +95,9 @@ impl Reader {
         self.check_params(keyword, &["TYPE", "ELSET"])?;
         self.mesh_scope(keyword)?;
         let type_name = self.require(keyword, "TYPE")?.to_ascii_uppercase();
+        if let Some((corners, n)) = surface_element(&type_name) {
+            return self.surface_elements(keyword, data, &type_name, corners, n);
+        }
         let shape = element_shape(&type_name).ok_or_else(|| {
             self.error(
                 keyword.loc,
@@ -109,6 +112,31 @@ impl Reader {
         let elset = keyword.get("ELSET").filter(|s| !s.is_empty());
         let block = self.block(&type_name, shape, elset);
         let mut entries = Vec::new();
+        for (l, nodes, loc) in self.element_rows(data, &type_name, n)? {
+            let raw = &mut self.raw.blocks[block];
+            raw.labels.push(l);
+            raw.nodes.extend_from_slice(&nodes);
+            raw.locs.push(loc);
+            entries.push(Entry {
+                member: Member::Label(l),
+                loc,
+            });
+        }
+        match elset {
+            Some(name) => self.add_to(SetKind::Element, name, entries, keyword.loc),
+            None => Ok(()),
+        }
+    }
+
+    /// The rows of an `*ELEMENT`: label, `n` node labels and line (a row may continue on
+    /// the next lines when it ends with a comma).
+    fn element_rows(
+        &self,
+        data: &[Data],
+        type_name: &str,
+        n: usize,
+    ) -> Result<Vec<(i64, Vec<i64>, crate::mesh_import::build::Loc)>, ImportError> {
+        let mut out = Vec::new();
         let mut rows = data.iter();
         while let Some(first) = rows.next() {
             let mut fields = first.fields.clone();
@@ -132,22 +160,44 @@ impl Reader {
                     fields.len().saturating_sub(1)
                 )));
             }
-            let mut nodes = [0i64; 10];
-            for (node, field) in nodes.iter_mut().zip(fields.iter().skip(1)) {
-                *node = label(field).ok_or_else(|| {
+            let mut nodes = Vec::with_capacity(n);
+            for field in fields.iter().skip(1) {
+                nodes.push(label(field).ok_or_else(|| {
                     err(format!(
                         "element {l}: node label '{}' is not a positive integer",
                         short(field)
                     ))
-                })?;
+                })?);
             }
-            let raw = &mut self.raw.blocks[block];
-            raw.labels.push(l);
-            raw.nodes.extend_from_slice(&nodes[..n]);
-            raw.locs.push(first.loc);
+            out.push((l, nodes, first.loc));
+        }
+        Ok(out)
+    }
+
+    /// An `*ELEMENT` of 2-D elements (R3D3, S4, M3D3, ...): kept to become a surface.
+    fn surface_elements(
+        &mut self,
+        keyword: &Keyword,
+        data: &[Data],
+        type_name: &str,
+        corners: usize,
+        n: usize,
+    ) -> Result<(), ImportError> {
+        let elset = keyword.get("ELSET").filter(|s| !s.is_empty());
+        let surface = elset.unwrap_or(type_name).to_string();
+        let mut entries = Vec::new();
+        for (l, nodes, loc) in self.element_rows(data, type_name, n)? {
+            self.raw.surface_elements.push(RawSurfaceElement {
+                label: l,
+                type_name: type_name.to_string(),
+                surface: surface.clone(),
+                nodes,
+                corners,
+                loc,
+            });
             entries.push(Entry {
                 member: Member::Label(l),
-                loc: first.loc,
+                loc,
             });
         }
         match elset {
@@ -194,7 +244,7 @@ impl Reader {
     }
 
     /// The entries of a set named in the data; `instance.set` names a set of the part.
-    fn named(&self, kind: SetKind, name: &str) -> Option<&[Entry]> {
+    pub(super) fn named(&self, kind: SetKind, name: &str) -> Option<&[Entry]> {
         let (names, list) = match kind {
             SetKind::Node => (&self.node_sets, &self.raw.node_sets),
             SetKind::Element => (&self.element_sets, &self.raw.element_sets),

@@ -1,0 +1,116 @@
+//! A part whose Abaqus file carries `*ORIENTATION`s takes its fibers from them when the
+//! scene gives no `fibers` table, and the scene's table wins when it has one; `check`'s
+//! description says which, and lists the keywords the reader ignored.
+
+use musclefem_io::scene::load_scene;
+use musclefem_materials::MaterialLibrary;
+
+/// Two 1 mm hexes along x, fibers by a distribution with a 30° turn about local 3.
+const DECK: &str = "\
+*NODE
+1, 0, 0, 0
+2, 1, 0, 0
+3, 2, 0, 0
+4, 0, 1, 0
+5, 1, 1, 0
+6, 2, 1, 0
+7, 0, 0, 1
+8, 1, 0, 1
+9, 2, 0, 1
+10, 0, 1, 1
+11, 1, 1, 1
+12, 2, 1, 1
+*ELEMENT, TYPE=C3D8, ELSET=MUSCLE
+1, 1, 2, 5, 4, 7, 8, 11, 10
+2, 2, 3, 6, 5, 8, 9, 12, 11
+*NSET, NSET=x0
+1, 4, 7, 10
+*DISTRIBUTION TABLE, NAME=T
+COORD3D, COORD3D
+*DISTRIBUTION, NAME=D, LOCATION=ELEMENT, TABLE=T
+, 1., 0., 0., 0., 1., 0.
+1, 0., 2., 0., -1., 0., 0.
+*ORIENTATION, NAME=ORI
+D
+3, 30.
+*SOLID SECTION, ELSET=MUSCLE, MATERIAL=M, ORIENTATION=ORI
+*STEP
+*BOUNDARY
+1, 1, 3
+*END STEP
+";
+
+fn scene(fibers: &str) -> String {
+    format!(
+        r#"schema_version = 1
+
+[[materials]]
+name = "rubber"
+model = "neo-hookean"
+parameters = {{ mu = 1e4, D = 2e-5 }}
+
+[[parts]]
+name = "muscle"
+material = "rubber"
+element = "hex8-fbar"
+density = 1000.0
+mesh = {{ file = "muscle.inp", units = "mm" }}
+{fibers}
+
+[[displacements]]
+part = "muscle"
+nodes = "x0"
+components = ["x", "y", "z"]
+value = 0.0
+
+[step]
+solver = "implicit"
+duration = 1.0
+implicit = {{ increments = 1 }}
+"#
+    )
+}
+
+#[test]
+fn the_mesh_files_orientations_are_the_fibers_unless_the_scene_gives_them() {
+    let dir = std::env::temp_dir().join(format!("musclefem_mesh_fibers_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("muscle.inp"), DECK).unwrap();
+    let load = |fibers: &str| {
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, scene(fibers)).unwrap();
+        load_scene(&path, &mut MaterialLibrary::with_builtins()).unwrap()
+    };
+
+    let model = load("");
+    // Element 1: cos30 y + sin30 (−x); element 2: cos30 x + sin30 y (by hand).
+    let (c, s) = (0.75f64.sqrt(), 0.5);
+    let fibers = &model.mesh.blocks[0].fiber_direction;
+    assert!((fibers[0] - nalgebra::Vector3::new(-s, c, 0.0)).norm() < 1e-12);
+    assert!((fibers[1] - nalgebra::Vector3::new(c, s, 0.0)).norm() < 1e-12);
+    let description = model.describe();
+    assert!(
+        description.contains("  part 'muscle': fibers from the mesh file: *ORIENTATION ORI ("),
+        "{description}"
+    );
+    assert!(description.contains("muscle.inp:24)\n"), "{description}");
+    assert!(
+        description.contains("  warning: part 'muscle': mesh file ")
+            && description.contains("muscle.inp:28: *STEP ignored: musclefem takes loads"),
+        "{description}"
+    );
+
+    let model = load("fibers = { direction = [0.0, 0.0, 2.0] }");
+    for fiber in &model.mesh.blocks[0].fiber_direction {
+        assert_eq!(fiber.as_slice(), &[0.0, 0.0, 1.0]);
+    }
+    let description = model.describe();
+    assert!(
+        description.contains(
+            "  part 'muscle': fibers from the scene's fibers table (the mesh file's \
+             *ORIENTATION ORI ("
+        ),
+        "{description}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
