@@ -253,3 +253,64 @@ fn summary(path: &Path, mesh: &musclefem_core::mesh::Mesh, types: &[String]) -> 
     }
     Ok(text)
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::*;
+
+    #[derive(Debug, Parser)]
+    struct Wrapper {
+        #[command(flatten)]
+        args: MeshArgs,
+    }
+
+    #[test]
+    fn options_reach_the_script_as_name_equals_value_even_when_negative() {
+        let parsed = Wrapper::try_parse_from([
+            "mesh",
+            "muscle.stl",
+            "--size",
+            "4",
+            "--units",
+            "mm",
+            "--element",
+            "tet4",
+            "--origin-box",
+            "-10,-10,-1,10,10,1",
+            "--origin-plane",
+            "0,0,1,0,0,-1",
+            "--insertion-points",
+            "-1,2,3;4,5,6",
+            "--insertion-radius",
+            "2.5",
+        ])
+        .unwrap()
+        .args;
+        let list = script_arguments(&parsed, Path::new("out/m.msh"));
+        assert_eq!(
+            list,
+            [
+                "muscle.stl",
+                "--out=out/m.msh",
+                "--size=4",
+                "--units=mm",
+                "--element=tet4",
+                "--origin-plane=0,0,1,0,0,-1",
+                "--origin-box=-10,-10,-1,10,10,1",
+                "--insertion-points=-1,2,3;4,5,6",
+                "--insertion-radius=2.5",
+            ]
+        );
+    }
+
+    #[test]
+    fn a_python_without_gmsh_is_refused_with_the_set_up_step() {
+        let error = find_python(Some(Path::new("/nonexistent/python3")))
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("tried /nonexistent/python3"), "{error}");
+        assert!(error.contains("scripts/setup-gmsh.sh"), "{error}");
+    }
+}
