@@ -39,7 +39,7 @@ pub struct MeshArgs {
     /// The closed muscle surface: .stl (ASCII or binary) or .obj, one piece, edge-manifold.
     pub surface: PathBuf,
     /// The volume mesh to write, Gmsh .msh 4.1 ASCII in metres [default: the surface's
-    /// name with .msh].
+    /// file name with .msh, in the current directory].
     #[arg(long, value_name = "FILE.msh")]
     pub out: Option<PathBuf>,
     /// Target element edge length, in --units.
