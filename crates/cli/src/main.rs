@@ -9,6 +9,8 @@
 //!   default protocol;
 //! - `musclefem check SCENE.toml`: read and check a scene file without running it;
 //! - `musclefem run SCENE.toml`: run a scene, writing frames, history and log;
+//! - `musclefem mesh`: a closed surface (STL/OBJ) to a tet4/tet10 Gmsh mesh with origin
+//!   and insertion surfaces, through Gmsh's Python package (`scripts/musclefem_mesh.py`);
 //! - `musclefem fibers`: fiber directions from a flow through a mesh file;
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
 //!   fusiform muscle (see the library's `elongation` module);
@@ -23,6 +25,7 @@ mod bench_command;
 mod commands;
 mod elongate_command;
 mod fibers_command;
+mod mesh_command;
 mod scene_run;
 mod summary;
 mod vumat_command;
@@ -61,6 +64,11 @@ enum Command {
     /// passive and/or active after a 0.5 s isometric hold, pulled at 5 mm/s to 20 % strain;
     /// writes curve.csv (engineering stress vs strain), curve.png and VTU/PVD frames.
     Elongate(elongate_command::ElongateArgs),
+    /// A closed muscle surface (STL or OBJ) to a tet4/tet10 volume mesh through Gmsh
+    /// (Python package gmsh: scripts/setup-gmsh.sh), with the surfaces origin and
+    /// insertion chosen by planes, boxes or points, and outer; writes Gmsh .msh 4.1 in
+    /// metres and prints elements, nodes, volume and each surface's faces and area.
+    Mesh(mesh_command::MeshArgs),
     /// Fiber directions of a muscle mesh from a potential flow between its origin (inlet)
     /// and insertion (outlet): writes fibers.csv (element,cx,cy,cz,fx,fy,fz), fibers.vtu
     /// and fibers.png (arrows in the plane of the centroids' two principal axes); prints
@@ -200,6 +208,7 @@ fn main() -> ExitCode {
         Some(Command::Check(args)) => scene_run::check(&args),
         Some(Command::Run(args)) => scene_run::run(&args),
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
+        Some(Command::Mesh(args)) => mesh_command::mesh(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
         Some(Command::Knee(args)) => commands::knee(&args),
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
