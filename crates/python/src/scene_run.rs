@@ -94,7 +94,10 @@ impl Observer for InMemory<'_> {
     }
 
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
-        match self.columns.record_row(record, Path::new(HISTORY_FILE)) {
+        match self
+            .columns
+            .record_row(record, snapshot, Path::new(HISTORY_FILE))
+        {
             Ok(row) => self.rows.push(row),
             Err(e) => {
                 self.error = Some(e.into());

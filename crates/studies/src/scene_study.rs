@@ -345,8 +345,8 @@ struct History<'a> {
 }
 
 impl Observer for History<'_> {
-    fn record(&mut self, record: &Record, _snapshot: &Snapshot) -> ControlFlow<()> {
-        match self.columns.record_row(record, self.path) {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        match self.columns.record_row(record, snapshot, self.path) {
             Ok(row) => {
                 self.rows.push(row);
                 ControlFlow::Continue(())

@@ -42,6 +42,23 @@ pub struct PartFields {
     pub activation: Option<f64>,
 }
 
+/// The p-quantile (p ∈ [0, 1]) of `values` by linear interpolation between order
+/// statistics: with the n values sorted, v₍ₖ₎, k = 0…n−1, it is
+/// v₍⌊h⌋₎ + (h − ⌊h⌋)(v₍⌊h⌋₊₁₎ − v₍⌊h⌋₎), h = p (n − 1); `None` if there are none. The
+/// paper's peak stress of a muscle is the 0.95-quantile of its elements' von Mises
+/// stresses, each element counted once.
+pub fn percentile(values: &[f64], p: f64) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let h = p.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
+    let below = h.floor() as usize;
+    let above = (below + 1).min(sorted.len() - 1);
+    Some(sorted[below] + (h - below as f64) * (sorted[above] - sorted[below]))
+}
+
 impl PartFields {
     /// Von Mises equivalent stress of each element's mean Cauchy stress [Pa].
     pub fn von_mises(&self) -> Vec<f64> {

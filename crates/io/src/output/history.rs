@@ -29,6 +29,9 @@
 //! traction, the area still bonded, the elastic energy of the law), and the explicit
 //! history ends with `interaction_work_j` (W_c, part of the energy balance).
 //!
+//! With `[output] von_mises_percentile = P`, each part's P-th percentile of its elements'
+//! von Mises stress comes last, `von_mises_p<P>_<part>_pa` ([`VonMisesPercentile`]).
+//!
 //! Units: time [s], force [N], moment [N m] (about the tie's current reference point),
 //! energy [J]; `time_step_s` is the explicit step taken / the implicit increment.
 //! Numbers are written at full precision ([`crate::csv::format_number`]); read them back
@@ -43,11 +46,13 @@ use std::path::{Path, PathBuf};
 
 use musclefem_core::solver::explicit::HistoryRow;
 use musclefem_core::solver::implicit::ImplicitHistoryRow;
-use musclefem_core::solver::{Analysis, InteractionReport, Record};
+use musclefem_core::solver::{Analysis, InteractionReport, Record, Snapshot};
 
 use crate::OutputError;
 use crate::atomic::write_atomically;
 use crate::csv::format_table;
+
+pub use super::stress_percentile::VonMisesPercentile;
 
 /// The energy columns of an explicit history, in order.
 pub const ENERGY_COLUMNS: [&str; 5] = [
@@ -59,7 +64,7 @@ pub const ENERGY_COLUMNS: [&str; 5] = [
 ];
 
 /// Names of a history's reaction columns.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct HistoryColumns {
     /// One name per prescribed displacement (letters, digits, `_`, `-`, `.`).
     pub reactions: Vec<String>,
@@ -67,6 +72,10 @@ pub struct HistoryColumns {
     pub rigid_ties: Vec<String>,
     /// One name per interaction (same characters), in the order given to the solver.
     pub interactions: Vec<String>,
+    /// Each part's von Mises percentile, last (see [`VonMisesPercentile`]); its values
+    /// come from the run's element fields, so only [`HistoryColumns::record_row`] fills
+    /// them.
+    pub von_mises_percentile: Option<VonMisesPercentile>,
 }
 
 impl HistoryColumns {
@@ -76,6 +85,7 @@ impl HistoryColumns {
             reactions,
             rigid_ties,
             interactions: Vec::new(),
+            von_mises_percentile: None,
         }
     }
 
@@ -120,6 +130,7 @@ impl HistoryColumns {
         if !self.interactions.is_empty() {
             columns.push("interaction_work_j".to_string());
         }
+        columns.extend(self.percentile_columns());
         columns.join(",")
     }
 
@@ -133,6 +144,7 @@ impl HistoryColumns {
         columns.extend(self.reaction_columns());
         columns.extend(self.interaction_columns());
         columns.extend(ENERGY_COLUMNS[..3].iter().map(|c| c.to_string()));
+        columns.extend(self.percentile_columns());
         columns.join(",")
     }
 
@@ -145,12 +157,44 @@ impl HistoryColumns {
     }
 
     /// The numbers of a recorded row of either solver, in the order of its header
-    /// ([`header`](Self::header)); errors as [`explicit_row`](Self::explicit_row).
-    pub fn record_row(&self, record: &Record, path: &Path) -> Result<Vec<f64>, OutputError> {
-        match record {
-            Record::Explicit(row) => self.explicit_row(row, path),
-            Record::Implicit(row) => self.implicit_row(row, path),
+    /// ([`header`](Self::header)), the percentile columns from `snapshot`'s element
+    /// fields; errors as [`explicit_row`](Self::explicit_row).
+    pub fn record_row(
+        &self,
+        record: &Record,
+        snapshot: &Snapshot,
+        path: &Path,
+    ) -> Result<Vec<f64>, OutputError> {
+        let mut values = match record {
+            Record::Explicit(row) => self.solver_row(|c| c.explicit_row(row, path))?,
+            Record::Implicit(row) => self.solver_row(|c| c.implicit_row(row, path))?,
+        };
+        if let Some(percentile) = &self.von_mises_percentile {
+            values.extend(percentile.values(snapshot, path)?);
         }
+        Ok(values)
+    }
+
+    /// The solver's part of a row: `row` of these columns without the percentile ones.
+    fn solver_row(
+        &self,
+        row: impl Fn(&HistoryColumns) -> Result<Vec<f64>, OutputError>,
+    ) -> Result<Vec<f64>, OutputError> {
+        if self.von_mises_percentile.is_none() {
+            return row(self);
+        }
+        let solver_columns = HistoryColumns {
+            von_mises_percentile: None,
+            ..self.clone()
+        };
+        row(&solver_columns)
+    }
+
+    /// The percentile columns' names (none without them).
+    fn percentile_columns(&self) -> Vec<String> {
+        self.von_mises_percentile
+            .as_ref()
+            .map_or(Vec::new(), VonMisesPercentile::columns)
     }
 
     /// Check the names (valid, unique); `path` is the file they are for.
@@ -183,6 +227,7 @@ impl HistoryColumns {
     /// The numbers of an explicit row, in header order; errors if the row has another
     /// number of reactions than there are names.
     pub fn explicit_row(&self, row: &HistoryRow, path: &Path) -> Result<Vec<f64>, OutputError> {
+        self.without_percentiles(path)?;
         let mut values = vec![row.time, row.time_step];
         self.push_reactions(
             &mut values,
@@ -212,6 +257,7 @@ impl HistoryColumns {
         row: &ImplicitHistoryRow,
         path: &Path,
     ) -> Result<Vec<f64>, OutputError> {
+        self.without_percentiles(path)?;
         let mut values = vec![row.time, row.increment, row.iterations as f64];
         self.push_reactions(
             &mut values,
@@ -227,6 +273,19 @@ impl HistoryColumns {
             row.energy.external_work,
         ]);
         Ok(values)
+    }
+
+    /// The solver's rows alone cannot fill the percentile columns.
+    fn without_percentiles(&self, path: &Path) -> Result<(), OutputError> {
+        match self.von_mises_percentile {
+            None => Ok(()),
+            Some(_) => Err(data(
+                path,
+                "the von Mises percentile columns need the run's element fields: write the \
+                 rows with record_row"
+                    .into(),
+            )),
+        }
     }
 
     fn push_reactions(
@@ -447,12 +506,11 @@ impl HistoryWriter {
         }
     }
 
-    /// Append a recorded row of either solver (the writer's header must be that solver's).
-    pub fn push_record(&mut self, record: &Record) -> Result<(), OutputError> {
-        match record {
-            Record::Explicit(row) => self.push_explicit(row),
-            Record::Implicit(row) => self.push_implicit(row),
-        }
+    /// Append a recorded row of either solver (the writer's header must be that
+    /// solver's), with its percentile columns from `snapshot`.
+    pub fn push_record(&mut self, record: &Record, snapshot: &Snapshot) -> Result<(), OutputError> {
+        let values = self.columns()?.record_row(record, snapshot, &self.path)?;
+        self.push(values)
     }
 
     /// Append an explicit solver row (needs a writer made by [`explicit`](Self::explicit)).

@@ -27,6 +27,7 @@ pub mod lock;
 pub mod pvd;
 pub mod run_directory;
 pub mod run_writer;
+pub mod stress_percentile;
 pub mod vtu;
 
 pub use checkpoint::{CHECKPOINT_FILE, RunCheckpoint};

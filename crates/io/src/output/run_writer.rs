@@ -211,7 +211,7 @@ impl Observer for RunWriter<'_> {
     }
 
     fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
-        if let Err(e) = self.history.push_record(record) {
+        if let Err(e) = self.history.push_record(record, snapshot) {
             self.write_error = Some(e);
             return ControlFlow::Break(());
         }

@@ -54,6 +54,9 @@ pub struct Model {
     /// Time between frames [s] (`[output] frame_interval`, default `output_interval`).
     pub frame_interval: f64,
     pub write_frames: bool,
+    /// `[output] von_mises_percentile`: each part's percentile P ∈ (0, 100) of its
+    /// elements' von Mises stress as history columns.
+    pub von_mises_percentile: Option<f64>,
     /// Contact and cohesion between surfaces, in the order of the scene file.
     pub interactions: Vec<InteractionModel>,
     /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
@@ -377,6 +380,20 @@ pub fn build_model(
         output_interval: step.output_interval,
         frame_interval: step.frame_interval,
         write_frames: scene.output.frames.unwrap_or(true),
+        von_mises_percentile: match &scene.output.von_mises_percentile {
+            Some(p) if !(*p.get_ref() > 0.0 && *p.get_ref() < 100.0) => {
+                return Err(locator.error(
+                    p.span(),
+                    format!(
+                        "von_mises_percentile = {} must be in (0, 100) (95: the paper's peak \
+                         stress)",
+                        p.get_ref()
+                    ),
+                ));
+            }
+            Some(p) => Some(*p.get_ref()),
+            None => None,
+        },
         interactions,
         unchecked_plugins,
         activation_histories,

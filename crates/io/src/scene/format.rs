@@ -392,4 +392,7 @@ pub struct OutputEntry {
     pub frames: Option<bool>,
     /// Time between frames [s]; default the step's `output_interval`.
     pub frame_interval: Option<Spanned<f64>>,
+    /// Each part's P-th percentile of its elements' von Mises stress in `history.csv`
+    /// (P ∈ (0, 100); the paper's peak stress is P = 95).
+    pub von_mises_percentile: Option<Spanned<f64>>,
 }

@@ -4,6 +4,7 @@
 use super::Analysis;
 use super::build::Model;
 use crate::output::HistoryColumns;
+use crate::output::stress_percentile::VonMisesPercentile;
 
 impl Model {
     /// Run the model under its own analysis, showing `observer` every recorded instant.
@@ -74,9 +75,10 @@ impl Model {
     }
 
     /// The names of the columns of this model's `history.csv`: a reaction per prescribed
-    /// displacement, the rigid ties' forces and moments, and the interactions.
+    /// displacement, the rigid ties' forces and moments, the interactions, and each
+    /// part's von Mises percentile when the scene asks for it.
     pub fn history_columns(&self) -> HistoryColumns {
-        HistoryColumns::new(
+        let mut columns = HistoryColumns::new(
             self.displacement_names.clone(),
             self.loads
                 .rigid_ties
@@ -89,6 +91,17 @@ impl Model {
                 .iter()
                 .map(|i| i.name().to_string())
                 .collect(),
-        )
+        );
+        columns.von_mises_percentile =
+            self.von_mises_percentile.map(|percent| VonMisesPercentile {
+                percent,
+                parts: self
+                    .part_names
+                    .iter()
+                    .zip(&self.parts)
+                    .map(|(name, part)| (name.clone(), part.block))
+                    .collect(),
+            });
+        columns
     }
 }

@@ -27,18 +27,9 @@ pub const PEAK_STRESS_CSV_HEADER: &str = "muscle,knee_angle_deg,phase,activation
 /// The knee angles of the table (seed Fig. 6B) [°].
 pub const TABLE_ANGLES_DEGREES: [f64; 4] = [30.0, 45.0, 60.0, 90.0];
 
-/// The p-quantile of `values` (linear between order statistics); `None` if empty.
-pub fn percentile(values: &[f64], p: f64) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let h = p.clamp(0.0, 1.0) * (sorted.len() - 1) as f64;
-    let below = h.floor() as usize;
-    let above = (below + 1).min(sorted.len() - 1);
-    Some(sorted[below] + (h - below as f64) * (sorted[above] - sorted[below]))
-}
+/// The p-quantile of `values` (linear between order statistics; see the module
+/// documentation); `None` if empty.
+pub use musclefem_core::solver::element_fields::percentile;
 
 /// Where a muscle's most stressed elements (von Mises ≥ its vm95) lie: counts of those
 /// elements at its origin end (flow potential φ > 0.9), at its insertion end (φ < 0.1),
