@@ -25,7 +25,7 @@ const MAX_ARROWS: usize = 3000;
 
 #[derive(Debug, Args)]
 pub struct FibersArgs {
-    /// The muscle mesh: Abaqus .inp or Gmsh .msh 4.1 (coordinates in m).
+    /// The muscle mesh: Abaqus .inp or Gmsh .msh (2.2 ASCII, 4.1 ASCII or binary; coordinates in m).
     #[arg(long, value_name = "FILE")]
     pub mesh: PathBuf,
     /// Origin: a surface (element faces) or node set of the mesh, where the flow enters

@@ -15,7 +15,7 @@ use musclefem_io::mesh_import::read_mesh;
 
 use crate::python_error;
 
-/// The fiber direction of every element of the mesh `mesh` (Abaqus .inp or Gmsh .msh 4.1,
+/// The fiber direction of every element of the mesh `mesh` (Abaqus .inp or Gmsh .msh 2.2/4.1,
 /// metres) from a potential flow entering at the surfaces or node sets `inlet` (the
 /// origin, potential 1) and leaving at `outlet` (the insertion, potential 0), solved to
 /// the relative residual `tolerance`. Returns a dict: `element` (labels as in the file),
