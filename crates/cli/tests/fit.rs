@@ -157,6 +157,56 @@ fn a_passive_fit_through_the_cylinder_recovers_a_material_point_curve() {
     }
 }
 
+/// A multi-start fit (`--design`, the fitted parameter named by the file's header): it
+/// fits from every row, lists each end's residual in fit.txt, keeps the smallest, and
+/// recovers the curve's parameter; a start outside its bounds is refused with its line.
+#[test]
+fn a_design_of_starts_fits_from_each_and_keeps_the_best() {
+    let dir = test_dir("fit", "design");
+    synthetic_curve(&dir, "passive", &["c=450"], "measured");
+    std::fs::write(dir.join("starts.csv"), "\u{feff}c\n300\n700\n").unwrap();
+    let fit = |design: &str, out: &str| {
+        let mut args = vec![
+            "fit",
+            "--data",
+            "measured/curve.csv",
+            "--design",
+            design,
+            "--out",
+            out,
+        ];
+        args.extend_from_slice(&CHEAP_ELONGATION);
+        musclefem(&dir, &args)
+    };
+    let out = fit("starts.csv", "fit");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let [start, c, ..] = fitted(&dir.join("fit/fit.csv"))["c"];
+    assert!((c / 450.0 - 1.0).abs() < 1e-4, "c = {c}");
+    let summary = std::fs::read_to_string(dir.join("fit/fit.txt")).unwrap();
+    assert!(summary.contains("starts = 2 from starts.csv"), "{summary}");
+    // Each start's ending RMS, by its line (2: c = 300, 3: c = 700).
+    let rms = |line: usize| -> f64 {
+        let found = summary
+            .lines()
+            .find(|l| l.contains(&format!("start at line {line}: RMS residual ")))
+            .unwrap_or_else(|| panic!("line {line} in {summary}"));
+        let after = found.split("RMS residual ").nth(1).unwrap();
+        after.split(' ').next().unwrap().parse().unwrap()
+    };
+    let best_line = if rms(2) <= rms(3) { 2 } else { 3 };
+    assert!(
+        summary.contains(&format!("the best from line {best_line}")),
+        "{summary}"
+    );
+    assert_eq!(start, [300.0, 700.0][best_line - 2], "{summary}");
+
+    std::fs::write(dir.join("outside.csv"), "c\n300\n-5\n").unwrap();
+    let refused = fit("outside.csv", "outside");
+    assert!(!refused.status.success());
+    let error = text(&refused.stderr);
+    assert!(error.contains("outside.csv:3"), "{error}");
+}
+
 #[test]
 fn bad_fits_are_refused_by_name() {
     let dir = test_dir("fit", "bad");

@@ -145,6 +145,48 @@ fn a_latin_hypercube_sweep_has_its_samples_and_reproduces_them() {
     }
 }
 
+/// A user's design (Excel's "CSV UTF-8" with a byte-order mark, `;` separators and a
+/// decimal comma, columns in another order than the runs'): exactly its rows run, in its
+/// order, and sweep.csv holds their values.
+#[test]
+fn a_design_file_runs_exactly_its_parameter_sets() {
+    let dir = test_dir("sweep", "design");
+    std::fs::write(
+        dir.join("design.csv"),
+        "\u{feff}A;sigma0\r\n4;7e5\r\n3,5;5e5\r\n\r\n5;9e5\r\n",
+    )
+    .unwrap();
+    let out = sweep(&dir, &["--design", "design.csv", "--out", "study"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let table = std::fs::read_to_string(dir.join("study/sweep.csv")).unwrap();
+    assert!(table.starts_with("run,A,sigma0,status,"), "{table}");
+    let rows = rows(&dir.join("study/sweep.csv"));
+    let expected = [(4.0, 7e5), (3.5, 5e5), (5.0, 9e5)];
+    assert_eq!(rows.len(), expected.len(), "{table}");
+    for (run, (row, (pe, sigma0))) in rows.iter().zip(expected).enumerate() {
+        assert_eq!(row[0], run.to_string());
+        assert_eq!(row[1].parse::<f64>().unwrap(), pe, "{row:?}");
+        assert_eq!(row[2].parse::<f64>().unwrap(), sigma0, "{row:?}");
+        assert_eq!(row[3], "ok", "{row:?}");
+    }
+    // A bad value is named with its line; --design and --vary do not go together.
+    std::fs::write(dir.join("bad.csv"), "A,sigma0\n4,7e5\n3,x\n").unwrap();
+    let bad = sweep(&dir, &["--design", "bad.csv", "--out", "bad"]);
+    assert!(!bad.status.success());
+    assert!(
+        text(&bad.stderr).contains("bad.csv:3"),
+        "{}",
+        text(&bad.stderr)
+    );
+    let both = sweep(&dir, &["--design", "design.csv", "--vary", "b=1,2"]);
+    assert!(!both.status.success());
+    assert!(
+        text(&both.stderr).contains("--vary"),
+        "{}",
+        text(&both.stderr)
+    );
+}
+
 #[test]
 fn bad_sweeps_are_refused_with_the_flag_named() {
     let dir = test_dir("sweep", "bad");

@@ -66,12 +66,20 @@ pub fn parse_delimited(text: &str) -> Result<DelimitedTable, DelimitedError> {
         .from_reader(text.as_bytes());
     let mut names = None;
     let mut rows = Vec::new();
+    // The line of a record from its byte offset: the csv crate's own line count skips
+    // blank lines and miscounts Windows line ends, and a record's offset is that of the
+    // blank lines before it.
+    let line_at = |p: &csv::Position| {
+        let start = (p.byte() as usize).min(text.len());
+        let skipped = text[start..].len() - text[start..].trim_start_matches(['\r', '\n']).len();
+        text[..start + skipped].matches('\n').count() + 1
+    };
     for record in reader.records() {
         let record = record.map_err(|e| DelimitedError {
-            line: e.position().map_or(0, |p| p.line() as usize),
+            line: e.position().map_or(0, line_at),
             message: e.to_string(),
         })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+        let line = record.position().map_or(0, line_at);
         if record.iter().all(str::is_empty) {
             continue;
         }
@@ -178,6 +186,16 @@ mod tests {
             assert_eq!(table.separator, separator, "{text:?}");
             assert_eq!(table.names, expected.names, "{text:?}");
             assert_eq!(numbers(&table), numbers(&expected), "{text:?}");
+        }
+    }
+
+    /// A row's line counts the blank lines before it, with Unix or Windows line ends.
+    #[test]
+    fn lines_count_blank_lines_and_windows_line_ends() {
+        for text in ["a;b\n1;2\n\n3;4\n", "\u{feff}a;b\r\n1;2\r\n\r\n3;4\r\n"] {
+            let table = parse_delimited(text).unwrap();
+            let lines: Vec<usize> = table.rows.iter().map(|r| r.line).collect();
+            assert_eq!(lines, [2, 4], "{text:?}");
         }
     }
 

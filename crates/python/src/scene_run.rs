@@ -232,6 +232,7 @@ pub(crate) fn run_into(
         model.fingerprint(scene_text, &model.analysis),
         &mut progress,
     )?;
+    let writer = writer.with_rigid_bodies(model.rigid_body_frames());
     writer.directory().write_scene(scene_text)?;
     // A log from the start, rewritten with how the run ended (as `musclefem run`'s).
     let settings = |end: &str| {

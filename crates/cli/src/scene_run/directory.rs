@@ -1,6 +1,6 @@
 //! A scene's model run into a run directory: the one loop behind `musclefem run` and
 //! `musclefem elongate` (which writes its test as a scene and runs it here). Frames,
-//! `result.pvd`, `history.csv`, checkpoints, the scene copy (with the files it names
+//! `result.pvd` (and the rigid bodies' `rigid.pvd`), `history.csv`, checkpoints, the scene copy (with the files it names
 //! beside it) and `run.log` are written by `musclefem_io::output::RunWriter`; a progress
 //! bar (or, without a terminal, a log line every tenth of the run) follows the
 //! simulated time, and Ctrl-C stops the run after its last complete frame.
@@ -84,7 +84,7 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
     )?;
     let frames = FrameSchedule::new(model.frame_interval, duration, &[]);
     let fingerprint = model.fingerprint(job.scene_text, &model.analysis);
-    let (mut writer, resumed) = RunWriter::open(
+    let (writer, resumed) = RunWriter::open(
         job.out,
         job.start,
         &model.mesh,
@@ -97,6 +97,7 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
         OutputError::Resume { .. } => anyhow::Error::from(e),
         e => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
     })?;
+    let mut writer = writer.with_rigid_bodies(model.rigid_body_frames());
     for (name, text) in job.beside {
         write_atomically(&job.out.join(name), text.as_bytes())?;
     }

@@ -8,6 +8,8 @@
 //! - [`vtu`]: [`write_vtu`], the VTU file of a frame (cell types, node orders, array
 //!   names and units are documented there);
 //! - [`pvd`]: [`write_pvd`] / [`read_pvd`], ParaView's time-series index;
+//! - [`rigid_frames`]: [`RigidBodyFrame`], the rigid bodies at their pose in every
+//!   frame, a second series `rigid.pvd`;
 //! - [`history`]: [`HistoryColumns`] and [`HistoryWriter`], CSV histories of the explicit
 //!   and implicit solvers;
 //! - [`run_directory`]: [`RunDirectory`], which lays all of these out in one directory
@@ -25,6 +27,7 @@ pub mod frame_schedule;
 pub mod history;
 pub mod lock;
 pub mod pvd;
+pub mod rigid_frames;
 pub mod run_directory;
 pub mod run_writer;
 pub mod stress_percentile;
@@ -37,6 +40,7 @@ pub use frame_schedule::{FrameInstants, FrameSchedule};
 pub use history::{HistoryColumns, HistoryWriter, write_explicit_history, write_implicit_history};
 pub use lock::OutputLock;
 pub use pvd::{PvdEntry, read_pvd, write_pvd};
+pub use rigid_frames::{RigidBodyFrame, encode_rigid_vtu};
 pub use run_directory::{ExistingResults, HISTORY_FILE, RunDirectory, RunLog, state_frame};
 pub use run_writer::{
     ABORT_AFTER_CHECKPOINT, RunProgress, RunStart, RunWriter, StudyRunWriter, WrittenRun,

@@ -5,6 +5,9 @@
 //!   result.pvd              time series index for ParaView (open this one)
 //!   frames/frame_00000.vtu  one VTU file per frame, numbered from 0 (5 digits, more
 //!   frames/frame_00001.vtu  when there are more than 100000 frames)
+//!   rigid.pvd               with rigid bodies: their time series (open it too)
+//!   frames/rigid_00000.vtu  the rigid bodies at the instant of frame_00000.vtu (see
+//!                           [`super::rigid_frames`])
 //!   history.csv             reactions, energies, time step (see [`super::history`])
 //!   scene.toml              the scene file the run was started with, verbatim
 //!   run.log                 program version, settings, timings, frames written
@@ -17,7 +20,9 @@
 //! VTU file first and rewrites `result.pvd` after it, so `result.pvd` only ever lists
 //! complete frames. If the process dies between the two renames, the last frame's VTU
 //! file exists but is not listed; if rewriting `result.pvd` fails, the frame is not
-//! counted and the next frame takes its number (and file name).
+//! counted and the next frame takes its number (and file name). The rigid bodies' file of
+//! a frame ([`RunDirectory::write_rigid_frame`]) follows it the same way, and a resumed
+//! run cuts both series back to the checkpoint's frames.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -38,6 +43,7 @@ use super::history::{
 };
 use super::lock::OutputLock;
 use super::pvd::{PvdEntry, write_pvd};
+use super::rigid_frames::{RigidBodyFrame, encode_rigid_vtu};
 use super::vtu::write_vtu;
 use crate::OutputError;
 use crate::atomic::write_atomically;
@@ -46,6 +52,8 @@ use crate::atomic::write_atomically;
 pub const PVD_FILE: &str = "result.pvd";
 /// Directory of the frames.
 pub const FRAMES_DIR: &str = "frames";
+/// File name of the rigid bodies' time series index.
+pub const RIGID_PVD_FILE: &str = "rigid.pvd";
 /// File name of the history.
 pub const HISTORY_FILE: &str = "history.csv";
 /// File name of the scene copy.
@@ -68,6 +76,8 @@ pub enum ExistingResults {
 pub struct RunDirectory {
     root: PathBuf,
     frames: Vec<PvdEntry>,
+    /// The rigid bodies' files written so far (one per frame, when there are bodies).
+    rigid: Vec<PvdEntry>,
     created: Instant,
     /// Held for as long as the run writes here: a second run into the same directory
     /// is refused before it deletes or writes anything.
@@ -83,6 +93,7 @@ impl RunDirectory {
             .map_err(|e| OutputError::io("create the directory", &frames_dir, e))?;
         let mut previous: Vec<PathBuf> = [
             PVD_FILE,
+            RIGID_PVD_FILE,
             HISTORY_FILE,
             SCENE_FILE,
             RUN_LOG_FILE,
@@ -96,7 +107,8 @@ impl RunDirectory {
             fs::read_dir(&frames_dir).map_err(|e| OutputError::io("list", &frames_dir, e))?;
         for entry in listing {
             let entry = entry.map_err(|e| OutputError::io("list", &frames_dir, e))?;
-            if is_frame_name(&entry.file_name().to_string_lossy()) {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if is_frame_name(&name) || is_rigid_frame_name(&name) {
                 previous.push(entry.path());
             }
         }
@@ -109,8 +121,8 @@ impl RunDirectory {
                     });
                 }
                 ExistingResults::Replace => {
-                    // `previous` starts with result.pvd when there is one: no listing
-                    // of deleted frames survives.
+                    // `previous` starts with result.pvd and rigid.pvd when there are
+                    // some: no listing of deleted frames survives.
                     for path in &previous {
                         fs::remove_file(path).map_err(|e| OutputError::io("remove", path, e))?;
                     }
@@ -120,29 +132,43 @@ impl RunDirectory {
         Ok(Self {
             root: root.to_path_buf(),
             frames: Vec::new(),
+            rigid: Vec::new(),
             created: Instant::now(),
             _lock: lock,
         })
     }
 
     /// Reopen `root`, locked, to go on from a checkpoint that lists `frames`: the frame
-    /// files written after them are removed and `result.pvd` lists those frames again.
-    /// The history is the caller's (its rows are in the checkpoint).
+    /// files written after them are removed and `result.pvd` lists those frames again;
+    /// so do the rigid bodies' files and `rigid.pvd`, if the run has written some. The
+    /// history is the caller's (its rows are in the checkpoint).
     pub fn resume(root: &Path, frames: Vec<PvdEntry>) -> Result<Self, OutputError> {
         let lock = OutputLock::acquire(root)?;
         let frames_dir = root.join(FRAMES_DIR);
-        let kept: std::collections::HashSet<&str> = frames
-            .iter()
+        // Frame i's rigid bodies are in rigid_file(i), written before the checkpoint.
+        let rigid: Vec<PvdEntry> = (frames.iter().enumerate())
+            .map(|(i, f)| PvdEntry {
+                time: f.time,
+                file: Self::rigid_file(i),
+            })
+            .filter(|r| root.join(&r.file).is_file())
+            .collect();
+        let kept: std::collections::HashSet<&str> = (frames.iter().chain(&rigid))
             .filter_map(|f| f.file.strip_prefix(&format!("{FRAMES_DIR}/")))
             .collect();
         let listing =
             fs::read_dir(&frames_dir).map_err(|e| OutputError::io("list", &frames_dir, e))?;
         let pvd = root.join(PVD_FILE);
         write_pvd(&pvd, &frames)?;
+        let rigid_pvd = root.join(RIGID_PVD_FILE);
+        if !rigid.is_empty() || rigid_pvd.exists() {
+            write_pvd(&rigid_pvd, &rigid)?;
+        }
         for entry in listing {
             let entry = entry.map_err(|e| OutputError::io("list", &frames_dir, e))?;
             let name = entry.file_name().to_string_lossy().into_owned();
-            if is_frame_name(&name) && !kept.contains(name.as_str()) {
+            let written = is_frame_name(&name) || is_rigid_frame_name(&name);
+            if written && !kept.contains(name.as_str()) {
                 fs::remove_file(entry.path())
                     .map_err(|e| OutputError::io("remove", entry.path(), e))?;
             }
@@ -150,6 +176,7 @@ impl RunDirectory {
         Ok(Self {
             root: root.to_path_buf(),
             frames,
+            rigid,
             created: Instant::now(),
             _lock: lock,
         })
@@ -191,9 +218,50 @@ impl RunDirectory {
         format!("{FRAMES_DIR}/frame_{index:05}.vtu")
     }
 
+    /// Path of the rigid bodies' file of frame number `index`, relative to the root
+    /// (`frames/rigid_00042.vtu`).
+    pub fn rigid_file(index: usize) -> String {
+        format!("{FRAMES_DIR}/rigid_{index:05}.vtu")
+    }
+
     /// The frames written so far (time and file relative to the root).
     pub fn frames(&self) -> &[PvdEntry] {
         &self.frames
+    }
+
+    /// The rigid bodies' files written so far (time and file relative to the root).
+    pub fn rigid_frames(&self) -> &[PvdEntry] {
+        &self.rigid
+    }
+
+    /// Write `bodies` at their pose at the time of the last frame written, as that
+    /// frame's rigid file (`frames/rigid_NNNNN.vtu`, the number of the frame), then
+    /// rewrite `rigid.pvd` to list it. Nothing without bodies. Returns the file's path.
+    pub fn write_rigid_frame(
+        &mut self,
+        bodies: &[RigidBodyFrame<'_>],
+    ) -> Result<Option<PathBuf>, OutputError> {
+        let (Some(frame), false) = (self.frames.last(), bodies.is_empty()) else {
+            return Ok(None);
+        };
+        let index = self.frames.len() - 1;
+        let file = Self::rigid_file(index);
+        let path = self.root.join(&file);
+        let time = frame.time;
+        if self.rigid.last().is_some_and(|last| last.time >= time) {
+            return Err(OutputError::Data {
+                path,
+                message: format!("the rigid bodies at {time} s were written already"),
+            });
+        }
+        let bytes = encode_rigid_vtu(&path, time, bodies)?;
+        write_atomically(&path, &bytes)?;
+        self.rigid.push(PvdEntry { time, file });
+        if let Err(e) = write_pvd(&self.root.join(RIGID_PVD_FILE), &self.rigid) {
+            self.rigid.pop();
+            return Err(e);
+        }
+        Ok(Some(path))
     }
 
     /// Time since [`create`](Self::create).
@@ -305,7 +373,17 @@ impl RunDirectory {
 
 /// Whether `name` is a frame file name: `frame_`, digits, `.vtu`.
 fn is_frame_name(name: &str) -> bool {
-    name.strip_prefix("frame_")
+    numbered(name, "frame_")
+}
+
+/// Whether `name` is a rigid bodies' file name: `rigid_`, digits, `.vtu`.
+fn is_rigid_frame_name(name: &str) -> bool {
+    numbered(name, "rigid_")
+}
+
+/// Whether `name` is `prefix`, digits, `.vtu`.
+fn numbered(name: &str, prefix: &str) -> bool {
+    name.strip_prefix(prefix)
         .and_then(|rest| rest.strip_suffix(".vtu"))
         .is_some_and(|digits| !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()))
 }
@@ -400,6 +478,10 @@ mod tests {
         assert!(!is_frame_name(".frame_00042.vtu.1-2.tmp.vtu"));
         assert!(!is_frame_name("frame_.vtu"));
         assert!(!is_frame_name("frame_1a.vtu"));
+        assert_eq!(RunDirectory::rigid_file(7), "frames/rigid_00007.vtu");
+        assert!(is_rigid_frame_name("rigid_00007.vtu"));
+        assert!(!is_rigid_frame_name("frame_00007.vtu"));
+        assert!(!is_frame_name("rigid_00007.vtu"));
     }
 
     #[test]

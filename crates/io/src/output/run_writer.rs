@@ -1,5 +1,6 @@
 //! [`RunWriter`]: a solver run written into its run directory as it goes — the history
-//! from the first row on, the frames on a [`FrameSchedule`], a checkpoint after every
+//! from the first row on, the frames on a [`FrameSchedule`] (with the rigid bodies of
+//! [`RunWriter::with_rigid_bodies`] at their pose, `rigid.pvd`), a checkpoint after every
 //! frame — and every recorded instant and step shown to a [`RunProgress`] (a progress
 //! bar, Ctrl-C). A run started again with [`RunStart::Resume`] continues from the
 //! directory's checkpoint (see [`super::checkpoint`]). A study that observes the run
@@ -15,6 +16,7 @@ use musclefem_core::solver::{Checkpoint, Observer, Record, Snapshot, SolverError
 use super::checkpoint::{CHECKPOINT_FILE, RunCheckpoint};
 use super::frame_schedule::{FrameInstants, FrameSchedule};
 use super::history::HistoryWriter;
+use super::rigid_frames::RigidBodyFrame;
 use super::run_directory::{ExistingResults, RunDirectory};
 use crate::OutputError;
 
@@ -69,6 +71,8 @@ pub struct WrittenRun {
 /// Writes a run's directory as the run goes (see the module documentation).
 pub struct RunWriter<'a> {
     mesh: &'a Mesh,
+    /// Written at their pose with every frame (none: no `rigid.pvd`).
+    rigid_bodies: Vec<RigidBodyFrame<'a>>,
     directory: RunDirectory,
     history: HistoryWriter,
     write_frames: bool,
@@ -134,6 +138,7 @@ impl<'a> RunWriter<'a> {
         };
         let writer = RunWriter {
             mesh,
+            rigid_bodies: Vec::new(),
             directory,
             history,
             write_frames,
@@ -149,6 +154,13 @@ impl<'a> RunWriter<'a> {
             progress,
         };
         Ok((writer, solver))
+    }
+
+    /// The writer with `bodies` written at their pose at every frame, as a second series
+    /// `rigid.pvd` (see [`super::rigid_frames`]).
+    pub fn with_rigid_bodies(mut self, bodies: Vec<RigidBodyFrame<'a>>) -> Self {
+        self.rigid_bodies = bodies;
+        self
     }
 
     /// The run directory.
@@ -189,13 +201,17 @@ impl<'a> RunWriter<'a> {
                     return ControlFlow::Break(());
                 }
             };
-            if let Err(e) = self.directory.write_state_frame(
-                self.mesh,
-                snapshot.time,
-                snapshot.displacement,
-                &parts,
-                &snapshot.nodal_fields(),
-            ) {
+            let written = self
+                .directory
+                .write_state_frame(
+                    self.mesh,
+                    snapshot.time,
+                    snapshot.displacement,
+                    &parts,
+                    &snapshot.nodal_fields(),
+                )
+                .and_then(|_| self.directory.write_rigid_frame(&self.rigid_bodies));
+            if let Err(e) = written {
                 self.write_error = Some(e);
                 return ControlFlow::Break(());
             }

@@ -43,6 +43,8 @@ pub struct Model {
     pub parts: Vec<Part>,
     /// Part names, in the order of `parts` (part i is block i of the mesh).
     pub part_names: Vec<String>,
+    /// The name of each part's material, in the order of `parts`.
+    pub material_names: Vec<String>,
     pub loads: Loads,
     /// A name for each prescribed displacement of `loads`, e.g. "cube.x1.x".
     pub displacement_names: Vec<String>,
@@ -59,6 +61,9 @@ pub struct Model {
     pub von_mises_percentile: Option<f64>,
     /// Contact and cohesion between surfaces, in the order of the scene file.
     pub interactions: Vec<InteractionModel>,
+    /// The rigid bodies, in the order of the scene file (the frames show them; the
+    /// interactions hold their own copies).
+    pub rigid_bodies: Vec<musclefem_contact::RigidSurface>,
     /// Materials whose plugin `check` did not load (a neo-Hookean stood in for them), as
     /// "material (plugin file)".
     pub unchecked_plugins: Vec<String>,
@@ -152,6 +157,7 @@ pub fn build_model(
     let mut parts = Vec::new();
     let mut part_names: Vec<String> = Vec::new();
     let mut part_notes: Vec<Vec<String>> = Vec::new();
+    let mut material_names: Vec<String> = Vec::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -191,6 +197,7 @@ pub fn build_model(
             density,
         });
         part_names.push(name.clone());
+        material_names.push(entry.material.get_ref().clone());
     }
 
     if parts.is_empty() {
@@ -373,6 +380,7 @@ pub fn build_model(
         mesh,
         parts,
         part_names,
+        material_names,
         loads,
         displacement_names,
         analysis: step.analysis,
@@ -395,6 +403,7 @@ pub fn build_model(
             None => None,
         },
         interactions,
+        rigid_bodies,
         unchecked_plugins,
         activation_histories,
         part_notes,

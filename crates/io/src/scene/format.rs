@@ -264,12 +264,15 @@ pub struct RigidBodyEntry {
 
 /// `[rigid_bodies.surface]`: `shape = "plane"` (`point`, `normal`, `half_size`),
 /// `"sphere"` (`center`, `radius`), `"cylinder"` (`center`, `axis`, `radius`,
-/// `half_length`), or `file = "bone.stl"` (STL or OBJ, in m, relative to the scene).
+/// `half_length`), or `file = "bone.stl"` (STL or OBJ, relative to the scene, in m or,
+/// with `units = "mm"`, in millimetres).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RigidSurfaceEntry {
     pub shape: Option<Spanned<String>>,
     pub file: Option<Spanned<String>>,
+    /// The length unit of the file's coordinates: "m" (default) or "mm" (read as 1e-3 m).
+    pub units: Option<Spanned<String>>,
     /// A point of the plane [m].
     pub point: Option<[f64; 3]>,
     /// Outward normal of the plane (the side the bodies are on).

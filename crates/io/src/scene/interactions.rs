@@ -96,6 +96,19 @@ pub(super) fn rigid_body(
     let divisions = surface.divisions.unwrap_or(DEFAULT_DIVISIONS);
     let built = match (&surface.file, &surface.shape) {
         (Some(file), None) => {
+            let scale = match surface.units.as_ref().map(|u| (u.get_ref().as_str(), u)) {
+                None | Some(("m", _)) => 1.0,
+                Some(("mm", _)) => 1e-3,
+                Some((other, units)) => {
+                    return Err(locator.error(
+                        units.span(),
+                        format!(
+                            "rigid body '{name}': units = \"{other}\": the surface file's \
+                             length unit is \"m\" or \"mm\""
+                        ),
+                    ));
+                }
+            };
             let path = locator.resolve(file.span(), file.get_ref())?;
             let lower = file.get_ref().to_ascii_lowercase();
             if lower.ends_with(".stl") {
@@ -113,8 +126,19 @@ pub(super) fn rigid_body(
             }
             .map(|mut surface| {
                 surface.name = name.clone();
+                surface.vertices.iter_mut().for_each(|x| *x *= scale);
                 surface
             })
+        }
+        (None, Some(_)) if surface.units.is_some() => {
+            let units = surface.units.as_ref().map_or(0..0, Spanned::span);
+            return Err(locator.error(
+                units,
+                format!(
+                    "rigid body '{name}': `units` is the unit of a surface file's \
+                     coordinates; a generated shape's sizes and positions are in m"
+                ),
+            ));
         }
         (None, Some(shape)) => match shape.get_ref().as_str() {
             "plane" => RigidSurface::plane(

@@ -3,10 +3,24 @@
 
 use super::Analysis;
 use super::build::Model;
-use crate::output::HistoryColumns;
 use crate::output::stress_percentile::VonMisesPercentile;
+use crate::output::{HistoryColumns, RigidBodyFrame};
 
 impl Model {
+    /// The rigid bodies as the frames show them (`rigid.pvd`, see
+    /// [`crate::output::rigid_frames`]).
+    pub fn rigid_body_frames(&self) -> Vec<RigidBodyFrame<'_>> {
+        self.rigid_bodies
+            .iter()
+            .map(|body| RigidBodyFrame {
+                name: &body.name,
+                vertices: &body.vertices,
+                triangles: &body.triangles,
+                motion: body.motion.clone(),
+            })
+            .collect()
+    }
+
     /// Run the model under its own analysis, showing `observer` every recorded instant.
     pub fn run(
         &self,

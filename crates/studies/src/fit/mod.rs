@@ -11,7 +11,9 @@
 //! - [`model`]: the elongation test or the scene as a function of the fitted parameters;
 //! - `view`, `report`: how the curve is named and drawn, and the fitted numbers;
 //! - [`levenberg_marquardt`]: the bounded least-squares solver;
-//! - `unknowns`, [`outputs`]: the fitted parameters' starts and bounds, and the files.
+//! - `unknowns`, [`outputs`]: the fitted parameters' starts and bounds, and the files;
+//! - `multi_start`: the starting points of `--design FILE.csv`, one fit from each, the
+//!   best kept.
 //!
 //! [`fit_curve`] is the fit without printing or files (the Python module's
 //! `musclefem.fit`); [`fit`] is the command around it.
@@ -19,6 +21,7 @@
 pub mod data;
 pub mod levenberg_marquardt;
 pub mod model;
+mod multi_start;
 pub mod outputs;
 mod report;
 mod unknowns;
@@ -84,12 +87,24 @@ pub struct FitArgs {
     /// The parameters to fit, comma-separated (e.g. c,A): Hill parameters for an
     /// elongation test (the others keep Table 1); for a scene, parameters of its one
     /// material or MATERIAL.NAME (the others keep the scene's values).
-    #[arg(long, value_name = "NAME,...", value_delimiter = ',', required = true)]
+    #[arg(
+        long,
+        value_name = "NAME,...",
+        value_delimiter = ',',
+        required_unless_present = "design"
+    )]
     pub params: Vec<String>,
     /// Start value of a fitted parameter [default: the scene's value, else Table 1 or the
     /// model's default]; repeatable.
     #[arg(long = "start", value_name = "NAME=VALUE")]
     pub starts: Vec<String>,
+    /// A multi-start fit: a CSV file whose header names the fitted parameters (as
+    /// --params does; without --params they are its columns) and whose every row is a
+    /// set of start values. The fit runs from each row and keeps the one with the
+    /// smallest residual; fit.txt lists every start's ending residual (`,`, `;` or tab
+    /// separated; a byte-order mark and decimal commas are read).
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "starts")]
+    pub design: Option<PathBuf>,
     /// Bounds of a fitted parameter [default: its valid range]; repeatable.
     #[arg(long = "bound", value_name = "NAME=LO:HI")]
     pub bounds: Vec<String>,
@@ -259,7 +274,19 @@ pub fn fit_curve(
             Base::Elongation(Box::new(test))
         }
     };
-    let unknowns = unknowns(args, &base)?;
+    let design = multi_start::design_starts(args)?;
+    let params = match &design {
+        Some(design) => design.names.clone(),
+        None => args.params.iter().map(|p| p.trim().to_string()).collect(),
+    };
+    let start_tokens = match &design {
+        Some(design) => design.start_tokens(0),
+        None => args.starts.clone(),
+    };
+    let mut unknowns = unknowns(args, &base, &params, &start_tokens)?;
+    if let Some(design) = &design {
+        design.check_bounds(&unknowns)?;
+    }
     let names: Vec<String> = unknowns.iter().map(|u| u.name.clone()).collect();
     for (flag, scale) in [
         ("--strain-scale", args.strain_scale),
@@ -292,7 +319,10 @@ pub fn fit_curve(
             y: &y_column,
         }),
     };
-    let start: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
+    let starts: Vec<Vec<f64>> = match &design {
+        Some(design) => design.rows.clone(),
+        None => vec![unknowns.iter().map(|u| u.start).collect()],
+    };
     let (view, range) = match &base {
         // Both specimens are 50 mm long: the pull ends at 20 % strain.
         Base::Elongation(_) => (
@@ -305,7 +335,7 @@ pub fn fit_curve(
         ),
         // The data within the start run's abscissae.
         Base::Scene(study) => {
-            let curve = model.curve(&start).context("the start values' run")?;
+            let curve = model.curve(&starts[0]).context("the start values' run")?;
             let first = curve.first().map_or(0.0, |p| p.0);
             let last = curve.last().map_or(0.0, |p| p.0);
             let range = Range {
@@ -331,12 +361,17 @@ pub fn fit_curve(
         );
     }
     watch.starting(&format!(
-        "fitting {} to {} points of {} ({} outside {within} left out), {}",
+        "fitting {} to {} points of {} ({} outside {within} left out), {}{}",
         names.join(", "),
         measured.strain.len(),
         args.data.display(),
         measured.left_out,
         view.what,
+        design.as_ref().map_or(String::new(), |d| format!(
+            ", from each of the {} starts of {}",
+            d.rows.len(),
+            d.path.display()
+        )),
     ))?;
     let data = DVector::from_vec(measured.stress.clone());
     let residuals = |x: &[f64]| -> Result<DVector<f64>> {
@@ -349,21 +384,30 @@ pub fn fit_curve(
     let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
     let points = measured.strain.len() as f64;
     let started = Instant::now();
-    let solution = minimise(
-        &residuals,
-        &start,
-        &lower,
-        &upper,
-        &Settings::default(),
-        &mut |iteration, cost| {
-            watch.iteration(iteration, (2.0 * cost / points).sqrt(), view.y_unit)
-        },
-    );
+    let mut ends = Vec::with_capacity(starts.len());
+    for start in &starts {
+        let solution = minimise(
+            &residuals,
+            start,
+            &lower,
+            &upper,
+            &Settings::default(),
+            &mut |iteration, cost| {
+                watch.iteration(iteration, (2.0 * cost / points).sqrt(), view.y_unit)
+            },
+        );
+        if solution.is_err() && stop.load(Ordering::SeqCst) {
+            return Err(FitStopped.into());
+        }
+        ends.push(solution);
+    }
     watch.solved();
-    let solution = match solution {
-        Err(_) if stop.load(Ordering::SeqCst) => return Err(FitStopped.into()),
-        solution => solution?,
-    };
+    let (best, solution, starts_text) =
+        multi_start::best_end(ends, design.as_ref(), points, view.y_unit)?;
+    let start = starts[best].clone();
+    for (unknown, &x) in unknowns.iter_mut().zip(&start) {
+        unknown.start = x;
+    }
     let elapsed = started.elapsed();
 
     let (start_curve, fitted_curve) =
@@ -376,7 +420,7 @@ pub fn fit_curve(
         quantity: &view.y_quantity,
     };
     let summary = format!(
-        "data = {}\npoints = {} (left out: {} outside {within})\n{}\n{}time = {:.1} s\n",
+        "data = {}\npoints = {} (left out: {} outside {within})\n{}\n{starts_text}{}time = {:.1} s\n",
         args.data.display(),
         measured.strain.len(),
         measured.left_out,

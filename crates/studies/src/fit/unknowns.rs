@@ -19,9 +19,15 @@ pub(super) struct Unknown {
     pub(super) upper: f64,
 }
 
-/// The fitted parameters with their starts and bounds, checked against the parameter
-/// table of the Hill material (elongation) or of the scene's material.
-pub(super) fn unknowns(args: &FitArgs, base: &Base) -> Result<Vec<Unknown>> {
+/// The fitted parameters `params` with their starts (`starts`, NAME=VALUE tokens as
+/// `--start` gives them) and bounds, checked against the parameter table of the Hill
+/// material (elongation) or of the scene's material.
+pub(super) fn unknowns(
+    args: &FitArgs,
+    base: &Base,
+    params: &[String],
+    starts: &[String],
+) -> Result<Vec<Unknown>> {
     let hill = MaterialLibrary::with_builtins().info("hill")?;
     // The table entry of a fitted name and the start it has unless --start says otherwise.
     let lookup = |name: &str| -> Result<(ParameterSpec, Option<f64>)> {
@@ -49,10 +55,10 @@ pub(super) fn unknowns(args: &FitArgs, base: &Base) -> Result<Vec<Unknown>> {
             }
         }
     };
-    let mut starts = name_values(&args.starts, "--start")?;
+    let mut starts = name_values(starts, "--start")?;
     let mut bounds = name_values(&args.bounds, "--bound")?;
     let mut unknowns: Vec<Unknown> = Vec::new();
-    for name in &args.params {
+    for name in params {
         let name = name.trim();
         let (spec, default_start) = lookup(name)?;
         let spec = &spec;

@@ -6,7 +6,8 @@
 //!   `peak_stress.png` (one panel per muscle, bars per knee angle: passive and active,
 //!   in flexion and in extension);
 //! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
-//!   fibers, activation), `history.csv` (the solver's convergence and energies, forces
+//!   fibers, activation), the bones at their pose in every frame (`rigid.pvd`: femur,
+//!   tibia, patella as body_id 0, 1, 2), `history.csv` (the solver's convergence and energies, forces
 //!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
 //!   instant), `newton.csv` (implicit: every increment's Newton residuals), `cuts.csv`
 //!   (implicit: every failed attempt that was cut, and why), `tendon.csv` (the
@@ -493,6 +494,7 @@ fn run_one(
         root: directory.clone(),
         start,
         mesh,
+        geometry,
         frames: FrameSchedule::new(
             args.frame_interval,
             settings.squat.duration,

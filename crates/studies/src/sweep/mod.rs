@@ -1,18 +1,20 @@
 //! `musclefem sweep`: a parametric study of the elongation tests (seed §2.2, §3.1) or of
 //! any scene. Every combination of the varied material parameters (or a Latin-hypercube
-//! sample of their ranges) runs, several at a time, and each run's summary goes to
+//! sample of their ranges, or the parameter sets of a user's design CSV) runs, several at a time, and each run's summary goes to
 //! `DIR/sweep.csv`; then the normalised sensitivity of each summary output (the stress at
 //! 10 % and 20 % strain, or the scene's history columns) to each parameter goes to
 //! `DIR/sensitivity.csv` and `DIR/sensitivity.png`.
 //!
 //! - [`study`]: what is varied and measured (a scene through [`crate::scene_study`]);
 //! - [`vary`]: the `--vary` axes;
-//! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs);
+//! - [`grid`], [`latin_hypercube`]: the two designs (lists of runs), and
+//!   [`design_file`] a user's (`--design FILE.csv`, also `fit`'s starting points);
 //! - [`run`]: one run and its [`run::Outcome`] (a failure is an outcome, not an abort);
 //! - [`table`]: `sweep.csv`, rewritten after every run, read back to resume;
 //! - [`sensitivity`]: the sensitivities and their chart;
 //! - `distributed` (cargo feature `mpi`): the runs shared among MPI ranks under `mpirun`.
 
+pub mod design_file;
 pub mod grid;
 pub mod latin_hypercube;
 pub mod merge;
@@ -74,12 +76,25 @@ pub struct SweepArgs {
     /// repeatable. NAME is a Hill parameter for an elongation test (see `musclefem
     /// materials`); for a scene it is a parameter of its one material, or MATERIAL.NAME
     /// when it has several. Every combination runs, unless --samples is given.
-    #[arg(long = "vary", value_name = "NAME=VALUES", required = true)]
+    #[arg(
+        long = "vary",
+        value_name = "NAME=VALUES",
+        required_unless_present = "design"
+    )]
     pub vary: Vec<String>,
     /// Run N points of a Latin hypercube over each parameter's range [smallest, largest
     /// value] instead of every combination.
     #[arg(long, value_name = "N")]
     pub samples: Option<usize>,
+    /// Run exactly the parameter sets of this CSV file instead of --vary's: a header of
+    /// parameter names (as --vary takes them), then one row of values per run, in order
+    /// (`,`, `;` or tab separated; a byte-order mark and decimal commas are read).
+    #[arg(
+        long,
+        value_name = "FILE.csv",
+        conflicts_with_all = ["vary", "samples"]
+    )]
+    pub design: Option<PathBuf>,
     /// Seed of the Latin hypercube (the same seed gives the same runs).
     #[arg(long, value_name = "SEED", default_value_t = 1)]
     pub seed: u64,
@@ -207,12 +222,31 @@ impl Plan {
             }
             (None, None) => bail!("name the base: --base passive|active or --scene FILE"),
         };
-        let axes = vary::parse_axes(&args.vary)?;
-        study.check_names(&axes)?;
-        let design = match args.samples {
-            Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
-            Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
-            None => grid::full_factorial(&axes),
+        let (axes, design) = match &args.design {
+            Some(path) => {
+                let file = design_file::DesignFile::read(path)?;
+                // Each parameter's values, for the names' check and the sensitivities.
+                let axes: Vec<vary::Axis> = (file.names.iter().enumerate())
+                    .map(|(c, name)| vary::Axis {
+                        name: name.clone(),
+                        values: file.rows.iter().map(|row| row[c]).collect(),
+                    })
+                    .collect();
+                study
+                    .check_names(&axes)
+                    .with_context(|| format!("the header of {}", path.display()))?;
+                (axes, file.rows)
+            }
+            None => {
+                let axes = vary::parse_axes(&args.vary)?;
+                study.check_names(&axes)?;
+                let design = match args.samples {
+                    Some(0) => bail!("--samples 0: a Latin hypercube needs at least one run"),
+                    Some(n) => latin_hypercube::latin_hypercube(&axes, n, args.seed),
+                    None => grid::full_factorial(&axes),
+                };
+                (axes, design)
+            }
         };
         let jobs = match args.jobs {
             Some(0) => bail!("--jobs 0: at least one run must run at a time"),

@@ -9,15 +9,18 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use musclefem_core::mesh::Mesh;
+use musclefem_core::solver::RigidMotion;
 use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::observer::Snapshot;
 use musclefem_io::output::{
-    FrameSchedule, HistoryColumns, HistoryWriter, RunLog, RunProgress, RunStart, RunWriter,
-    StudyRunWriter,
+    FrameSchedule, HistoryColumns, HistoryWriter, RigidBodyFrame, RunLog, RunProgress, RunStart,
+    RunWriter, StudyRunWriter,
 };
 
 use crate::elongation::Solver;
-use crate::knee::simulation::{Activation, SquatResume, SquatStart, SquatWatcher, StressSample};
+use crate::knee::simulation::{
+    Activation, KneeGeometry, SquatResume, SquatStart, SquatWatcher, StressSample,
+};
 
 /// The progress bar of one squat, and the flag that stops it (Ctrl-C, or the other squat
 /// failed).
@@ -46,6 +49,8 @@ pub(super) struct Outputs<'a> {
     pub(super) start: RunStart,
     /// The muscles' mesh with fibers (what the frames show).
     pub(super) mesh: &'a Mesh,
+    /// The bones (the frames show them too, in `rigid.pvd`).
+    pub(super) geometry: &'a KneeGeometry,
     /// Frames every `--frame-interval`, at the table's angles and at the end.
     pub(super) frames: FrameSchedule,
     /// What makes a checkpoint this squat's: its settings and activation (the mesh is
@@ -85,6 +90,7 @@ impl SquatWatcher for Outputs<'_> {
             RunStart::Resume => anyhow::Error::from(e),
             RunStart::Fresh(_) => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
         })?;
+        let writer = writer.with_rigid_bodies(bone_frames(self.geometry, start.patella.clone()));
         let study = writer.resumed_study().to_vec();
         // A log from the start: a squat killed before its end leaves one that says so.
         let resumed_line = resumed.as_ref().map_or(String::new(), |checkpoint| {
@@ -111,6 +117,25 @@ impl SquatWatcher for Outputs<'_> {
             .as_mut()
             .map(|writer| writer as &mut dyn StudyRunWriter)
     }
+}
+
+/// The knee's bones as the frames show them (`rigid.pvd`, body_id 0, 1, 2): the femur
+/// and the tibia on the squat's motions, the patella on `patella`, the run's pose.
+fn bone_frames(geometry: &KneeGeometry, patella: RigidMotion) -> Vec<RigidBodyFrame<'_>> {
+    let motions = &geometry.motions;
+    [
+        ("femur", &geometry.femur, motions.femur.clone()),
+        ("tibia", &geometry.tibia, motions.tibia.clone()),
+        ("patella", &geometry.patella, patella),
+    ]
+    .into_iter()
+    .map(|(name, surface, motion)| RigidBodyFrame {
+        name,
+        vertices: &surface.vertices,
+        triangles: &surface.triangles,
+        motion,
+    })
+    .collect()
 }
 
 /// The bar of one squat of `duration` [s], in simulated milliseconds.

@@ -157,6 +157,9 @@ pub struct SquatStart<'a> {
     pub rigid_ties: Vec<String>,
     pub interactions: Vec<String>,
     pub solver: Solver,
+    /// The patella's motion: the pose the run gives it (the femur and tibia follow the
+    /// geometry's prescribed motions).
+    pub patella: musclefem_core::solver::RigidMotion,
 }
 
 /// Where a squat goes on from: the solver's checkpoint and the knee's own state stored
@@ -276,6 +279,7 @@ pub fn run_squat(
             .map(|i| i.name().to_string())
             .collect(),
         solver: settings.solver,
+        patella: musclefem_core::solver::RigidMotion::followed(model.patella.clone()),
     })?;
     let mut recorder = Recorder {
         mesh: &model.mesh,
