@@ -166,28 +166,13 @@ impl HistoryColumns {
         path: &Path,
     ) -> Result<Vec<f64>, OutputError> {
         let mut values = match record {
-            Record::Explicit(row) => self.solver_row(|c| c.explicit_row(row, path))?,
-            Record::Implicit(row) => self.solver_row(|c| c.implicit_row(row, path))?,
+            Record::Explicit(row) => self.explicit_values(row, path)?,
+            Record::Implicit(row) => self.implicit_values(row, path)?,
         };
         if let Some(percentile) = &self.von_mises_percentile {
             values.extend(percentile.values(snapshot, path)?);
         }
         Ok(values)
-    }
-
-    /// The solver's part of a row: `row` of these columns without the percentile ones.
-    fn solver_row(
-        &self,
-        row: impl Fn(&HistoryColumns) -> Result<Vec<f64>, OutputError>,
-    ) -> Result<Vec<f64>, OutputError> {
-        if self.von_mises_percentile.is_none() {
-            return row(self);
-        }
-        let solver_columns = HistoryColumns {
-            von_mises_percentile: None,
-            ..self.clone()
-        };
-        row(&solver_columns)
     }
 
     /// The percentile columns' names (none without them).
@@ -228,6 +213,11 @@ impl HistoryColumns {
     /// number of reactions than there are names.
     pub fn explicit_row(&self, row: &HistoryRow, path: &Path) -> Result<Vec<f64>, OutputError> {
         self.without_percentiles(path)?;
+        self.explicit_values(row, path)
+    }
+
+    /// The solver's columns of an explicit row (the percentile ones left out).
+    fn explicit_values(&self, row: &HistoryRow, path: &Path) -> Result<Vec<f64>, OutputError> {
         let mut values = vec![row.time, row.time_step];
         self.push_reactions(
             &mut values,
@@ -258,6 +248,15 @@ impl HistoryColumns {
         path: &Path,
     ) -> Result<Vec<f64>, OutputError> {
         self.without_percentiles(path)?;
+        self.implicit_values(row, path)
+    }
+
+    /// The solver's columns of an implicit row (the percentile ones left out).
+    fn implicit_values(
+        &self,
+        row: &ImplicitHistoryRow,
+        path: &Path,
+    ) -> Result<Vec<f64>, OutputError> {
         let mut values = vec![row.time, row.increment, row.iterations as f64];
         self.push_reactions(
             &mut values,

@@ -19,7 +19,7 @@ use super::amplitudes::Amplitudes;
 use super::error::{Locator, SceneError, suggestion};
 use super::format::ActivationEntry;
 use crate::delimited::parse_delimited;
-use crate::opensim_storage::read_storage;
+use crate::opensim_storage::parse_storage;
 
 /// The history `entry` of part `part` describes.
 pub fn activation_history(
@@ -146,7 +146,8 @@ fn file_column(path: &Path, time: &str, column: &str) -> Result<Vec<(f64, f64)>,
         .lines()
         .any(|l| l.trim().eq_ignore_ascii_case("endheader"));
     if storage {
-        return read_storage(path)?
+        return parse_storage(&text)
+            .map_err(|e| format!("{}:{}: {}", path.display(), e.line, e.message))?
             .column(time, column)
             .map_err(|e| format!("{}: {e}", path.display()));
     }
