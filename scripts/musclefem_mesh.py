@@ -353,6 +353,9 @@ def mesh_volume(points, triangles, size, args):
     gmsh.initialize(["musclefem_mesh"], readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 1 if args.verbose else 0)
+        # One thread and a fixed seed: the same surface gives the same mesh, byte for byte.
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.option.setNumber("Mesh.RandomSeed", 1)
         gmsh.model.add("muscle")
         surface = gmsh.model.addDiscreteEntity(2)
         flat = [c for p in points for c in p]
@@ -376,7 +379,9 @@ def mesh_volume(points, triangles, size, args):
         gmsh.model.mesh.generate(3)
         if args.element == "tet10":
             # Mid-edge nodes on the straight edges: every tet10 is as valid as its tet4.
-            gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)
+            # Optionally (scripts/visible_human_knee.py) the boundary's mid-edge nodes on
+            # the surface instead, which keeps the volume the chords cut off.
+            gmsh.option.setNumber("Mesh.SecondOrderLinear", 0 if getattr(args, "curved", False) else 1)
             gmsh.model.mesh.setOrder(2)
         volume_type = GMSH_TYPE[args.element][0]
         _, element_nodes = gmsh.model.mesh.getElementsByType(volume_type)

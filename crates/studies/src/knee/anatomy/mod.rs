@@ -17,9 +17,12 @@
 //!   vertically, hip flexing with the knee;
 //! - [`squat`]: θ(t) for 0° → 90° → 0° and the bones' [`RigidMotion`]s;
 //! - [`tendon`]: the patellar tendon's toe-then-linear spring and its stiffness source;
-//! - [`export`]: the anatomy at a flexion angle as STL and VTU files.
+//! - [`export`]: the anatomy at a flexion angle as STL and VTU files;
+//! - [`visible_human`]: the Visible Human Female's segmented quadriceps as tet10 meshes
+//!   (committed data, issue #35; not yet part of the knee scene).
 //!
-//! No data file is read: every number is a documented constant (the Visible Human
+//! Except for [`visible_human`]'s committed meshes, no data file is read: every number
+//! of the default knee is a documented constant (the Visible Human
 //! volumes and the OpenSim moment arms it was dimensioned from live in
 //! `../shared/data/knee_reference/` and are read only by the tests).
 //!
@@ -37,6 +40,7 @@ pub mod path;
 pub mod squat;
 pub mod surface;
 pub mod tendon;
+pub mod visible_human;
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;

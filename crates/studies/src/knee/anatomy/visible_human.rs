@@ -1,0 +1,166 @@
+//! The Visible Human Female's quadriceps (issue #35): the tet10 volume meshes of VI, VL,
+//! VM and RF that `scripts/visible_human_knee.py` made from the segmented surfaces
+//! (Andreassen et al. 2022, Sci Data, CC BY 4.0) and that are committed in
+//! `crates/studies/data/visible_human/` with the surfaces' notice and citations, so that
+//! nothing outside the repository is read.
+//!
+//! Each mesh is in metres in the data's frame (x to the subject's right, y anterior,
+//! z superior) and carries the surfaces `origin`, `insertion`, `aponeurosis` (disjoint),
+//! `interface_<N>` for its neighbours N and `outer`; the folder's README gives the rules
+//! that chose them. The fiber flow runs from [`FIBER_INLETS`] to [`FIBER_OUTLETS`].
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+use musclefem_core::mesh::{ElementRef, Mesh};
+use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
+use musclefem_io::mesh_import::read_mesh;
+
+use super::Quadriceps;
+
+/// The folder of the committed meshes, surfaces and their README.
+pub fn data_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/visible_human")
+}
+
+/// The two committed mesh resolutions (target edge 9 and 6 mm).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MeshResolution {
+    /// Target element edge 9 mm: 1.6–4.7 thousand tet10 per muscle.
+    Coarse,
+    /// Target element edge 6 mm.
+    Medium,
+}
+
+impl MeshResolution {
+    /// Both, coarse first.
+    pub const ALL: [MeshResolution; 2] = [MeshResolution::Coarse, MeshResolution::Medium];
+
+    /// The name in the files: `coarse`, `medium`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MeshResolution::Coarse => "coarse",
+            MeshResolution::Medium => "medium",
+        }
+    }
+}
+
+/// The surfaces the fiber flow enters through (potential 1): the origin.
+pub const FIBER_INLETS: [&str; 1] = ["origin"];
+/// The surfaces the fiber flow leaves through (potential 0): the aponeurosis and the
+/// insertion, which hand the fibers' force to the tendinous tissue.
+pub const FIBER_OUTLETS: [&str; 2] = ["aponeurosis", "insertion"];
+
+/// The path of a muscle's mesh, `<data_dir>/<VI|VL|VM|RF>_<resolution>.msh`.
+pub fn mesh_path(muscle: Quadriceps, resolution: MeshResolution) -> PathBuf {
+    data_dir().join(format!(
+        "{}_{}.msh",
+        muscle.abbreviation(),
+        resolution.name()
+    ))
+}
+
+/// A muscle's volume mesh (one tet10 block, `muscle`) with its named surfaces.
+pub fn load_muscle(muscle: Quadriceps, resolution: MeshResolution) -> Result<Mesh> {
+    let path = mesh_path(muscle, resolution);
+    Ok(read_mesh(&path)
+        .with_context(|| format!("the Visible Human mesh {}", path.display()))?
+        .mesh)
+}
+
+/// The names of the surfaces that mark the faces within 1 mm of another muscle's
+/// segmented surface, `interface_<N>`, in the mesh.
+pub fn interface_names(mesh: &Mesh) -> Vec<&str> {
+    mesh.surfaces
+        .keys()
+        .map(String::as_str)
+        .filter(|name| name.starts_with("interface_"))
+        .collect()
+}
+
+/// The volume [m³] enclosed by a muscle's segmented surface, as the script recorded it
+/// in `summary.csv` (column `surface_volume_mm3`).
+pub fn recorded_surface_volume(muscle: Quadriceps) -> Result<f64> {
+    let path = data_dir().join("summary.csv");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .with_context(|| format!("{}: no column {name}", path.display()))
+    };
+    let (name, volume) = (column("muscle")?, column("surface_volume_mm3")?);
+    for line in lines {
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.get(name) == Some(&muscle.abbreviation()) {
+            let mm3: f64 = fields
+                .get(volume)
+                .and_then(|v| v.parse().ok())
+                .with_context(|| format!("{}: bad volume in '{line}'", path.display()))?;
+            return Ok(mm3 * 1e-9);
+        }
+    }
+    bail!("{}: no row for {}", path.display(), muscle.abbreviation())
+}
+
+/// The fiber directions of a muscle's mesh from the potential flow (seed §2.3) between
+/// [`FIBER_INLETS`] and [`FIBER_OUTLETS`].
+pub fn muscle_fibers(mesh: &Mesh) -> Result<FiberField> {
+    let boundary = FlowBoundary::from_names(mesh, &FIBER_INLETS, &FIBER_OUTLETS)?;
+    Ok(compute_fibers(mesh, &boundary, &FlowSettings::default())?)
+}
+
+/// Centroid of each element's corner nodes [m], in block order.
+pub fn element_centroids(mesh: &Mesh) -> Vec<Vector3<f64>> {
+    let mut centroids = Vec::with_capacity(mesh.element_count());
+    for block in &mesh.blocks {
+        let corners = block.shape.corner_count();
+        for nodes in block.elements() {
+            let sum: Vector3<f64> = nodes[..corners]
+                .iter()
+                .map(|&n| mesh.nodes.position(n as usize))
+                .sum();
+            centroids.push(sum / corners as f64);
+        }
+    }
+    centroids
+}
+
+/// The muscle's long axis (unit, pointing proximally, +z): the principal direction of
+/// largest variance of its element centroids.
+pub fn long_axis(mesh: &Mesh) -> Vector3<f64> {
+    let centroids = element_centroids(mesh);
+    let mean = centroids.iter().sum::<Vector3<f64>>() / centroids.len() as f64;
+    let covariance = centroids
+        .iter()
+        .map(|c| (c - mean) * (c - mean).transpose())
+        .sum::<Matrix3<f64>>();
+    let eigen = SymmetricEigen::new(covariance);
+    let largest = eigen.eigenvalues.imax();
+    let axis = eigen.eigenvectors.column(largest).into_owned();
+    if axis.z < 0.0 { -axis } else { axis }
+}
+
+/// Volume-weighted mean angle [rad] between the fibers (one unit vector per element, in
+/// block order) and the muscle's [`long_axis`]: the mean pennation relative to the line
+/// of the muscle, in [0, π/2].
+pub fn mean_pennation(mesh: &Mesh, directions: &[Vector3<f64>]) -> Result<f64> {
+    let axis = long_axis(mesh);
+    let (mut weighted, mut total) = (0.0, 0.0);
+    let mut e = 0;
+    for (b, block) in mesh.blocks.iter().enumerate() {
+        for element in 0..block.len() {
+            let volume = mesh.element_volume(ElementRef::new(b as u32, element as u32))?;
+            let cosine = directions[e].dot(&axis).abs().min(1.0);
+            weighted += volume * cosine.acos();
+            total += volume;
+            e += 1;
+        }
+    }
+    Ok(weighted / total)
+}

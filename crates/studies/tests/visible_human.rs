@@ -1,0 +1,176 @@
+//! The committed Visible Human knee meshes (crates/studies/data/visible_human, made by
+//! scripts/visible_human_knee.py): volumes against the segmented surfaces, valid
+//! elements, non-empty named surfaces, and fibers from the flow solver between the
+//! origin and the aponeurosis with the insertion. None of these needs Gmsh or
+//! ../shared (the surfaces' volumes come from the STL files when they are there, from
+//! the committed summary.csv otherwise).
+
+use std::path::{Path, PathBuf};
+
+use musclefem_core::mesh::{ElementRef, Mesh};
+use musclefem_studies::knee::anatomy::Quadriceps;
+use musclefem_studies::knee::anatomy::visible_human::{
+    FIBER_INLETS, FIBER_OUTLETS, MeshResolution, interface_names, load_muscle, mean_pennation,
+    muscle_fibers, recorded_surface_volume,
+};
+
+/// The segmented surfaces, when the shared data is next to the repository.
+fn shared_surfaces() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/visible_human_female_right")
+}
+
+/// Volume [m³] enclosed by a closed binary STL in millimetres (Σ a · (b × c) / 6).
+fn stl_volume(path: &Path) -> f64 {
+    let data = std::fs::read(path).expect("the STL");
+    let count = u32::from_le_bytes(data[80..84].try_into().unwrap()) as usize;
+    assert_eq!(data.len(), 84 + 50 * count, "{}: binary STL", path.display());
+    let corner = |t: usize, k: usize| -> [f64; 3] {
+        let at = 84 + 50 * t + 12 * (k + 1);
+        let f = |i: usize| {
+            f64::from(f32::from_le_bytes(
+                data[at + 4 * i..at + 4 * i + 4].try_into().unwrap(),
+            ))
+        };
+        [f(0), f(1), f(2)]
+    };
+    let mut six_volume = 0.0;
+    for t in 0..count {
+        let (a, b, c) = (corner(t, 0), corner(t, 1), corner(t, 2));
+        six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+            + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    }
+    six_volume / 6.0 * 1e-9
+}
+
+/// The volume of the muscle's segmented surface [m³]: from the STL when ../shared has it
+/// (and then it must agree with the recorded one), else as recorded by the script.
+fn surface_volume(muscle: Quadriceps) -> f64 {
+    let recorded = recorded_surface_volume(muscle).unwrap();
+    let name = match muscle {
+        Quadriceps::VastusIntermedius => "VastusIntermedius",
+        Quadriceps::VastusLateralis => "VastusLateralis",
+        Quadriceps::VastusMedialis => "VastusMedialis",
+        Quadriceps::RectusFemoris => "RectusFemoris",
+    };
+    let stl = shared_surfaces().join(format!("VHF_Right_Muscle_{name}_smooth.stl"));
+    if !stl.is_file() {
+        return recorded;
+    }
+    let measured = stl_volume(&stl);
+    // summary.csv keeps 0.1 mm³ (1e-10 m³).
+    assert!(
+        (measured - recorded).abs() <= 0.5e-10,
+        "{name}: STL {measured:e} m³, recorded {recorded:e} m³"
+    );
+    measured
+}
+
+fn meshes() -> impl Iterator<Item = (Quadriceps, MeshResolution, Mesh)> {
+    MeshResolution::ALL.into_iter().flat_map(|resolution| {
+        Quadriceps::ALL
+            .into_iter()
+            .map(move |m| (m, resolution, load_muscle(m, resolution).unwrap()))
+    })
+}
+
+#[test]
+fn visible_human_mesh_volumes_are_within_two_percent_of_the_surfaces() {
+    for (muscle, resolution, mesh) in meshes() {
+        let surface = surface_volume(muscle);
+        let volume = mesh.total_volume().unwrap();
+        let error = (volume - surface) / surface;
+        println!(
+            "{} {}: {} tet10, {} nodes, mesh {:.2} cm³, surface {:.2} cm³ ({:+.2} %)",
+            muscle.abbreviation(),
+            resolution.name(),
+            mesh.element_count(),
+            mesh.node_count(),
+            volume * 1e6,
+            surface * 1e6,
+            100.0 * error
+        );
+        assert!(error.abs() < 0.02, "{muscle:?} {resolution:?}: {error:+.4}");
+    }
+}
+
+#[test]
+fn visible_human_elements_are_valid_tet10() {
+    for (muscle, resolution, mesh) in meshes() {
+        assert_eq!(mesh.blocks.len(), 1);
+        let block = &mesh.blocks[0];
+        assert_eq!(block.shape.nodes_per_element(), 10);
+        for element in 0..block.len() {
+            let element = ElementRef::new(0, element as u32);
+            let coords: Vec<_> = mesh
+                .element_nodes(element)
+                .unwrap()
+                .iter()
+                .map(|&n| mesh.nodes.position(n as usize))
+                .collect();
+            let least = block.shape.min_jacobian_volume(&coords);
+            let volume = mesh.element_volume(element).unwrap();
+            // The script keeps det J ≥ 0.1 × the straight tetrahedron's everywhere.
+            assert!(
+                least > 0.05 * volume,
+                "{muscle:?} {resolution:?} element {}: min det J volume {least:e}, volume \
+                 {volume:e}",
+                element.element
+            );
+        }
+    }
+}
+
+#[test]
+fn visible_human_named_surfaces_are_present_and_disjoint() {
+    for (muscle, resolution, mesh) in meshes() {
+        let outer = mesh.surface("outer").unwrap().len();
+        let mut fiber_ends = Vec::new();
+        for name in FIBER_INLETS.iter().chain(&FIBER_OUTLETS) {
+            let faces = mesh.surface(name).unwrap();
+            assert!(!faces.is_empty(), "{muscle:?} {resolution:?}: {name} is empty");
+            fiber_ends.extend_from_slice(faces);
+        }
+        let count = fiber_ends.len();
+        fiber_ends.sort_by_key(|f| (f.element.element, f.face));
+        fiber_ends.dedup();
+        assert_eq!(fiber_ends.len(), count, "{muscle:?}: origin, insertion and aponeurosis overlap");
+        assert!(count < outer);
+        let interfaces = interface_names(&mesh);
+        // Every muscle touches the vastus intermedius, which touches all three others.
+        let expected = if muscle == Quadriceps::VastusIntermedius { 3 } else { 1 };
+        assert!(interfaces.len() >= expected, "{muscle:?}: {interfaces:?}");
+        if muscle != Quadriceps::VastusIntermedius {
+            assert!(interfaces.contains(&"interface_VI"), "{muscle:?}: {interfaces:?}");
+        }
+        for name in interfaces {
+            assert!(!mesh.surface(name).unwrap().is_empty(), "{name}");
+        }
+    }
+}
+
+#[test]
+fn visible_human_fibers_from_origin_to_aponeurosis_are_unit_vectors() {
+    for (muscle, resolution, mesh) in meshes() {
+        let field = muscle_fibers(&mesh).unwrap();
+        assert_eq!(field.direction.len(), mesh.element_count());
+        for (e, d) in field.direction.iter().enumerate() {
+            assert!(
+                (d.norm() - 1.0).abs() < 1e-9,
+                "{muscle:?} {resolution:?} element {e}: |d| = {}",
+                d.norm()
+            );
+        }
+        let imbalance = (field.inlet_flux - field.outlet_flux).abs() / field.inlet_flux;
+        assert!(imbalance < 1e-6, "{muscle:?}: flux imbalance {imbalance:e}");
+        let pennation = mean_pennation(&mesh, &field.direction).unwrap().to_degrees();
+        println!(
+            "{} {}: mean angle of the fibers to the long axis {pennation:.1}° \
+             (aponeurosis takes {:.0} % of the flow)",
+            muscle.abbreviation(),
+            resolution.name(),
+            100.0 * field.region_fluxes[1].flux / field.outlet_flux
+        );
+        // Fibers that follow the muscle, not across it.
+        assert!(pennation > 0.0 && pennation < 45.0, "{muscle:?}: {pennation}°");
+    }
+}

@@ -1,0 +1,361 @@
+#!/usr/bin/env python3
+"""The Visible Human Female's knee (issue #35, first part): the segmented quadriceps
+surfaces to tet10 volume meshes with named face groups, the femoral shaft built from the
+vastus intermedius, and the bones and cartilage the knee's contact needs.
+
+Usage (after scripts/setup-gmsh.sh):
+
+    target/python-venv/bin/python scripts/visible_human_knee.py [--data DIR] [--out DIR]
+
+DIR defaults to ../shared/data/visible_human_female_right (binary STL in mm, x to the
+subject's right, y anterior, z superior; Andreassen et al. 2022, CC BY 4.0) and OUT to
+crates/studies/data/visible_human. Writes into OUT:
+
+- `<M>_<resolution>.msh` for M in VI, VL, VM, RF and the resolutions coarse and medium:
+  Gmsh 4.1 ASCII, metres, tet10, groups `muscle` (the elements), `origin`, `insertion`,
+  `aponeurosis`, `interface_<N>` for each other muscle N within reach, and `outer` (every
+  boundary face); origin, insertion and aponeurosis are disjoint;
+- `femur_shaft.stl` (the tapered cylinder below), `femur_cartilage_distal.stl`,
+  `patella.stl`, `patella_cartilage.stl`, `tibia.stl` (binary STL in mm, the bones
+  remeshed by Gmsh at BONE_SIZE);
+- `summary.csv` (one row per mesh: counts, volumes, group areas) and `femur.csv` (the
+  shaft's fitted sections);
+- `README.md` (sources, citations, the rules below and the summary) and a copy of
+  `SOURCE_README.txt`.
+
+The meshing is scripts/musclefem_mesh.py's (Gmsh remeshes each surface at the target
+size, feature angle 60°, then meshes the volume; one thread, fixed random seed), so two
+runs give the same bytes (`--check` regenerates into a temporary folder and compares).
+Each muscle is meshed alone: the 0.05 mm gaps between neighbours are kept up to the
+remeshing's chordal deviation (reported as the interface faces, not closed).
+
+The face groups are chosen on the boundary faces of the volume mesh, from each face's
+centroid c and outward unit normal n, with the femoral axis (unit a, proximal) and the
+radial unit r = the part of c − (axis point) normal to a, normalised, and the height
+fraction s = (c − lowest point) · a / the muscle's extent along a (0 distal, 1 proximal):
+
+- insertion: s < END (the distal end, towards the quadriceps tendon and patella);
+- origin: RF: s > 1 − END (its proximal end, at the AIIS); VI, VL, VM: the proximal cap
+  s > 1 − END, and the faces facing the femur (n · r < −FACING) with s > ORIGIN_FROM[M];
+- aponeurosis: below the origin, END ≤ s < ORIGIN_FROM[M]: VI: faces facing away from
+  the femur and anterior (n · r > FACING and n · y⊥ > ANTERIOR, y⊥ the anterior direction
+  normal to a); VL, VM, RF: faces facing the femur (n · r < −FACING), the deep
+  aponeurosis;
+- interface_N: faces whose centroid lies within INTERFACE_REACH of muscle N's surface.
+"""
+
+import argparse
+import filecmp
+import math
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+from types import SimpleNamespace
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import musclefem_mesh as mesher  # noqa: E402
+import visible_human_geometry as geo  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_DATA = ROOT.parent / "shared/data/visible_human_female_right"
+DEFAULT_OUT = ROOT / "crates/studies/data/visible_human"
+MUSCLES = {"VI": "VastusIntermedius", "VL": "VastusLateralis", "VM": "VastusMedialis",
+           "RF": "RectusFemoris"}
+#: Target element edge lengths [mm].
+RESOLUTIONS = {"coarse": 9.0, "medium": 6.0}
+#: Bones and cartilage: the source file and the edge length [mm] they are remeshed at
+#: (the tibia, whose proximal end alone is in the knee, coarser).
+BONES = {"patella": ("Bone_Patella", 1.5), "patella_cartilage": ("Cartilage_Patella", 1.5),
+         "tibia": ("Bone_Tibia", 3.0), "femur_cartilage_distal": ("Cartilage_FemurDistal", 2.0)}
+FEATURE_ANGLE = 60.0  # degrees, as the RF needs (musclefem mesh --feature-angle)
+END = 0.04  # height fraction of the distal and proximal end caps
+FACING = 0.5  # cosine: a face "faces the femur" when n · r < −FACING
+ANTERIOR = 0.3  # cosine with the anterior direction for the VI's aponeurosis
+#: Height fraction of the origin's lower edge on the femur side (VI, VL, VM) and of the
+#: aponeurosis's upper edge (all four): the fibers run from the origin distally to the
+#: aponeurosis below it.
+ORIGIN_FROM = {"VI": 0.35, "VL": 0.5, "VM": 0.5, "RF": 0.5}
+INTERFACE_REACH = 1.0  # mm
+#: Smallest det J of a curved tet10 over its straight value (see straighten).
+MIN_JACOBIAN = 0.1
+#: The femoral shaft is fitted to the VI at these heights [mm] (where its inner surface
+#: hugs the bone, see femur.csv) and spans SHAFT_BOTTOM..SHAFT_TOP.
+SHAFT_FIT = [600.0 + 10.0 * k for k in range(17)]
+SHAFT_BOTTOM, SHAFT_TOP = 515.0, 860.0
+SHAFT_SHIFT = (-15.0, 0.0)
+SHAFT_SIDES, SHAFT_RINGS = 48, 35
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
+    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    parser.add_argument("--check", action="store_true",
+                        help="regenerate into a temporary folder and compare with --out "
+                        "byte for byte (exit status 1 on a difference)")
+    args = parser.parse_args(argv)
+    if args.check:
+        with tempfile.TemporaryDirectory() as scratch:
+            build(args.data, Path(scratch))
+            names = sorted(p.name for p in Path(scratch).iterdir())
+            committed = sorted(p.name for p in args.out.iterdir())
+            _, mismatch, errors = filecmp.cmpfiles(scratch, args.out, names, shallow=False)
+            if mismatch or errors or names != committed:
+                print(f"differs from {args.out}: {mismatch + errors}; files "
+                      f"{sorted(set(names) ^ set(committed))} only on one side")
+                return 1
+            print(f"{len(names)} files regenerated byte for byte")
+            return 0
+    build(args.data, args.out)
+    return 0
+
+
+def build(data, out):
+    out.mkdir(parents=True, exist_ok=True)
+    surfaces = {}
+    for key, name in MUSCLES.items():
+        points, triangles = geo.read_binary_stl(data / f"VHF_Right_Muscle_{name}_smooth.stl")
+        triangles = mesher.check_closed_surface(points, triangles, name)
+        if geo.signed_volume(points, triangles) < 0:
+            triangles = [(a, c, b) for a, b, c in triangles]
+        surfaces[key] = (points, triangles)
+    femur = build_femur(data, out, surfaces["VI"])
+    reach = {key: geo.SurfaceDistance(p, t, INTERFACE_REACH) for key, (p, t) in surfaces.items()}
+    rows = []
+    for resolution, size in RESOLUTIONS.items():
+        for key in MUSCLES:
+            rows.append(mesh_muscle(key, resolution, size, surfaces, femur, reach, out))
+            print(", ".join(f"{k} {v}" for k, v in rows[-1].items()), flush=True)
+    for name, (source, size) in BONES.items():
+        remesh_bone(data / f"VHF_Right_{source}_smooth.stl", out / f"{name}.stl", name, size)
+    write_summary(out / "summary.csv", rows)
+    shutil.copyfile(data / "SOURCE_README.txt", out / "SOURCE_README.txt")
+    write_readme(out / "README.md", rows, femur)
+
+
+# --- femur --------------------------------------------------------------------------------
+
+def build_femur(data, out, vi_surface):
+    """Fits the shaft (see visible_human_geometry.femur_shaft_fit) and writes
+    femur_shaft.stl and femur.csv; returns the axis (point, unit direction) [mm] and the
+    fits."""
+    fits = geo.femur_shaft_fit(*vi_surface, SHAFT_FIT, 6.0, SHAFT_SHIFT)
+    rows = [(1.0, z) for z, *_ in fits]
+    x0, x1 = geo.least_squares(rows, [f[1] for f in fits])
+    y0, y1 = geo.least_squares(rows, [f[2] for f in fits])
+    r0, r1 = geo.least_squares(rows, [f[3] for f in fits])
+    head, head_radius = geo.fit_sphere(geo.read_binary_stl(
+        data / "VHF_Right_Cartilage_FemurHead_smooth.stl")[0])
+
+    def at(z):
+        return (x0 + x1 * z, y0 + y1 * z, z)
+
+    bottom, top = at(SHAFT_BOTTOM), at(SHAFT_TOP)
+    points, triangles = geo.tapered_cylinder(bottom, top, r0 + r1 * SHAFT_BOTTOM,
+                                             r0 + r1 * SHAFT_TOP, SHAFT_SIDES, SHAFT_RINGS)
+    geo.write_binary_stl(out / "femur_shaft.stl", points, triangles,
+                         "musclefem visible_human_knee.py: femoral shaft, mm")
+    with open(out / "femur.csv", "w", encoding="ascii") as f:
+        f.write("z_mm,centre_x_mm,centre_y_mm,radius_mm,inner_vertices\n")
+        for z, cx, cy, r, n in fits:
+            f.write(f"{z:.1f},{cx:.3f},{cy:.3f},{r:.3f},{n}\n")
+    axis = geo.normalize(geo.sub(top, bottom))
+    return SimpleNamespace(point=bottom, axis=axis, bottom=bottom, top=top,
+                           radius=(r0 + r1 * SHAFT_BOTTOM, r0 + r1 * SHAFT_TOP),
+                           head=head, head_radius=head_radius)
+
+
+def remesh_bone(source, target, name, size):
+    """A bone or cartilage surface remeshed by Gmsh at `size` (mm), binary STL. The sizes
+    stay within 0.9–1 × `size` (a smaller lower bound lets Gmsh refine the patches of the
+    reparametrised surface far below it)."""
+    import gmsh
+
+    points, triangles = geo.read_binary_stl(source)
+    gmsh.initialize(["visible_human_knee"], readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        gmsh.option.setNumber("Mesh.RandomSeed", 1)
+        gmsh.model.add(name)
+        surface = gmsh.model.addDiscreteEntity(2)
+        gmsh.model.mesh.addNodes(2, surface, list(range(1, len(points) + 1)),
+                                 [c for p in points for c in p])
+        gmsh.model.mesh.addElementsByType(surface, 2, [], [i + 1 for t in triangles for i in t])
+        gmsh.model.mesh.classifySurfaces(math.radians(FEATURE_ANGLE), True, True, math.pi)
+        gmsh.model.mesh.createGeometry()
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.9 * size)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.model.mesh.generate(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        _, element_nodes = gmsh.model.mesh.getElementsByType(2)
+    finally:
+        gmsh.finalize()
+    index = {int(t): i for i, t in enumerate(tags)}
+    new_points = [tuple(float(c) for c in coords[3 * i:3 * i + 3]) for i in range(len(tags))]
+    new_triangles = [tuple(index[int(n)] for n in element_nodes[3 * e:3 * e + 3])
+                     for e in range(len(element_nodes) // 3)]
+    if geo.signed_volume(new_points, new_triangles) < 0:
+        new_triangles = [(a, c, b) for a, b, c in new_triangles]
+    geo.write_binary_stl(target, new_points, new_triangles,
+                         f"musclefem visible_human_knee.py: {name}, mm")
+    print(f"{name}: {len(triangles)} -> {len(new_triangles)} triangles", flush=True)
+
+
+# --- muscles ------------------------------------------------------------------------------
+
+def mesh_muscle(key, resolution, size, surfaces, femur, reach, out):
+    points, triangles = surfaces[key]
+    metres = [(x * 1e-3, y * 1e-3, z * 1e-3) for x, y, z in points]
+    options = SimpleNamespace(keep_surface=False, feature_angle=FEATURE_ANGLE,
+                              element="tet10", verbose=False, surface=f"{key} surface",
+                              curved=True)
+    nodes, tets = mesher.mesh_volume(metres, triangles, size * 1e-3, options)
+    straightened = straighten(nodes, tets)
+    faces = mesher.boundary_faces(nodes, tets)
+    groups = name_groups(key, nodes, faces, femur, reach)
+    path = out / f"{key}_{resolution}.msh"
+    write_msh(path, nodes, tets, faces, groups)
+    row = {"muscle": key, "resolution": resolution, "size_mm": f"{size:g}",
+           "elements": len(tets), "nodes": len(nodes),
+           "surface_volume_mm3": f"{geo.signed_volume(points, triangles):.1f}",
+           "mesh_volume_mm3": f"{1e9 * sum(geo.tet10_volume(nodes, t) for t in tets):.1f}",
+           "min_jacobian_ratio": f"{min(geo.tet10_quality(nodes, t) for t in tets):.3f}",
+           "straightened_elements": straightened, "boundary_faces": len(faces)}
+    for group, members in groups.items():
+        area = sum(face_area(nodes, faces[i]) for i in members) * 1e6
+        row[f"{group}_faces"] = len(members)
+        row[f"{group}_area_mm2"] = f"{area:.0f}"
+    return row
+
+
+def straighten(nodes, tets):
+    """Moves the mid-edge nodes of every element whose det J falls below MIN_JACOBIAN times
+    its straight value halfway back to its straight edges, until none does; returns how
+    many times an element was moved. Gmsh places the boundary's mid-edge nodes on the
+    surface, which keeps its volume, but where an element is thin across a curved face
+    that can fold it."""
+    count = 0
+    while True:
+        bad = [t for t in tets if geo.tet10_quality(nodes, t) < MIN_JACOBIAN]
+        if not bad:
+            return count
+        count += len(bad)
+        moved = set()
+        for tet in bad:
+            for k, (i, j) in enumerate(geo.TET10_EDGES):
+                if tet[4 + k] in moved:
+                    continue
+                moved.add(tet[4 + k])
+                middle = geo.scale(geo.add(nodes[tet[i]], nodes[tet[j]]), 0.5)
+                nodes[tet[4 + k]] = geo.scale(geo.add(nodes[tet[4 + k]], middle), 0.5)
+
+
+def name_groups(key, nodes, faces, femur, reach):
+    """The face groups of the module's rules: {name: [face index]} (see the docstring)."""
+    a = femur.axis
+    anterior = geo.normalize(geo.sub((0.0, 1.0, 0.0), geo.scale(a, a[1])))
+    centres = [geo.scale(mesher.centroid(nodes, f), 1e3) for f in faces]
+    normals = [geo.normalize(face_normal(nodes, f)) for f in faces]
+    heights = [geo.dot(geo.sub(c, femur.point), a) for c in centres]
+    low, high = min(heights), max(heights)
+    groups = {"origin": [], "insertion": [], "aponeurosis": []}
+    for i, (c, n, h) in enumerate(zip(centres, normals, heights)):
+        s = (h - low) / (high - low)
+        offset = geo.sub(c, geo.add(femur.point, geo.scale(a, h)))
+        radial = geo.dot(n, geo.normalize(offset))
+        facing_femur = radial < -FACING
+        if s < END:
+            groups["insertion"].append(i)
+        elif s > 1 - END or (key != "RF" and facing_femur and s > ORIGIN_FROM[key]):
+            groups["origin"].append(i)
+        elif s < ORIGIN_FROM[key] and (
+                (key == "VI" and radial > FACING and geo.dot(n, anterior) > ANTERIOR)
+                or (key != "VI" and facing_femur)):
+            groups["aponeurosis"].append(i)
+    for other in MUSCLES:
+        if other != key:
+            members = [i for i, c in enumerate(centres) if reach[other].within(c)]
+            if members:
+                groups[f"interface_{other}"] = members
+    for group, members in groups.items():
+        if not members:
+            raise SystemExit(f"error: {key}: the group {group} is empty")
+    return groups
+
+
+def face_normal(nodes, face):
+    a, b, c = (nodes[i] for i in face[:3])
+    return geo.cross(geo.sub(b, a), geo.sub(c, a))
+
+
+def face_area(nodes, face):
+    return 0.5 * geo.norm(face_normal(nodes, face))
+
+
+def write_msh(path, nodes, tets, faces, groups):
+    """Gmsh 4.1 ASCII in metres: volume entity 1 (group `muscle`); one surface entity per
+    distinct set of groups a boundary face belongs to, each carrying those groups and
+    `outer`. Physical tags: 1 muscle, then the groups in order, then outer."""
+    names = list(groups)
+    tag_of = {name: k + 2 for k, name in enumerate(names)}
+    outer = len(names) + 2
+    membership = [[] for _ in faces]
+    for name in names:
+        for i in groups[name]:
+            membership[i].append(tag_of[name])
+    entities = {}
+    for i, tags in enumerate(membership):
+        entities.setdefault(tuple(tags), []).append(i)
+    keys = sorted(entities, key=lambda t: (len(t), t))
+    lo, hi = mesher.bounding_box(nodes)
+    box = " ".join(f"{v:.9g}" for v in lo + hi)
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat", "$PhysicalNames",
+             str(len(names) + 2), '3 1 "muscle"']
+    lines += [f'2 {tag_of[n]} "{n}"' for n in names] + [f'2 {outer} "outer"',
+                                                         "$EndPhysicalNames", "$Entities"]
+    lines.append(f"0 0 {len(keys)} 1")
+    for e, tags in enumerate(keys, 1):
+        physicals = list(tags) + [outer]
+        lines.append(f"{e} {box} {len(physicals)} " + " ".join(map(str, physicals)) + " 0")
+    lines.append(f"1 {box} 1 1 {len(keys)} " + " ".join(f"-{e}" for e in range(1, len(keys) + 1)))
+    lines += ["$EndEntities", "$Nodes", f"1 {len(nodes)} 1 {len(nodes)}",
+              f"3 1 0 {len(nodes)}"]
+    lines += [str(i + 1) for i in range(len(nodes))]
+    lines += [f"{x:.9g} {y:.9g} {z:.9g}" for x, y, z in nodes]
+    lines.append("$EndNodes")
+    count = len(tets) + len(faces)
+    lines += ["$Elements", f"{1 + len(keys)} {count} 1 {count}", f"3 1 11 {len(tets)}"]
+    lines += [f"{e + 1} " + " ".join(str(n + 1) for n in tet) for e, tet in enumerate(tets)]
+    tag = len(tets)
+    for e, key in enumerate(keys, 1):
+        lines.append(f"2 {e} 9 {len(entities[key])}")
+        for i in entities[key]:
+            tag += 1
+            lines.append(f"{tag} " + " ".join(str(n + 1) for n in faces[i]))
+    lines.append("$EndElements")
+    path.write_text("\n".join(lines) + "\n", encoding="ascii")
+
+
+# --- records ------------------------------------------------------------------------------
+
+def write_summary(path, rows):
+    columns = []
+    for row in rows:
+        columns += [c for c in row if c not in columns]
+    with open(path, "w", encoding="ascii") as f:
+        f.write(",".join(columns) + "\n")
+        for row in rows:
+            f.write(",".join(str(row.get(c, "")) for c in columns) + "\n")
+
+
+def write_readme(path, rows, femur):
+    from visible_human_readme import readme_text
+
+    path.write_text(readme_text(rows, femur, sys.modules[__name__]), encoding="utf-8")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
