@@ -37,7 +37,7 @@ fraction s = (c − lowest point) · a / the muscle's extent along a (0 distal, 
 - insertion: s < END (the distal end, towards the quadriceps tendon and patella);
 - origin: RF: s > 1 − END (its proximal end, at the AIIS); VI, VL, VM: the proximal cap
   s > 1 − END, and the faces facing the femur (n · r < −FACING) with s > ORIGIN_FROM[M];
-- aponeurosis: below the origin, END ≤ s < ORIGIN_FROM[M]: VI: faces facing away from
+- aponeurosis: below the origin, END ≤ s < APONEUROSIS_TO[M]: VI: faces facing away from
   the femur and anterior (n · r > FACING and n · y⊥ > ANTERIOR, y⊥ the anterior direction
   normal to a); VL, VM, RF: faces facing the femur (n · r < −FACING), the deep
   aponeurosis;
@@ -73,9 +73,10 @@ END = 0.04  # height fraction of the distal and proximal end caps
 FACING = 0.5  # cosine: a face "faces the femur" when n · r < −FACING
 ANTERIOR = 0.3  # cosine with the anterior direction for the VI's aponeurosis
 #: Height fraction of the origin's lower edge on the femur side (VI, VL, VM) and of the
-#: aponeurosis's upper edge (all four): the fibers run from the origin distally to the
-#: aponeurosis below it.
-ORIGIN_FROM = {"VI": 0.35, "VL": 0.5, "VM": 0.5, "RF": 0.5}
+#: aponeurosis's upper edge: the fibers run from the origin distally to the aponeurosis
+#: below it.
+ORIGIN_FROM = {"VI": 0.5, "VL": 0.7, "VM": 0.7}
+APONEUROSIS_TO = {"VI": 0.35, "VL": 0.5, "VM": 0.5, "RF": 0.5}
 INTERFACE_REACH = 1.0  # mm
 #: Smallest det J of a curved tet10 over its straight value (see straighten).
 MIN_JACOBIAN = 0.1
@@ -271,7 +272,7 @@ def name_groups(key, nodes, faces, femur, reach):
             groups["insertion"].append(i)
         elif s > 1 - END or (key != "RF" and facing_femur and s > ORIGIN_FROM[key]):
             groups["origin"].append(i)
-        elif s < ORIGIN_FROM[key] and (
+        elif s < APONEUROSIS_TO[key] and (
                 (key == "VI" and radial > FACING and geo.dot(n, anterior) > ANTERIOR)
                 or (key != "VI" and facing_femur)):
             groups["aponeurosis"].append(i)

@@ -67,8 +67,8 @@ def readme_text(rows, femur, knee):
         "groups mark for the contact.",
         "",
         "**Femur axis.** The femoral shaft is fitted to the inner surface of the vastus",
-        "intermedius, which wraps it anteriorly and laterally: at each height z = "
-        f"{knee.SHAFT_FIT[0]:g}, {knee.SHAFT_FIT[1]:g}, …, {knee.SHAFT_FIT[-1]:g} mm, the VI vertices",
+        "intermedius, which wraps it anteriorly and laterally: at each height",
+        f"z = {knee.SHAFT_FIT[0]:g}, {knee.SHAFT_FIT[1]:g}, …, {knee.SHAFT_FIT[-1]:g} mm, the VI vertices "
         "within ±3 mm whose outward normal points towards the current centre estimate",
         "(cosine > 0.5) are fitted by a circle (Kåsa), five passes from the slab's centroid",
         f"moved {abs(knee.SHAFT_SHIFT[0]):g} mm medially; the centres and radii are fitted by straight lines",
@@ -91,10 +91,16 @@ def readme_text(rows, femur, knee):
         "  and the faces facing the femur with s > "
         + ", ".join(f"{k} {v}" for k, v in knee.ORIGIN_FROM.items()) + ";",
         "- `aponeurosis` (an outlet of the fiber flow with the insertion), below the origin,",
-        f"  {knee.END} ≤ s < the origin's lower edge above (RF: 0.5), so that the fibers run",
+        f"  {knee.END} ≤ s < " + ", ".join(f"{k} {v}" for k, v in knee.APONEUROSIS_TO.items())
+        + ", so that the fibers run",
         f"  distally from the one to the other: VI: its anterior face (n · r > {knee.FACING} and",
         f"  n · y⊥ > {knee.ANTERIOR}, y⊥ anterior normal to a); VL, VM, RF: their deep faces",
-        "  (facing the femur);",
+        "  (facing the femur).",
+        "  The origins' lower edges lie above the anatomical ones (VI: the upper two thirds of",
+        "  the shaft, VL and VM: the upper half of the linea aspera) so that a gap of 15–20 %",
+        "  of the length separates origin and aponeurosis: where they meet, the flow between",
+        "  them short-circuits in arcs (with VI 0.35 / 0.35, VL and VM 0.5 / 0.5 the fibers'",
+        "  mean angle to the muscle's long axis was 42–45°, against 34–36° with the gap);",
         f"- `interface_<N>`: faces whose centroid is within {knee.INTERFACE_REACH:g} mm of muscle N's",
         "  segmented surface (exact point–triangle distance).",
         "",

@@ -23,7 +23,12 @@ fn shared_surfaces() -> PathBuf {
 fn stl_volume(path: &Path) -> f64 {
     let data = std::fs::read(path).expect("the STL");
     let count = u32::from_le_bytes(data[80..84].try_into().unwrap()) as usize;
-    assert_eq!(data.len(), 84 + 50 * count, "{}: binary STL", path.display());
+    assert_eq!(
+        data.len(),
+        84 + 50 * count,
+        "{}: binary STL",
+        path.display()
+    );
     let corner = |t: usize, k: usize| -> [f64; 3] {
         let at = 84 + 50 * t + 12 * (k + 1);
         let f = |i: usize| {
@@ -127,20 +132,34 @@ fn visible_human_named_surfaces_are_present_and_disjoint() {
         let mut fiber_ends = Vec::new();
         for name in FIBER_INLETS.iter().chain(&FIBER_OUTLETS) {
             let faces = mesh.surface(name).unwrap();
-            assert!(!faces.is_empty(), "{muscle:?} {resolution:?}: {name} is empty");
+            assert!(
+                !faces.is_empty(),
+                "{muscle:?} {resolution:?}: {name} is empty"
+            );
             fiber_ends.extend_from_slice(faces);
         }
         let count = fiber_ends.len();
         fiber_ends.sort_by_key(|f| (f.element.element, f.face));
         fiber_ends.dedup();
-        assert_eq!(fiber_ends.len(), count, "{muscle:?}: origin, insertion and aponeurosis overlap");
+        assert_eq!(
+            fiber_ends.len(),
+            count,
+            "{muscle:?}: origin, insertion and aponeurosis overlap"
+        );
         assert!(count < outer);
         let interfaces = interface_names(&mesh);
         // Every muscle touches the vastus intermedius, which touches all three others.
-        let expected = if muscle == Quadriceps::VastusIntermedius { 3 } else { 1 };
+        let expected = if muscle == Quadriceps::VastusIntermedius {
+            3
+        } else {
+            1
+        };
         assert!(interfaces.len() >= expected, "{muscle:?}: {interfaces:?}");
         if muscle != Quadriceps::VastusIntermedius {
-            assert!(interfaces.contains(&"interface_VI"), "{muscle:?}: {interfaces:?}");
+            assert!(
+                interfaces.contains(&"interface_VI"),
+                "{muscle:?}: {interfaces:?}"
+            );
         }
         for name in interfaces {
             assert!(!mesh.surface(name).unwrap().is_empty(), "{name}");
@@ -162,7 +181,9 @@ fn visible_human_fibers_from_origin_to_aponeurosis_are_unit_vectors() {
         }
         let imbalance = (field.inlet_flux - field.outlet_flux).abs() / field.inlet_flux;
         assert!(imbalance < 1e-6, "{muscle:?}: flux imbalance {imbalance:e}");
-        let pennation = mean_pennation(&mesh, &field.direction).unwrap().to_degrees();
+        let pennation = mean_pennation(&mesh, &field.direction)
+            .unwrap()
+            .to_degrees();
         println!(
             "{} {}: mean angle of the fibers to the long axis {pennation:.1}° \
              (aponeurosis takes {:.0} % of the flow)",
@@ -171,6 +192,9 @@ fn visible_human_fibers_from_origin_to_aponeurosis_are_unit_vectors() {
             100.0 * field.region_fluxes[1].flux / field.outlet_flux
         );
         // Fibers that follow the muscle, not across it.
-        assert!(pennation > 0.0 && pennation < 45.0, "{muscle:?}: {pennation}°");
+        assert!(
+            pennation > 0.0 && pennation < 45.0,
+            "{muscle:?}: {pennation}°"
+        );
     }
 }
