@@ -215,19 +215,41 @@ def femur_shaft_fit(vi_points, vi_triangles, heights, slab, shift):
     return fits
 
 
-def tapered_cylinder(bottom, top, radius_bottom, radius_top, sides, rings):
-    """A closed, outward triangle surface: `rings` + 1 circles of `sides` vertices from
-    the centre `bottom` to `top` (radii linear between the two), capped by fans around the
-    end centres. Returns (points, triangles)."""
-    axis = normalize(sub(top, bottom))
+def ring_basis(axis):
+    """Two unit vectors normal to `axis` and to each other."""
     helper = (1.0, 0.0, 0.0) if abs(axis[0]) < 0.9 else (0.0, 1.0, 0.0)
     u = normalize(cross(axis, helper))
-    v = cross(axis, u)
+    return u, cross(axis, u)
+
+
+def largest_empty_circle(points, reach, floor=0.05):
+    """The centre (within `reach` of the origin) of the largest circle free of the 2-D
+    `points`, and its radius: a deterministic pattern search over the 8 neighbours of
+    the current centre, the step halved from reach / 4 down to `floor`."""
+
+    def clearance(c):
+        return min(math.hypot(p[0] - c[0], p[1] - c[1]) for p in points)
+
+    centre, best, step = (0.0, 0.0), clearance((0.0, 0.0)), reach / 4
+    while step > floor:
+        moved = False
+        for du, dv in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)):
+            c = (centre[0] + du * step, centre[1] + dv * step)
+            if math.hypot(*c) <= reach and clearance(c) > best:
+                centre, best, moved = c, clearance(c), True
+        if not moved:
+            step /= 2
+    return centre, best
+
+
+def tube(centres, radii, axis, sides):
+    """A closed, outward triangle surface: a circle of `sides` vertices of radii[k]
+    around each centres[k], in planes normal to `axis`, capped by fans around the end
+    centres. Returns (points, triangles)."""
+    rings = len(radii) - 1
+    u, v = ring_basis(axis)
     points, triangles = [], []
-    for r in range(rings + 1):
-        f = r / rings
-        centre = add(bottom, scale(sub(top, bottom), f))
-        radius = radius_bottom + f * (radius_top - radius_bottom)
+    for centre, radius in zip(centres, radii):
         for s in range(sides):
             angle = 2 * math.pi * s / sides
             offset = add(scale(u, radius * math.cos(angle)), scale(v, radius * math.sin(angle)))
@@ -238,7 +260,7 @@ def tapered_cylinder(bottom, top, radius_bottom, radius_top, sides, rings):
             c, d = a + sides, b + sides
             triangles += [(a, b, d), (a, d, c)]
     low, high = len(points), len(points) + 1
-    points += [bottom, top]
+    points += [centres[0], centres[-1]]
     top_ring = rings * sides
     for s in range(sides):
         triangles.append((low, (s + 1) % sides, s))

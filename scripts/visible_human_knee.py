@@ -15,11 +15,11 @@ crates/studies/data/visible_human. Writes into OUT:
   Gmsh 4.1 ASCII, metres, tet10, groups `muscle` (the elements), `origin`, `insertion`,
   `aponeurosis`, `interface_<N>` for each other muscle N within reach, and `outer` (every
   boundary face); origin, insertion and aponeurosis are disjoint;
-- `femur_shaft.stl` (the tapered cylinder below), `femur_cartilage_distal.stl`,
+- `femur_shaft.stl` (see build_femur), `femur_cartilage_distal.stl`,
   `patella.stl`, `patella_cartilage.stl`, `tibia.stl` (binary STL in mm, the bones
   remeshed by Gmsh at BONE_SIZE);
-- `summary.csv` (one row per mesh: counts, volumes, group areas) and `femur.csv` (the
-  shaft's fitted sections);
+- `summary.csv` (one row per mesh: counts, volumes, group areas), `femur.csv` (the
+  shaft's fitted sections) and `femur_rings.csv` (its rings' radii);
 - `README.md` (sources, citations, the rules below and the summary) and a copy of
   `SOURCE_README.txt`.
 
@@ -86,6 +86,8 @@ SHAFT_FIT = [600.0 + 10.0 * k for k in range(17)]
 SHAFT_BOTTOM, SHAFT_TOP = 515.0, 860.0
 SHAFT_SHIFT = (-15.0, 0.0)
 SHAFT_SIDES, SHAFT_RINGS = 48, 35
+SHAFT_GAP = 0.5  # mm between the shaft and the nearest muscle vertex
+SHAFT_MOVE = 6.0  # mm: how far a ring's centre may leave the fitted axis
 
 
 def main(argv=None):
@@ -121,7 +123,7 @@ def build(data, out):
         if geo.signed_volume(points, triangles) < 0:
             triangles = [(a, c, b) for a, b, c in triangles]
         surfaces[key] = (points, triangles)
-    femur = build_femur(data, out, surfaces["VI"])
+    femur = build_femur(data, out, surfaces)
     reach = {key: geo.SurfaceDistance(p, t, INTERFACE_REACH) for key, (p, t) in surfaces.items()}
     rows = []
     for resolution, size in RESOLUTIONS.items():
@@ -137,11 +139,18 @@ def build(data, out):
 
 # --- femur --------------------------------------------------------------------------------
 
-def build_femur(data, out, vi_surface):
+def build_femur(data, out, surfaces):
     """Fits the shaft (see visible_human_geometry.femur_shaft_fit) and writes
-    femur_shaft.stl and femur.csv; returns the axis (point, unit direction) [mm] and the
-    fits."""
-    fits = geo.femur_shaft_fit(*vi_surface, SHAFT_FIT, 6.0, SHAFT_SHIFT)
+    femur_shaft.stl, femur.csv (the section fits) and femur_rings.csv (the shaft's rings);
+    returns the axis (point, unit direction) [mm] and the fits.
+
+    The shaft's axis and fitted radius are straight lines in z through the section fits.
+    A least-squares circle cuts into the irregular inner surface of the VI by up to 7 mm,
+    and the contact needs the bone outside the muscles, so each ring (normal to the
+    axis) is then placed in the largest circle free of the muscle vertices (VI, VL, VM,
+    RF) within one ring spacing, its centre within SHAFT_MOVE of the axis, and its
+    radius is the fitted one or, where smaller, that circle's less SHAFT_GAP."""
+    fits = geo.femur_shaft_fit(*surfaces["VI"], SHAFT_FIT, 6.0, SHAFT_SHIFT)
     rows = [(1.0, z) for z, *_ in fits]
     x0, x1 = geo.least_squares(rows, [f[1] for f in fits])
     y0, y1 = geo.least_squares(rows, [f[2] for f in fits])
@@ -153,17 +162,44 @@ def build_femur(data, out, vi_surface):
         return (x0 + x1 * z, y0 + y1 * z, z)
 
     bottom, top = at(SHAFT_BOTTOM), at(SHAFT_TOP)
-    points, triangles = geo.tapered_cylinder(bottom, top, r0 + r1 * SHAFT_BOTTOM,
-                                             r0 + r1 * SHAFT_TOP, SHAFT_SIDES, SHAFT_RINGS)
+    axis = geo.normalize(geo.sub(top, bottom))
+    length = geo.norm(geo.sub(top, bottom))
+    spacing = length / SHAFT_RINGS
+    fitted = [r0 + r1 * (SHAFT_BOTTOM + (SHAFT_TOP - SHAFT_BOTTOM) * k / SHAFT_RINGS)
+              for k in range(SHAFT_RINGS + 1)]
+    u, v = geo.ring_basis(axis)
+    near = [[] for _ in fitted]
+    for points, _ in surfaces.values():
+        for q in points:
+            h = geo.dot(geo.sub(q, bottom), axis)
+            offset = geo.sub(q, bottom)
+            for k in range(max(0, math.floor(h / spacing)),
+                           min(SHAFT_RINGS, math.ceil(h / spacing)) + 1):
+                if abs(h - k * spacing) <= spacing:
+                    near[k].append((geo.dot(offset, u), geo.dot(offset, v)))
+    centres, radii = [], []
+    for k, radius in enumerate(fitted):
+        on_axis = geo.add(bottom, geo.scale(axis, k * spacing))
+        if near[k]:
+            (cu, cv), clearance = geo.largest_empty_circle(near[k], SHAFT_MOVE)
+            radius = min(radius, clearance - SHAFT_GAP)
+            on_axis = geo.add(on_axis, geo.add(geo.scale(u, cu), geo.scale(v, cv)))
+        centres.append(on_axis)
+        radii.append(radius)
+    points, triangles = geo.tube(centres, radii, axis, SHAFT_SIDES)
     geo.write_binary_stl(out / "femur_shaft.stl", points, triangles,
                          "musclefem visible_human_knee.py: femoral shaft, mm")
     with open(out / "femur.csv", "w", encoding="ascii") as f:
         f.write("z_mm,centre_x_mm,centre_y_mm,radius_mm,inner_vertices\n")
         for z, cx, cy, r, n in fits:
             f.write(f"{z:.1f},{cx:.3f},{cy:.3f},{r:.3f},{n}\n")
-    axis = geo.normalize(geo.sub(top, bottom))
+    with open(out / "femur_rings.csv", "w", encoding="ascii") as f:
+        f.write("centre_x_mm,centre_y_mm,centre_z_mm,fitted_radius_mm,radius_mm\n")
+        for centre, fit, radius in zip(centres, fitted, radii):
+            f.write(",".join(f"{c:.3f}" for c in centre) + f",{fit:.3f},{radius:.3f}\n")
     return SimpleNamespace(point=bottom, axis=axis, bottom=bottom, top=top,
                            radius=(r0 + r1 * SHAFT_BOTTOM, r0 + r1 * SHAFT_TOP),
+                           rings=(min(radii), max(radii)),
                            head=head, head_radius=head_radius)
 
 

@@ -48,7 +48,8 @@ def readme_text(rows, femur, knee):
         "  elements) and, on the boundary faces, `origin`, `insertion`, `aponeurosis`",
         "  (disjoint), `interface_<N>` and `outer` (every boundary face).",
         "- `femur_shaft.stl`: the femoral shaft, missing from the public data, as a tapered",
-        "  cylinder (rule below); `femur.csv`: its fitted sections.",
+        "  cylinder (rule below); `femur.csv`: its fitted sections; `femur_rings.csv`: the",
+        "  radii of its rings.",
         "- `femur_cartilage_distal.stl`, `patella.stl`, `patella_cartilage.stl`, `tibia.stl`:",
         "  the segmented surfaces remeshed by Gmsh at "
         + ", ".join(f"{name} {size:g}" for name, (_, size) in knee.BONES.items())
@@ -74,8 +75,12 @@ def readme_text(rows, femur, knee):
         f"moved {abs(knee.SHAFT_SHIFT[0]):g} mm medially; the centres and radii are fitted by straight lines",
         "in z. Below and above that range the VI's inner surface leaves the bone (the",
         "metaphysis and the trochanters), so the cylinder is extrapolated. Result: axis from",
-        f"({', '.join(f'{c:.1f}' for c in femur.bottom)}) to ({', '.join(f'{c:.1f}' for c in femur.top)}) mm, radius "
-        f"{femur.radius[0]:.1f} → {femur.radius[1]:.1f} mm; the femoral head (sphere fitted to its",
+        f"({', '.join(f'{c:.1f}' for c in femur.bottom)}) to ({', '.join(f'{c:.1f}' for c in femur.top)}) mm, fitted radius "
+        f"{femur.radius[0]:.1f} → {femur.radius[1]:.1f} mm. The least-squares circles cut into the",
+        "irregular inner surface of the VI (by up to 7 mm), so each of the shaft's rings is",
+        "centred in the largest circle free of the muscles' vertices within one ring spacing",
+        f"(its centre at most {knee.SHAFT_MOVE:g} mm off the axis) and narrowed where needed to {knee.SHAFT_GAP:g} mm",
+        f"inside that circle: ring radii {femur.rings[0]:.1f}–{femur.rings[1]:.1f} mm (`femur_rings.csv`). The femoral head (sphere fitted to its",
         f"cartilage) is centred at ({', '.join(f'{c:.1f}' for c in femur.head)}) mm, radius {femur.head_radius:.1f} mm.",
         "The shaft is not joined to the head (no neck) nor to the condyles (their articular",
         "surface is `femur_cartilage_distal.stl`).",

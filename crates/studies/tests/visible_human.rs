@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 use musclefem_core::mesh::{ElementRef, Mesh};
 use musclefem_studies::knee::anatomy::Quadriceps;
 use musclefem_studies::knee::anatomy::visible_human::{
-    FIBER_INLETS, FIBER_OUTLETS, MeshResolution, interface_names, load_muscle, mean_pennation,
-    muscle_fibers, recorded_surface_volume,
+    FIBER_INLETS, FIBER_OUTLETS, MeshResolution, SURFACES, interface_names, load_muscle,
+    load_surface, mean_pennation, muscle_fibers, recorded_surface_volume,
 };
 
 /// The segmented surfaces, when the shared data is next to the repository.
@@ -195,6 +195,34 @@ fn visible_human_fibers_from_origin_to_aponeurosis_are_unit_vectors() {
         assert!(
             pennation > 0.0 && pennation < 45.0,
             "{muscle:?}: {pennation}°"
+        );
+    }
+}
+
+#[test]
+fn visible_human_bone_surfaces_are_closed_and_clear_of_the_muscles() {
+    for name in SURFACES {
+        let surface = load_surface(name).unwrap();
+        surface.check_closed().unwrap();
+        let volume = surface.volume();
+        println!(
+            "{name}: {} triangles, {:.2} cm³",
+            surface.triangles.len(),
+            volume * 1e6
+        );
+        assert!(volume > 0.0, "{name}: volume {volume}");
+    }
+    // The femoral shaft was built outside the segmented muscles: no node of a coarse
+    // muscle mesh lies in it.
+    let shaft = load_surface("femur_shaft").unwrap();
+    for muscle in Quadriceps::ALL {
+        let mesh = load_muscle(muscle, MeshResolution::Coarse).unwrap();
+        let inside = (0..mesh.node_count())
+            .filter(|&n| shaft.contains(&mesh.nodes.position(n)))
+            .count();
+        assert_eq!(
+            inside, 0,
+            "{muscle:?}: {inside} nodes inside the femoral shaft"
         );
     }
 }

@@ -9,6 +9,7 @@
 //! `interface_<N>` for its neighbours N and `outer`; the folder's README gives the rules
 //! that chose them. The fiber flow runs from [`FIBER_INLETS`] to [`FIBER_OUTLETS`].
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
@@ -18,7 +19,7 @@ use musclefem_core::mesh::{ElementRef, Mesh};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
 use musclefem_io::mesh_import::read_mesh;
 
-use super::Quadriceps;
+use super::{Quadriceps, TriangleSurface};
 
 /// The folder of the committed meshes, surfaces and their README.
 pub fn data_dir() -> PathBuf {
@@ -78,6 +79,49 @@ pub fn interface_names(mesh: &Mesh) -> Vec<&str> {
         .map(String::as_str)
         .filter(|name| name.starts_with("interface_"))
         .collect()
+}
+
+/// The committed bone and cartilage surfaces (`<name>.stl`, binary STL in mm): the
+/// femoral shaft built by the script (the femur is missing from the data) and the
+/// segmented surfaces remeshed.
+pub const SURFACES: [&str; 5] = [
+    "femur_shaft",
+    "femur_cartilage_distal",
+    "patella",
+    "patella_cartilage",
+    "tibia",
+];
+
+/// One of the [`SURFACES`], in metres, with the vertices of bitwise equal coordinates
+/// merged.
+pub fn load_surface(name: &str) -> Result<TriangleSurface> {
+    let path = data_dir().join(format!("{name}.stl"));
+    let data = std::fs::read(&path).with_context(|| format!("reading {}", path.display()))?;
+    let count = match data.get(80..84) {
+        Some(bytes) => u32::from_le_bytes(bytes.try_into()?) as usize,
+        None => bail!("{}: shorter than an STL header", path.display()),
+    };
+    if data.len() != 84 + 50 * count {
+        bail!("{}: not a binary STL of {count} triangles", path.display());
+    }
+    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut surface = TriangleSurface::default();
+    for t in 0..count {
+        let mut triangle = [0; 3];
+        for (k, corner) in triangle.iter_mut().enumerate() {
+            let at = 84 + 50 * t + 12 * (k + 1);
+            let bits: [u32; 3] = std::array::from_fn(|i| {
+                u32::from_le_bytes(data[at + 4 * i..at + 4 * i + 4].try_into().unwrap())
+            });
+            *corner = *index.entry(bits).or_insert_with(|| {
+                let [x, y, z] = bits.map(|b| f64::from(f32::from_bits(b)) * 1e-3);
+                surface.vertices.push(Vector3::new(x, y, z));
+                (surface.vertices.len() - 1) as u32
+            });
+        }
+        surface.triangles.push(triangle);
+    }
+    Ok(surface)
 }
 
 /// The volume [m³] enclosed by a muscle's segmented surface, as the script recorded it
