@@ -41,7 +41,8 @@ fraction s = (c − lowest point) · a / the muscle's extent along a (0 distal, 
   the femur and anterior (n · r > FACING and n · y⊥ > ANTERIOR, y⊥ the anterior direction
   normal to a); VL, VM, RF: faces facing the femur (n · r < −FACING), the deep
   aponeurosis;
-- interface_N: faces whose centroid lies within INTERFACE_REACH of muscle N's surface.
+- interface_N: faces whose centroid or a corner lies within INTERFACE_REACH of muscle
+  N's surface.
 """
 
 import argparse
@@ -314,7 +315,9 @@ def name_groups(key, nodes, faces, femur, reach):
             groups["aponeurosis"].append(i)
     for other in MUSCLES:
         if other != key:
-            members = [i for i, c in enumerate(centres) if reach[other].within(c)]
+            members = [i for i, (c, f) in enumerate(zip(centres, faces))
+                       if any(reach[other].within(q) for q in
+                              [c] + [geo.scale(nodes[k], 1e3) for k in f[:3]])]
             if members:
                 groups[f"interface_{other}"] = members
     for group, members in groups.items():
