@@ -453,7 +453,7 @@ fn newton_step(
         .map(|(r, l)| -(r + l))
         .collect();
     let mut factorization = model
-        .solve(&mut correction, end, settings.factor_reuse.as_ref())
+        .solve(&mut correction, end, settings)
         .map_err(error)?;
     // Work of the first correction |δuᵀ r| (energy criterion).
     let first_work = correction
@@ -536,7 +536,7 @@ fn newton_step(
         }
         let mut direction: Vec<f64> = model.residual.iter().map(|r| -r).collect();
         factorization = model
-            .solve(&mut direction, end, settings.factor_reuse.as_ref())
+            .solve(&mut direction, end, settings)
             .map_err(error)?;
         iterations += 1;
         let work: f64 = direction
