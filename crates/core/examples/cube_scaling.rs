@@ -20,7 +20,9 @@ use musclefem_materials::{Amplitude, MaterialLibrary};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(1).map_or(10, |a| a.parse().expect("divisions"));
-    let nu: f64 = args.get(2).map_or(0.3, |a| a.parse().expect("Poisson's ratio"));
+    let nu: f64 = args
+        .get(2)
+        .map_or(0.3, |a| a.parse().expect("Poisson's ratio"));
     let solver = args.get(3).map_or("direct", |s| s.as_str());
     let tolerance: f64 = args.get(4).map_or(1e-8, |a| a.parse().expect("tolerance"));
     let side = 0.01;
@@ -78,15 +80,15 @@ fn main() {
          force={force:.15e} threads={}",
         result.equations,
         s.solves,
-        s.amg_solves,
-        s.amg_iterations as f64 / s.amg_solves.max(1) as f64,
-        s.amg_failures,
+        s.amg.solves,
+        s.amg.iterations as f64 / s.amg.solves.max(1) as f64,
+        s.amg.failures,
         s.numeric_factorizations,
-        s.amg_setup_seconds,
-        s.amg_solve_seconds,
+        s.amg.setup_seconds,
+        s.amg.solve_seconds,
         s.numeric_seconds,
-        s.amg_levels,
-        s.amg_operator_complexity,
+        s.amg.levels,
+        s.amg.operator_complexity,
         rayon::current_num_threads(),
     );
     let e = &result.evaluation_times;
@@ -101,7 +103,7 @@ fn main() {
         s.krylov_solves,
         s.krylov_iterations
     );
-    for reason in &s.amg_failure_reasons {
+    for reason in &s.amg.failure_reasons {
         println!("  amg failure: {reason}");
     }
 }

@@ -12,12 +12,15 @@ use musclefem_materials::MaterialLibrary;
 /// hierarchy), with the pulled face also held laterally (a non-uniform state), and the
 /// implicit keys `implicit`.
 fn load(name: &str, implicit: &str) -> Result<Model, String> {
-    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples/neo_hookean_cube_stretch.toml");
+    let example =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/neo_hookean_cube_stretch.toml");
     let text = std::fs::read_to_string(example)
         .unwrap()
         .replace("divisions = [4, 4, 4]", "divisions = [8, 8, 8]")
-        .replace("implicit = { increments = 10 }", &format!("implicit = {{ {implicit} }}"))
+        .replace(
+            "implicit = { increments = 10 }",
+            &format!("implicit = {{ {implicit} }}"),
+        )
         + "\n[[displacements]]\npart = \"cube\"\nnodes = \"x1\"\ncomponents = [\"y\", \"z\"]\n";
     let dir = std::env::temp_dir().join(format!("musclefem_solver_{name}_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -70,6 +70,55 @@ impl Default for AmgCgSettings {
     }
 }
 
+/// Counts and times of a run's AMG-CG solves.
+#[derive(Debug, Clone, Default)]
+pub struct AmgCgStatistics {
+    /// Systems solved by AMG-preconditioned conjugate gradients.
+    pub solves: usize,
+    /// Their CG iterations.
+    pub iterations: usize,
+    /// Attempts that failed (the direct solver followed), and the first reasons.
+    pub failures: usize,
+    pub failure_reasons: Vec<String>,
+    /// Unknowns of the multigrid levels and the operator complexity (last hierarchy).
+    pub levels: Vec<usize>,
+    pub operator_complexity: f64,
+    /// Multigrid set-up (numeric included) and the CG iterations [s].
+    pub setup_seconds: f64,
+    pub solve_seconds: f64,
+}
+
+/// What a run's linear solves say for its log: `None` when AMG-CG was not tried, else
+/// one line with its solves, CG iterations per solve, levels, operator complexity and
+/// times, and the reasons it fell back to the direct solver.
+pub fn amg_cg_summary(statistics: &super::sparse::LinearSolveStatistics) -> Option<String> {
+    let (s, a) = (statistics, &statistics.amg);
+    if a.solves == 0 && a.failures == 0 {
+        return None;
+    }
+    let mut line = format!(
+        "AMG-CG solved {} of {} systems, {:.1} CG iterations per solve, levels {:?}, \
+         operator complexity {:.2}, set-up {:.2} s, iterations {:.2} s; {} direct \
+         factorizations",
+        a.solves,
+        s.solves,
+        a.iterations as f64 / a.solves.max(1) as f64,
+        a.levels,
+        a.operator_complexity,
+        a.setup_seconds,
+        a.solve_seconds,
+        s.numeric_factorizations
+    );
+    if a.failures > 0 {
+        line += &format!(
+            "; {} fell back to the direct solver: {}",
+            a.failures,
+            a.failure_reasons.join("; ")
+        );
+    }
+    Some(line)
+}
+
 /// The iterative solver of one sparsity pattern: the near-null space and the hierarchy.
 pub(crate) struct AmgCg {
     /// Unknowns of every node with a free one, in turn (`block_ptr[b]..block_ptr[b + 1]`).
@@ -162,8 +211,8 @@ impl AmgCg {
                 self.multigrid = Some(multigrid);
             }
             Some(multigrid) => {
-                let keep = settings.reuse == HierarchyReuse::WhileFast
-                    && self.fresh_iterations.is_some();
+                let keep =
+                    settings.reuse == HierarchyReuse::WhileFast && self.fresh_iterations.is_some();
                 if keep {
                     multigrid.update_finest(values);
                     fresh = false;
@@ -179,7 +228,10 @@ impl AmgCg {
         match &outcome {
             Ok(iterations) if fresh => self.fresh_iterations = Some(*iterations),
             Ok(iterations) => {
-                if self.fresh_iterations.is_some_and(|f| *iterations > 2 * f.max(1)) {
+                if self
+                    .fresh_iterations
+                    .is_some_and(|f| *iterations > 2 * f.max(1))
+                {
                     self.fresh_iterations = None;
                 }
             }

@@ -11,13 +11,13 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
+use super::amg_cg::LinearSolver;
 use super::chunk::chunk_ranges;
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_dynamics::Inertia;
-use super::interaction::Interaction;
-use super::amg_cg::LinearSolver;
 use super::implicit_settings::ImplicitSettings;
+use super::interaction::Interaction;
 use super::sparse::{PRESCRIBED, SparseSystem};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;

@@ -2,9 +2,9 @@
 //! reuse and (optional) Newmark dynamics.
 
 use super::SolverError;
+use super::amg_cg::{AmgCgSettings, LinearSolver};
 use super::implicit::MAX_INCREMENTS;
 use super::implicit_dynamics::Newmark;
-use super::amg_cg::{AmgCgSettings, LinearSolver};
 use super::sparse::FactorReuse;
 
 /// Automatic step cutting: halve a failed increment, grow it back after easy steps.

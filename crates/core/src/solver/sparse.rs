@@ -39,10 +39,10 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use nalgebra::Vector3;
 
+use super::amg_cg::{AmgCg, AmgCgSettings, AmgCgStatistics};
 #[cfg(feature = "metis")]
 use super::ordering::multilevel_nested_dissection;
 use super::ordering::{NodeGraph, nested_dissection};
-use super::amg_cg::{AmgCg, AmgCgSettings};
 use crate::mesh::ElementBlock;
 
 /// Marks a prescribed degree of freedom in the equation map.
@@ -166,19 +166,8 @@ pub struct LinearSolveStatistics {
     /// Indefinite tangents solved instead with a larger mass term
     /// ([`SparseSystem::solve`]'s `mass_shift`).
     pub mass_shifted_factorizations: usize,
-    /// Systems solved by AMG-preconditioned conjugate gradients.
-    pub amg_solves: usize,
-    /// Their iterations.
-    pub amg_iterations: usize,
-    /// AMG-CG attempts that failed (the direct solver followed), and the first reasons.
-    pub amg_failures: usize,
-    pub amg_failure_reasons: Vec<String>,
-    /// Unknowns of the multigrid levels and the operator complexity (last hierarchy).
-    pub amg_levels: Vec<usize>,
-    pub amg_operator_complexity: f64,
-    /// Multigrid set-up (numeric included) and the CG iterations [s].
-    pub amg_setup_seconds: f64,
-    pub amg_solve_seconds: f64,
+    /// AMG-CG's solves (boxed: a run's result travels in an enum).
+    pub amg: Box<AmgCgStatistics>,
     pub symbolic_seconds: f64,
     pub numeric_seconds: f64,
     /// Triangular solves, Krylov iterations included.
@@ -245,7 +234,11 @@ impl SparseSystem {
             )),
             Err(reason) => eprintln!("warning: {reason}; METIS's order is not tried"),
         }
-        let mut geometry = (Vec::with_capacity(free), Vec::with_capacity(free), Vec::new());
+        let mut geometry = (
+            Vec::with_capacity(free),
+            Vec::with_capacity(free),
+            Vec::new(),
+        );
         for (d, &eq) in equation.iter().enumerate() {
             if eq != PRESCRIBED {
                 debug_assert_eq!(eq as usize, geometry.0.len(), "equations in node order");

@@ -6,9 +6,9 @@ use toml::Spanned;
 use musclefem_contact::RigidSurface;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::Part;
+use musclefem_core::solver::amg_cg::LinearSolver;
 use musclefem_core::solver::bulk_viscosity::BulkViscosity;
 use musclefem_core::solver::explicit::ExplicitSettings;
-use musclefem_core::solver::amg_cg::LinearSolver;
 use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
 
 use super::Analysis;

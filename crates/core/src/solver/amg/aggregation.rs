@@ -86,7 +86,10 @@ pub(crate) fn aggregate(strong: &[Vec<(u32, f64)>]) -> (Vec<u32>, usize) {
     let mut aggregate_of = vec![FREE; n];
     let mut count = 0u32;
     for b in 0..n {
-        if aggregate_of[b] == FREE && strong[b].iter().all(|&(j, _)| aggregate_of[j as usize] == FREE)
+        if aggregate_of[b] == FREE
+            && strong[b]
+                .iter()
+                .all(|&(j, _)| aggregate_of[j as usize] == FREE)
         {
             aggregate_of[b] = count;
             for &(j, _) in &strong[b] {

@@ -23,7 +23,9 @@ pub(crate) fn largest_eigenvalue(a: &Csr, inverse_diagonal: &[f64]) -> f64 {
     }
     let scale: Vec<f64> = inverse_diagonal.iter().map(|d| d.max(0.0).sqrt()).collect();
     // v (unit), w = D^{-1/2} A D^{-1/2} v, λ = vᵀ w.
-    let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.5 * (i as f64 * 0.618).sin()).collect();
+    let mut v: Vec<f64> = (0..n)
+        .map(|i| 1.0 + 0.5 * (i as f64 * 0.618).sin())
+        .collect();
     let mut w = vec![0.0; n];
     let mut y = vec![0.0; n];
     let mut scaled = vec![0.0; n];

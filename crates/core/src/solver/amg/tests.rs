@@ -148,7 +148,10 @@ fn amg_cg_solves_an_elastic_block_as_the_direct_solver_does() {
         }
     }
     let b = rhs(n);
-    let expected = dense.cholesky().expect("SPD").solve(&DVector::from_vec(b.clone()));
+    let expected = dense
+        .cholesky()
+        .expect("SPD")
+        .solve(&DVector::from_vec(b.clone()));
     for reuse in [HierarchyReuse::EveryTangent, HierarchyReuse::WhileFast] {
         let mut solver = AmgCg::new(&coordinates, &dofs, &nodes);
         let settings = AmgCgSettings {
@@ -160,11 +163,21 @@ fn amg_cg_solves_an_elastic_block_as_the_direct_solver_does() {
         for _ in 0..2 {
             let mut x = b.clone();
             let outcome = solver
-                .solve(&a.ptr, &a.idx.iter().map(|&i| i as usize).collect::<Vec<_>>(), &a.val, &mut x, &settings)
+                .solve(
+                    &a.ptr,
+                    &a.idx.iter().map(|&i| i as usize).collect::<Vec<_>>(),
+                    &a.val,
+                    &mut x,
+                    &settings,
+                )
                 .expect("converges");
             let (levels, _) = solver.describe().expect("a hierarchy");
             assert!(levels.len() >= 2, "{levels:?}");
-            assert!(outcome.iterations <= 40, "{} iterations", outcome.iterations);
+            assert!(
+                outcome.iterations <= 40,
+                "{} iterations",
+                outcome.iterations
+            );
             let scale = expected.amax();
             for (xi, ei) in x.iter().zip(expected.iter()) {
                 assert!((xi - ei).abs() <= 1e-10 * scale, "{xi} vs {ei}");
@@ -208,6 +221,9 @@ fn the_hierarchy_is_bit_identical_on_one_and_two_threads() {
     };
     let (sizes, one) = run(1);
     let (_, two) = run(2);
-    assert!(sizes.len() >= 2 && sizes[0] > 2 * super::csr::ROWS, "{sizes:?}");
+    assert!(
+        sizes.len() >= 2 && sizes[0] > 2 * super::csr::ROWS,
+        "{sizes:?}"
+    );
     assert!(one == two, "1 and 2 threads differ");
 }

@@ -38,31 +38,31 @@ impl SparseSystem {
         );
         let elapsed = start.elapsed().as_secs_f64();
         if let Some((levels, complexity)) = amg.describe() {
-            self.statistics.amg_levels = levels;
-            self.statistics.amg_operator_complexity = complexity;
+            self.statistics.amg.levels = levels;
+            self.statistics.amg.operator_complexity = complexity;
         }
         match outcome {
             Ok(outcome) => {
-                self.statistics.amg_solves += 1;
-                self.statistics.amg_iterations += outcome.iterations;
-                self.statistics.amg_setup_seconds += outcome.setup_seconds;
-                self.statistics.amg_solve_seconds += elapsed - outcome.setup_seconds;
+                self.statistics.amg.solves += 1;
+                self.statistics.amg.iterations += outcome.iterations;
+                self.statistics.amg.setup_seconds += outcome.setup_seconds;
+                self.statistics.amg.solve_seconds += elapsed - outcome.setup_seconds;
                 true
             }
             Err(failure) => {
-                self.statistics.amg_failures += 1;
-                self.statistics.amg_solve_seconds += elapsed;
+                self.statistics.amg.failures += 1;
+                self.statistics.amg.solve_seconds += elapsed;
                 let give_up = matches!(failure, AmgCgFailure::TooManyIterations { .. });
-                if self.statistics.amg_failure_reasons.len() < KEPT_REASONS {
+                if self.statistics.amg.failure_reasons.len() < KEPT_REASONS {
                     let then = if give_up {
                         "; the direct solver from here on"
                     } else {
                         "; the direct solver for this system"
                     };
-                    self.statistics.amg_failure_reasons.push(format!(
-                        "solve {}: {failure}{then}",
-                        self.statistics.solves
-                    ));
+                    self.statistics
+                        .amg
+                        .failure_reasons
+                        .push(format!("solve {}: {failure}{then}", self.statistics.solves));
                 }
                 if give_up {
                     self.iterative = None;
