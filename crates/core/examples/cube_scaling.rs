@@ -91,6 +91,13 @@ fn main() {
         s.amg.operator_complexity,
         rayon::current_num_threads(),
     );
+    // FNV-1a of every displacement component's bits: equal on 1 and 2 threads.
+    let checksum = result
+        .displacement
+        .iter()
+        .flat_map(|u| u.iter().map(|v| v.to_bits()))
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b).wrapping_mul(0x100_0000_01b3));
+    println!("  displacement_checksum={checksum:016x}");
     let e = &result.evaluation_times;
     println!(
         "  elements={:.2} assembly={:.2} symbolic={:.2} numeric={:.2} substitution={:.2} \
