@@ -132,8 +132,11 @@ pub(crate) struct AmgCg {
 /// Why AMG-CG did not solve a system.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum AmgCgFailure {
-    /// pᵀ K p ≤ 0: K (or the preconditioner) is not positive definite.
+    /// pᵀ K p ≤ 0: K is not positive definite.
     NotPositiveDefinite { iteration: usize },
+    /// rᵀ M⁻¹ r ≤ 0: the multigrid cycle is not positive definite (a smoother's
+    /// eigenvalue bound too low).
+    PreconditionerIndefinite { iteration: usize },
     /// No convergence within the limit; the relative residual reached.
     TooManyIterations { residual: f64 },
     /// The hierarchy could not be built.
@@ -147,6 +150,11 @@ impl std::fmt::Display for AmgCgFailure {
                 f,
                 "CG met a direction of non-positive curvature at iteration {iteration} \
                  (the tangent is not positive definite)"
+            ),
+            AmgCgFailure::PreconditionerIndefinite { iteration } => write!(
+                f,
+                "the multigrid preconditioner was not positive definite at CG iteration \
+                 {iteration}"
             ),
             AmgCgFailure::TooManyIterations { residual } => write!(
                 f,
@@ -274,8 +282,11 @@ fn conjugate_gradients(
     for iteration in 1..=settings.max_iterations {
         multigrid.matrix().multiply(&p, &mut q);
         let curvature = dot(&p, &q);
-        if curvature.is_nan() || curvature <= 0.0 || rz <= 0.0 {
+        if curvature.is_nan() || curvature <= 0.0 {
             return Err(AmgCgFailure::NotPositiveDefinite { iteration });
+        }
+        if rz.is_nan() || rz <= 0.0 {
+            return Err(AmgCgFailure::PreconditionerIndefinite { iteration });
         }
         let alpha = rz / curvature;
         for ((xi, ri), (pi, qi)) in x.iter_mut().zip(r.iter_mut()).zip(p.iter().zip(&q)) {
