@@ -96,7 +96,9 @@ fn main() {
         .displacement
         .iter()
         .flat_map(|u| u.iter().map(|v| v.to_bits()))
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ b).wrapping_mul(0x100_0000_01b3));
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ b).wrapping_mul(0x100_0000_01b3)
+        });
     println!("  displacement_checksum={checksum:016x}");
     let e = &result.evaluation_times;
     println!(
