@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use indicatif::ProgressBar;
 
+use musclefem_core::solver::amg_cg::amg_cg_summary;
 use musclefem_core::solver::{Outcome, Record, SolverError};
 use musclefem_io::OutputError;
 use musclefem_io::output::run_directory::HISTORY_FILE;
@@ -141,8 +142,13 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
         Some(why) => format!("checkpoints = none: {}\n", why.replace('\n', "; ")),
         None => format!("checkpoints = at every frame, in {CHECKPOINT_FILE} until the end\n"),
     };
+    let linear = match &outcome {
+        Ok(Outcome::Implicit(result)) => amg_cg_summary(&result.linear_solves)
+            .map_or(String::new(), |line| format!("linear_solver = {line}\n")),
+        _ => String::new(),
+    };
     let log = RunLog::new(format!(
-        "{head}{checkpoints}end = {}\n",
+        "{head}{checkpoints}{linear}end = {}\n",
         end.replace('\n', "; ")
     ))
     .timing("setup", job.setup_time)

@@ -452,9 +452,7 @@ fn newton_step(
         .zip(&model.lift)
         .map(|(r, l)| -(r + l))
         .collect();
-    let mut factorization = model
-        .solve(&mut correction, end, settings.factor_reuse.as_ref())
-        .map_err(error)?;
+    let mut factorization = model.solve(&mut correction, end, settings).map_err(error)?;
     // Work of the first correction |δuᵀ r| (energy criterion).
     let first_work = correction
         .iter()
@@ -535,9 +533,7 @@ fn newton_step(
             });
         }
         let mut direction: Vec<f64> = model.residual.iter().map(|r| -r).collect();
-        factorization = model
-            .solve(&mut direction, end, settings.factor_reuse.as_ref())
-            .map_err(error)?;
+        factorization = model.solve(&mut direction, end, settings).map_err(error)?;
         iterations += 1;
         let work: f64 = direction
             .iter()

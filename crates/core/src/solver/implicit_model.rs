@@ -11,12 +11,14 @@ use rayon::prelude::*;
 
 use musclefem_materials::Material;
 
+use super::amg_cg::LinearSolver;
 use super::chunk::chunk_ranges;
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_dynamics::Inertia;
+use super::implicit_settings::ImplicitSettings;
 use super::interaction::Interaction;
-use super::sparse::{FactorReuse, PRESCRIBED, SparseSystem};
+use super::sparse::{PRESCRIBED, SparseSystem};
 use super::{Loads, Part, RigidReaction, SolverError};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, Mesh};
@@ -444,8 +446,18 @@ impl<'a> Model<'a> {
         &mut self,
         rhs: &mut [f64],
         time: f64,
-        reuse: Option<&FactorReuse>,
+        settings: &ImplicitSettings,
     ) -> Result<super::sparse::Factorization, SolverError> {
+        let size = self.residual.len();
+        let iterative = match settings.linear_solver {
+            LinearSolver::Direct => None,
+            LinearSolver::AmgCg => Some(settings.amg_cg.clone()),
+            LinearSolver::Auto => {
+                (size >= settings.amg_cg.auto_unknowns).then(|| settings.amg_cg.clone())
+            }
+        };
+        self.system.set_iterative(iterative);
+        let reuse = settings.factor_reuse.as_ref();
         for run in &mut self.runs {
             run.chunks
                 .iter_mut()

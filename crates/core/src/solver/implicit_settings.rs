@@ -2,6 +2,7 @@
 //! reuse and (optional) Newmark dynamics.
 
 use super::SolverError;
+use super::amg_cg::{AmgCgSettings, LinearSolver};
 use super::implicit::MAX_INCREMENTS;
 use super::implicit_dynamics::Newmark;
 use super::sparse::FactorReuse;
@@ -66,6 +67,10 @@ pub struct ImplicitSettings {
     /// Reuse of the last Cholesky factor as a preconditioner of conjugate gradients
     /// (default on, see [`FactorReuse`]); `None` factorizes every tangent.
     pub factor_reuse: Option<FactorReuse>,
+    /// The solver of symmetric tangents (default [`LinearSolver::Direct`]) and the
+    /// settings of AMG-preconditioned conjugate gradients (`amg_cg.rs`).
+    pub linear_solver: LinearSolver,
+    pub amg_cg: AmgCgSettings,
     /// Implicit dynamics with Newmark's method and the lumped mass (see
     /// `implicit_dynamics.rs`); `None` (default) is quasi-static. A dynamic run starts
     /// from rest in the undeformed, stress-free state, with a⁰ = M⁻¹ f_ext(0) on the free
@@ -116,6 +121,8 @@ impl ImplicitSettings {
             line_search_cuts: 8,
             parallel_factorization_unknowns: usize::MAX,
             factor_reuse: Some(FactorReuse::default()),
+            linear_solver: LinearSolver::Direct,
+            amg_cg: AmgCgSettings::default(),
             dynamics: None,
             energy_tolerance: None,
             mixed_pressure_tangent: true,

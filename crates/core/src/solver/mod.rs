@@ -12,6 +12,8 @@
 //! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
 //! force and moment resultants).
 
+mod amg;
+pub mod amg_cg;
 mod assembly;
 pub mod bulk_viscosity;
 pub mod checkpoint;

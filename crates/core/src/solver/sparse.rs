@@ -39,6 +39,7 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 
 use nalgebra::Vector3;
 
+use super::amg_cg::{AmgCg, AmgCgSettings, AmgCgStatistics};
 #[cfg(feature = "metis")]
 use super::ordering::multilevel_nested_dissection;
 use super::ordering::{NodeGraph, nested_dissection};
@@ -66,6 +67,9 @@ pub enum Factorization {
     /// GMRES on an unsymmetric K, preconditioned with the Cholesky factor of its
     /// symmetric part ½(K + Kᵀ) ([`GMRES_TOLERANCE`]).
     SymmetricPartGmres,
+    /// Conjugate gradients preconditioned with smoothed-aggregation multigrid
+    /// (`amg_cg.rs`), no factorization.
+    AmgCg,
 }
 
 /// Relative residual ‖b − K x‖ / ‖b‖ at which GMRES on an unsymmetric tangent stops
@@ -102,6 +106,15 @@ pub(crate) struct SparseSystem {
     /// K is first shifted; `Some(empty)` when the pattern is not symmetric).
     transpose: Option<Vec<usize>>,
     statistics: LinearSolveStatistics,
+    /// Per unknown: its node's reference coordinates [m], direction and node (for the
+    /// multigrid's rigid-body modes and nodal blocks).
+    geometry: (Vec<[f64; 3]>, Vec<u8>, Vec<u32>),
+    /// AMG-CG settings when the next symmetric solves should try it first.
+    iterative: Option<AmgCgSettings>,
+    /// AMG-CG's hierarchy for this pattern (built at its first use).
+    amg: Option<AmgCg>,
+    /// AMG-CG ran out of iterations: the direct solver from then on.
+    amg_given_up: bool,
 }
 
 /// Reuse of the last Cholesky factor: while it is fresh, a symmetric system is solved by
@@ -153,6 +166,8 @@ pub struct LinearSolveStatistics {
     /// Indefinite tangents solved instead with a larger mass term
     /// ([`SparseSystem::solve`]'s `mass_shift`).
     pub mass_shifted_factorizations: usize,
+    /// AMG-CG's solves (boxed: a run's result travels in an enum).
+    pub amg: Box<AmgCgStatistics>,
     pub symbolic_seconds: f64,
     pub numeric_seconds: f64,
     /// Triangular solves, Krylov iterations included.
@@ -219,6 +234,20 @@ impl SparseSystem {
             )),
             Err(reason) => eprintln!("warning: {reason}; METIS's order is not tried"),
         }
+        let mut geometry = (
+            Vec::with_capacity(free),
+            Vec::with_capacity(free),
+            Vec::new(),
+        );
+        for (d, &eq) in equation.iter().enumerate() {
+            if eq != PRESCRIBED {
+                debug_assert_eq!(eq as usize, geometry.0.len(), "equations in node order");
+                let x = positions[d / 3];
+                geometry.0.push([x.x, x.y, x.z]);
+                geometry.1.push((d % 3) as u8);
+                geometry.2.push((d / 3) as u32);
+            }
+        }
         let values = vec![0.0; row_idx.len()];
         let symbolic = SymbolicSparseColMat::new_checked(free, free, col_ptr, None, row_idx);
         SparseSystem {
@@ -234,6 +263,10 @@ impl SparseSystem {
             cholesky_is_fresh: false,
             transpose: None,
             statistics: LinearSolveStatistics::default(),
+            geometry,
+            iterative: None,
+            amg: None,
+            amg_given_up: false,
         }
     }
 
@@ -313,6 +346,9 @@ impl SparseSystem {
         mass_shift: Option<(&[usize], &[f64])>,
     ) -> Result<Factorization, String> {
         self.statistics.solves += 1;
+        if symmetric && self.try_amg_cg(rhs) {
+            return Ok(Factorization::AmgCg);
+        }
         if let (Some(reuse), true, true) = (reuse, symmetric, self.cholesky_is_fresh) {
             let start = Instant::now();
             let outcome = self.cg_with_cholesky(rhs, reuse);
@@ -465,6 +501,8 @@ fn node_graph<'a>(
 mod factorizations;
 
 mod unsymmetric;
+
+mod iterative;
 
 pub use factorizations::FillReducingOrder;
 use factorizations::{Cholesky, Lu};

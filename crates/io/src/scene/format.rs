@@ -385,6 +385,9 @@ pub struct ImplicitEntry {
     pub numerical_dissipation: Option<Spanned<f64>>,
     /// A rigid body whose motion carries the model to each increment's first guess.
     pub predictor_frame: Option<Spanned<String>>,
+    /// The solver of symmetric tangents: "direct" (default), "amg_cg" (conjugate
+    /// gradients preconditioned with smoothed-aggregation multigrid) or "auto".
+    pub linear_solver: Option<Spanned<String>>,
 }
 
 /// `[output]`.

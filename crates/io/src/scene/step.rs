@@ -6,6 +6,7 @@ use toml::Spanned;
 use musclefem_contact::RigidSurface;
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::Part;
+use musclefem_core::solver::amg_cg::LinearSolver;
 use musclefem_core::solver::bulk_viscosity::BulkViscosity;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
@@ -237,6 +238,27 @@ fn implicit_options(
     }
     if implicit.factor_reuse == Some(false) {
         settings.factor_reuse = None;
+    }
+    if let Some(name) = &implicit.linear_solver {
+        const SOLVERS: [(&str, LinearSolver); 3] = [
+            ("direct", LinearSolver::Direct),
+            ("amg_cg", LinearSolver::AmgCg),
+            ("auto", LinearSolver::Auto),
+        ];
+        settings.linear_solver = SOLVERS
+            .iter()
+            .find(|(n, _)| n == name.get_ref())
+            .map(|(_, solver)| *solver)
+            .ok_or_else(|| {
+                locator.error(
+                    name.span(),
+                    format!(
+                        "linear_solver: '{}' is none of \"direct\", \"amg_cg\", \"auto\"{}",
+                        name.get_ref(),
+                        suggestion(name.get_ref(), SOLVERS.iter().map(|(n, _)| *n))
+                    ),
+                )
+            })?;
     }
     if let Some(name) = &implicit.predictor_frame {
         let body = rigid_bodies

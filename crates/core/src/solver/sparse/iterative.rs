@@ -1,0 +1,76 @@
+//! The iterative path of [`SparseSystem`]: AMG-preconditioned conjugate gradients
+//! (`amg_cg.rs`) tried before any factorization when the implicit solver asks for it.
+
+use std::time::Instant;
+
+use super::SparseSystem;
+use crate::solver::amg_cg::{AmgCg, AmgCgFailure, AmgCgSettings};
+
+/// Failure reasons kept in the statistics (the count goes on).
+const KEPT_REASONS: usize = 8;
+
+impl SparseSystem {
+    /// Try AMG-CG on the next symmetric systems with `settings`, or not (`None`).
+    pub fn set_iterative(&mut self, settings: Option<AmgCgSettings>) {
+        self.iterative = settings.filter(|_| !self.amg_given_up);
+    }
+
+    /// With [`Self::set_iterative`] on: K x = `rhs` in place by AMG-CG, true when it
+    /// converged; false (rhs unchanged, the reason in the statistics) when it did not,
+    /// or when AMG-CG is off. After a solve that ran out of iterations AMG-CG is turned
+    /// off for this system (the direct solver takes the rest of the run's solves).
+    pub(super) fn try_amg_cg(&mut self, rhs: &mut [f64]) -> bool {
+        let Some(settings) = self.iterative.clone() else {
+            return false;
+        };
+        let start = Instant::now();
+        let (coordinates, dofs, nodes) = &self.geometry;
+        let amg = self
+            .amg
+            .get_or_insert_with(|| AmgCg::new(coordinates, dofs, nodes));
+        let symbolic = self.matrix.symbolic();
+        let outcome = amg.solve(
+            symbolic.col_ptr(),
+            symbolic.row_idx(),
+            self.matrix.val(),
+            rhs,
+            &settings,
+        );
+        let elapsed = start.elapsed().as_secs_f64();
+        if let Some((levels, complexity)) = amg.describe() {
+            self.statistics.amg.levels = levels;
+            self.statistics.amg.operator_complexity = complexity;
+        }
+        match outcome {
+            Ok(outcome) => {
+                self.statistics.amg.solves += 1;
+                self.statistics.amg.iterations += outcome.iterations;
+                self.statistics.amg.setup_seconds += outcome.setup_seconds;
+                self.statistics.amg.solve_seconds += elapsed - outcome.setup_seconds;
+                true
+            }
+            Err(failure) => {
+                self.statistics.amg.failures += 1;
+                self.statistics.amg.solve_seconds += elapsed;
+                let give_up = matches!(failure, AmgCgFailure::TooManyIterations { .. });
+                if self.statistics.amg.failure_reasons.len() < KEPT_REASONS {
+                    let then = if give_up {
+                        "; the direct solver from here on"
+                    } else {
+                        "; the direct solver for this system"
+                    };
+                    self.statistics
+                        .amg
+                        .failure_reasons
+                        .push(format!("solve {}: {failure}{then}", self.statistics.solves));
+                }
+                if give_up {
+                    self.iterative = None;
+                    self.amg = None;
+                    self.amg_given_up = true;
+                }
+                false
+            }
+        }
+    }
+}
