@@ -8,6 +8,8 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
+pub use super::followers::MotionTable;
+
 /// The version of the scene format this program reads.
 pub const SCHEMA_VERSION: u32 = 1;
 
@@ -231,6 +233,9 @@ pub struct RigidTieEntry {
     pub translation_amplitude: Option<Spanned<String>>,
     /// Rotation about an axis; default none.
     pub rotation: Option<RotationEntry>,
+    /// A pose the run sets, `{ follower = "KIND", ... }` (a registered follower kind and
+    /// its parameters), in place of `translation` and `rotation`.
+    pub motion: Option<Spanned<MotionTable>>,
 }
 
 /// `[rigid_ties.rotation]`.
@@ -260,6 +265,9 @@ pub struct RigidBodyEntry {
     pub translation_amplitude: Option<Spanned<String>>,
     /// Rotation about an axis; default none.
     pub rotation: Option<RotationEntry>,
+    /// A pose the run sets, `{ follower = "KIND", ... }`, as for a rigid tie (a body
+    /// with the same table as ties moves with them).
+    pub motion: Option<Spanned<MotionTable>>,
 }
 
 /// `[rigid_bodies.surface]`: `shape = "plane"` (`point`, `normal`, `half_size`),
