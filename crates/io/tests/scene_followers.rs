@@ -52,7 +52,9 @@ fn build_turning(p: &FollowerParameters<'_>) -> Result<Arc<dyn PoseFollower>, Sc
     Ok(Arc::new(Turning {
         center: Vector3::from(p.vector_or("center", [0.0; 3])?),
         rate,
-        followed_by: p.ties("pulled_by")?.unwrap_or_else(|| p.followed_by().to_vec()),
+        followed_by: p
+            .ties("pulled_by")?
+            .unwrap_or_else(|| p.followed_by().to_vec()),
         observed: AtomicUsize::new(0),
     }))
 }
@@ -148,7 +150,10 @@ fn ties_with_the_same_table_share_one_follower_which_knows_them() {
     let moved = ties[1]
         .motion
         .position_at(&Vector3::new(0.02, 0.0, 0.0), std::f64::consts::FRAC_PI_4);
-    assert!((moved - Vector3::new(0.01, 0.01, 0.0)).norm() < 1e-15, "{moved}");
+    assert!(
+        (moved - Vector3::new(0.01, 0.01, 0.0)).norm() < 1e-15,
+        "{moved}"
+    );
     // The wall has the ties' table: it moves with them, and hears nothing of its own.
     let wall = model.rigid_bodies[0].motion.follower.clone().unwrap();
     assert!(Arc::ptr_eq(&wall, &follower(0)));
@@ -158,7 +163,10 @@ fn ties_with_the_same_table_share_one_follower_which_knows_them() {
 
 #[test]
 fn pulled_by_names_ties() {
-    let text = SCENE.replace("rate = 3.0 }", "rate = 3.0, pulled_by = [\"right\", \"left\"] }");
+    let text = SCENE.replace(
+        "rate = 3.0 }",
+        "rate = 3.0, pulled_by = [\"right\", \"left\"] }",
+    );
     let model = build(&text).unwrap();
     let follower = model.loads.rigid_ties[2].motion.follower.clone().unwrap();
     assert!(described(&follower).contains("followed_by: [1, 0]"));
@@ -234,7 +242,9 @@ fn mistakes_name_the_file_the_line_and_the_key() {
     ];
     for (what, from, to, location, fragment) in cases {
         assert!(SCENE.contains(from), "{what}: the edit does not apply");
-        let message = build(&SCENE.replacen(from, to, 1)).err().unwrap_or_default();
+        let message = build(&SCENE.replacen(from, to, 1))
+            .err()
+            .unwrap_or_default();
         assert!(
             message.starts_with(location) && message.contains(fragment),
             "{what}: got \"{message}\", expected {location} … {fragment}"

@@ -340,7 +340,11 @@ pub fn build_model(
     let (mut followers, tie_followers) = Followers::of_ties(&motion_tables, &tie_names, locator)?;
     for (entry, follower) in scene.rigid_ties.iter().zip(tie_followers) {
         let nodes = node_set(&entry.part, &entry.nodes)?;
-        let prescribed = (&entry.translation, &entry.translation_amplitude, &entry.rotation);
+        let prescribed = (
+            &entry.translation,
+            &entry.translation_amplitude,
+            &entry.rotation,
+        );
         loads.rigid_ties.push(RigidTie {
             name: entry.name.get_ref().clone(),
             nodes,
@@ -357,7 +361,11 @@ pub fn build_model(
     // Rigid bodies and interactions.
     let mut rigid_bodies = Vec::with_capacity(scene.rigid_bodies.len());
     for entry in &scene.rigid_bodies {
-        let prescribed = (&entry.translation, &entry.translation_amplitude, &entry.rotation);
+        let prescribed = (
+            &entry.translation,
+            &entry.translation_amplitude,
+            &entry.rotation,
+        );
         let motion = match &entry.motion {
             Some(table) => {
                 followed_alone(table, prescribed, locator)?;

@@ -54,8 +54,9 @@ inventory::collect!(FollowerRegistration);
 
 /// The follower kinds registered by the crates linked into the program, sorted by kind.
 pub fn follower_kinds() -> Vec<&'static FollowerRegistration> {
-    let mut kinds: Vec<&'static FollowerRegistration> =
-        inventory::iter::<FollowerRegistration>.into_iter().collect();
+    let mut kinds: Vec<&'static FollowerRegistration> = inventory::iter::<FollowerRegistration>
+        .into_iter()
+        .collect();
     kinds.sort_by_key(|k| k.kind);
     kinds
 }
@@ -97,8 +98,10 @@ impl<'a> FollowerParameters<'a> {
 
     /// An error about the follower as a whole (at its `motion` table).
     pub fn whole_error(&self, message: impl std::fmt::Display) -> SceneError {
-        self.locator
-            .error(self.table.span(), format!("follower '{}': {message}", self.kind))
+        self.locator.error(
+            self.table.span(),
+            format!("follower '{}': {message}", self.kind),
+        )
     }
 
     fn value(&self, key: &str) -> Option<&'a Spanned<toml::Value>> {
@@ -201,15 +204,15 @@ impl<'a> FollowerParameters<'a> {
                 let name = item
                     .as_str()
                     .ok_or_else(|| self.error(key, format!("{item} is not a tie's name")))?;
-                self.tie_names.iter().position(|n| n == name).ok_or_else(|| {
-                    self.error(
-                        key,
-                        format!(
-                            "no rigid tie '{name}'{}",
-                            suggestion(name, names.clone())
-                        ),
-                    )
-                })
+                self.tie_names
+                    .iter()
+                    .position(|n| n == name)
+                    .ok_or_else(|| {
+                        self.error(
+                            key,
+                            format!("no rigid tie '{name}'{}", suggestion(name, names.clone())),
+                        )
+                    })
             })
             .collect::<Result<Vec<_>, _>>()
             .map(Some)

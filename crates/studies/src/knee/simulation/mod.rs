@@ -50,6 +50,7 @@
 
 mod checkpoint;
 pub mod files;
+pub mod followers;
 pub mod interactions;
 pub mod model;
 pub mod patella;
