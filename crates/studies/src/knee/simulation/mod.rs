@@ -60,6 +60,7 @@ pub mod plausibility;
 mod recorder;
 pub mod resolution;
 pub mod run;
+pub mod scene_files;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
