@@ -121,9 +121,15 @@ mod tests {
         for (b, muscle) in geometry.muscles.iter().enumerate() {
             let name = geometry.block_name(b);
             for set in ["origin", "insertion"] {
-                assert!(!read.node_sets[&format!("{name}_{set}")].is_empty(), "{muscle:?}");
+                assert!(
+                    !read.node_sets[&format!("{name}_{set}")].is_empty(),
+                    "{muscle:?}"
+                );
             }
-            assert!(!read.surfaces[&format!("{name}_lateral")].is_empty(), "{muscle:?}");
+            assert!(
+                !read.surfaces[&format!("{name}_lateral")].is_empty(),
+                "{muscle:?}"
+            );
         }
 
         let rows = read_fibers_csv(&directory.join(FIBERS_CSV)).unwrap();
