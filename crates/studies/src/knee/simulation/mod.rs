@@ -62,6 +62,7 @@ pub mod resolution;
 pub mod run;
 pub mod scene_files;
 pub mod scene_materials;
+pub mod scene_step;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
