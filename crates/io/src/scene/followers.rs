@@ -219,6 +219,9 @@ impl<'a> FollowerParameters<'a> {
     }
 }
 
+/// The follower of each rigid tie (`None`: a prescribed motion).
+pub type TieFollowers = Vec<Option<Arc<dyn PoseFollower>>>;
+
 /// The followers of a scene's `motion` tables: one per distinct table.
 #[derive(Default)]
 pub struct Followers {
@@ -241,7 +244,7 @@ impl Followers {
         tables: &[Option<&Spanned<MotionTable>>],
         tie_names: &[String],
         locator: &Locator,
-    ) -> Result<(Self, Vec<Option<Arc<dyn PoseFollower>>>), SceneError> {
+    ) -> Result<(Self, TieFollowers), SceneError> {
         let mut followers = Followers::default();
         let mut of_tie = vec![None; tables.len()];
         for (index, table) in tables.iter().enumerate() {
