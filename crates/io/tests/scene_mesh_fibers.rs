@@ -114,3 +114,58 @@ fn the_mesh_files_orientations_are_the_fibers_unless_the_scene_gives_them() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Two blocks of one file (a belly and its tendon, one hex each) as two parts, both
+/// reading their fibers from one file that covers the whole mesh: each part takes its
+/// own elements' rows and skips the other block's; a row for an element of no block is
+/// still refused.
+#[test]
+fn one_fibers_file_serves_every_block_of_a_mesh_file() {
+    let dir = std::env::temp_dir().join(format!("musclefem_blocks_fibers_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = DECK.split("*NSET").next().unwrap().replace(
+        "2, 2, 3, 6, 5, 8, 9, 12, 11\n",
+        "*ELEMENT, TYPE=C3D8, ELSET=TENDON\n2, 2, 3, 6, 5, 8, 9, 12, 11\n",
+    );
+    std::fs::write(dir.join("muscle.inp"), &deck).unwrap();
+    let part = |name: &str, block: &str| {
+        format!(
+            "[[parts]]\nname = \"{name}\"\nmaterial = \"rubber\"\nelement = \"hex8-fbar\"\n\
+             density = 1000.0\nmesh = {{ file = \"muscle.inp\", block = \"{block}\" }}\n\
+             fibers = {{ file = \"fibers.csv\" }}\n\n"
+        )
+    };
+    let text = format!(
+        "schema_version = 1\n\n[[materials]]\nname = \"rubber\"\nmodel = \"neo-hookean\"\n\n{}{}\
+         [step]\nsolver = \"implicit\"\nduration = 1.0\n",
+        part("belly", "MUSCLE"),
+        part("tendon", "TENDON")
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let header = "element,cx,cy,cz,fx,fy,fz\n";
+    let load = |rows: &str| {
+        std::fs::write(dir.join("fibers.csv"), format!("{header}{rows}")).unwrap();
+        load_scene(&path, &mut MaterialLibrary::with_builtins()).map_err(|e| e.to_string())
+    };
+    let model = load("2,1.5,0.5,0.5,0,0,1\n1,0.5,0.5,0.5,0,1,0\n").unwrap();
+    assert_eq!(model.part_names, vec!["belly", "tendon"]);
+    assert_eq!(
+        model.mesh.blocks[0].fiber_direction,
+        vec![nalgebra::Vector3::y()]
+    );
+    assert_eq!(
+        model.mesh.blocks[1].fiber_direction,
+        vec![nalgebra::Vector3::z()]
+    );
+    let message = load("2,0,0,0,0,0,1\n1,0,0,0,0,1,0\n3,0,0,0,1,0,0\n").unwrap_err();
+    assert!(
+        message.contains("line 4: the part has no element 3"),
+        "{message}"
+    );
+    let message = load("1,0,0,0,0,1,0\n").unwrap_err();
+    assert!(
+        message.contains("no fiber for 1 of the part's 1 elements (the first: element 2)"),
+        "{message}"
+    );
+}

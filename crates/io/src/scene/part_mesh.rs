@@ -3,7 +3,7 @@
 //! per element from a CSV file), and how parts are appended into the one mesh of a model
 //! (node sets, element sets and surfaces renamed `PART.SET`).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use nalgebra::Vector3;
 use toml::Spanned;
@@ -83,7 +83,7 @@ pub(super) fn part_mesh(
         .collect();
     match (&entry.fibers, notes.fiber_source) {
         (Some(fibers), source) => {
-            let directions = fiber_directions(fibers, &mesh, labels.as_deref(), locator)?;
+            let directions = fiber_directions(fibers, &mesh, labels.as_ref(), locator)?;
             mesh.blocks[0].fiber_direction = directions;
             if let Some(source) = source {
                 lines.push(format!(
@@ -102,7 +102,7 @@ pub(super) fn part_mesh(
 fn fiber_directions(
     fibers: &Spanned<FiberEntry>,
     mesh: &Mesh,
-    labels: Option<&[i64]>,
+    labels: Option<&BlockLabels>,
     locator: &Locator,
 ) -> Result<Vec<Vector3<f64>>, SceneError> {
     let elements = mesh.blocks[0].len();
@@ -139,12 +139,22 @@ fn fiber_directions(
             let rows = read_fibers_csv(&path).map_err(|e| at(e.to_string()))?;
             // Element id → index in the block.
             let index: HashMap<i64, usize> = match labels {
-                Some(labels) => labels.iter().enumerate().map(|(i, &l)| (l, i)).collect(),
+                Some(labels) => labels
+                    .own
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &l)| (l, i))
+                    .collect(),
                 None => (0..elements).map(|i| (i as i64, i)).collect(),
             };
             let mut directions: Vec<Option<Vector3<f64>>> = vec![None; elements];
             for (line, row) in rows {
                 let Some(&element) = index.get(&row.element) else {
+                    if labels.is_some_and(|l| l.others.contains(&row.element)) {
+                        // Another block of the same mesh file: one fibers file serves
+                        // every part of it.
+                        continue;
+                    }
                     return Err(at(format!(
                         "'{}' line {line}: the part has no element {}",
                         path.display(),
@@ -161,7 +171,7 @@ fn fiber_directions(
             }
             let missing: Vec<usize> = (0..elements).filter(|&e| directions[e].is_none()).collect();
             if let Some(&first) = missing.first() {
-                let id = labels.map_or(first as i64, |l| l[first]);
+                let id = labels.map_or(first as i64, |l| l.own[first]);
                 return Err(at(format!(
                     "'{}' gives no fiber for {} of the part's {elements} elements (the first: \
                      element {id})",
@@ -251,6 +261,13 @@ fn generate_box(
     Ok(mesh)
 }
 
+/// The element labels of a block read from a mesh file: its own (by element index) and
+/// those of the file's other blocks (rows of a fibers file for them are skipped).
+pub(super) struct BlockLabels {
+    own: Vec<i64>,
+    others: HashSet<i64>,
+}
+
 /// One block of a mesh file, with only its nodes (renumbered in the file's order), the node sets, element sets
 /// and surfaces restricted to it, and the file's label of each element.
 fn read_block(
@@ -258,7 +275,7 @@ fn read_block(
     file: &Spanned<String>,
     locator: &Locator,
     notes: &mut FileNotes,
-) -> Result<(Mesh, Vec<i64>), SceneError> {
+) -> Result<(Mesh, BlockLabels), SceneError> {
     let path = locator.resolve(file.span(), file.get_ref())?;
     let imported = read_mesh_with(&path, locator.trust().outside_paths)
         .map_err(|e| locator.error(file.span(), e.to_string()))?;
@@ -360,7 +377,9 @@ fn read_block(
             part.surfaces.insert(name.clone(), kept);
         }
     }
-    Ok((part, std::mem::take(&mut element_labels[index])))
+    let own = std::mem::take(&mut element_labels[index]);
+    let others = element_labels.into_iter().flatten().collect();
+    Ok((part, BlockLabels { own, others }))
 }
 
 /// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
