@@ -63,6 +63,9 @@ pub mod run;
 pub mod scene_files;
 pub mod scene_materials;
 pub mod scene_step;
+#[cfg(test)]
+mod scene_tests;
+pub mod scene_ties;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
