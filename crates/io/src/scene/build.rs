@@ -159,6 +159,7 @@ pub fn build_model(
     let mut part_names: Vec<String> = Vec::new();
     let mut part_notes: Vec<Vec<String>> = Vec::new();
     let mut material_names: Vec<String> = Vec::new();
+    let mut shared_offsets = std::collections::HashMap::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -188,8 +189,8 @@ pub fn build_model(
                 format!("density {density} kg/m3 must be positive"),
             ));
         }
-        let (part_mesh, notes) = part_mesh(entry, technology.shape(), locator)?;
-        append_part(&mut mesh, part_mesh, name);
+        let (part_mesh, notes, shared) = part_mesh(entry, technology.shape(), locator)?;
+        append_part(&mut mesh, part_mesh, name, shared, &mut shared_offsets);
         part_notes.push(notes);
         parts.push(Part {
             block: parts.len(),

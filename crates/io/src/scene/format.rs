@@ -145,6 +145,12 @@ pub struct MeshEntry {
     pub units: Option<Spanned<String>>,
     /// The element block of the file to use (by name); needed when it has several.
     pub block: Option<Spanned<String>>,
+    /// Share the file's nodes with the other parts that take a block of the same file
+    /// (with the same `units`) and say so: the file's nodes enter the model once, in the
+    /// file's order, and blocks that meet there stay joined; default false (the part
+    /// takes its own copy of its block's nodes).
+    #[serde(default)]
+    pub shared_nodes: bool,
 }
 
 /// `[parts.fibers]`: a constant fiber direction (normalised when read), one per element

@@ -32,13 +32,17 @@ pub(super) struct FileNotes {
 ///
 /// Fibers: the scene's `fibers` table when it has one; otherwise the mesh file's
 /// orientations when it has them; otherwise e_x.
+///
+/// A part with `shared_nodes` keeps every node of its file, by the file's ids, and
+/// comes with the key of its file (path and length unit) for [`append_part`].
 pub(super) fn part_mesh(
     entry: &PartEntry,
     shape: ElementShape,
     locator: &Locator,
-) -> Result<(Mesh, Vec<String>), SceneError> {
+) -> Result<(Mesh, Vec<String>, Option<String>), SceneError> {
     let spec = &entry.mesh;
     let mut notes = FileNotes::default();
+    let mut shared_file = None;
     let (mut mesh, labels) = match (&spec.generator, &spec.file) {
         (Some(generator), None) => {
             if let Some(units) = &spec.units {
@@ -49,10 +53,23 @@ pub(super) fn part_mesh(
                         .to_string(),
                 ));
             }
+            if spec.shared_nodes {
+                return Err(locator.error(
+                    generator.span(),
+                    "`shared_nodes` shares a mesh file's nodes between parts; a generated \
+                     box has its own"
+                        .to_string(),
+                ));
+            }
             (generate_box(entry, generator, locator)?, None)
         }
         (None, Some(file)) => {
             let (mesh, labels) = read_block(entry, file, locator, &mut notes)?;
+            if spec.shared_nodes {
+                let path = locator.resolve(file.span(), file.get_ref())?;
+                let units = spec.units.as_ref().map_or("m", |u| u.get_ref().as_str());
+                shared_file = Some(format!("{} ({units})", path.display()));
+            }
             (mesh, Some(labels))
         }
         _ => {
@@ -94,7 +111,7 @@ pub(super) fn part_mesh(
         (None, Some(source)) => lines.push(format!("fibers from the mesh file: {source}")),
         (None, None) => {}
     }
-    Ok((mesh, lines))
+    Ok((mesh, lines, shared_file))
 }
 
 /// The fiber direction of every element of the part's (one) block: a constant, or read
@@ -326,14 +343,16 @@ fn read_block(
     notes.fiber_source = imported.fiber_sources.get(index).cloned().flatten();
     let mut block = mesh.blocks[index].clone();
     // The block's nodes keep the file's order (a mesh written by a study reads back with
-    // its own numbering, and with it the implicit solver's ordering and round-off).
+    // its own numbering, and with it the implicit solver's ordering and round-off); with
+    // `shared_nodes`, every node of the file is kept, by its id in the file.
     let mut used = vec![false; mesh.nodes.len()];
     for &id in &block.connectivity {
         used[id as usize] = true;
     }
+    let shared = entry.mesh.shared_nodes;
     let mut new_id = vec![u32::MAX; mesh.nodes.len()];
     let mut nodes = musclefem_core::mesh::Nodes::new();
-    for old in (0..mesh.nodes.len()).filter(|&old| used[old]) {
+    for old in (0..mesh.nodes.len()).filter(|&old| shared || used[old]) {
         new_id[old] = nodes.push(scale * mesh.nodes.position(old));
     }
     for id in block.connectivity.iter_mut() {
@@ -341,10 +360,11 @@ fn read_block(
     }
     let mut part = Mesh::new(nodes, vec![block]);
     for (name, set) in &mesh.node_sets {
+        // The set's nodes on this block.
         let kept: Vec<u32> = set
             .iter()
+            .filter(|&&n| used[n as usize])
             .map(|&n| new_id[n as usize])
-            .filter(|&n| n != u32::MAX)
             .collect();
         if !kept.is_empty() {
             part.node_sets.insert(name.clone(), kept);
@@ -384,8 +404,21 @@ fn read_block(
 
 /// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
 /// block named after the part, node sets, element sets and surfaces renamed `PART.SET`.
-pub(super) fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
-    let offset = mesh.nodes.len() as u32;
+/// A part of a shared file (`shared`: its key, see [`part_mesh`]) whose file an earlier
+/// part brought in (`offsets`: where each shared file's nodes start) adds no nodes: its
+/// block refers to that file's.
+pub(super) fn append_part(
+    mesh: &mut Mesh,
+    part: Mesh,
+    name: &str,
+    shared: Option<String>,
+    offsets: &mut HashMap<String, u32>,
+) {
+    let present = shared.as_ref().and_then(|key| offsets.get(key)).copied();
+    let offset = present.unwrap_or(mesh.nodes.len() as u32);
+    if let (Some(key), None) = (shared, present) {
+        offsets.insert(key, offset);
+    }
     let first_block = mesh.blocks.len() as u32;
     let moved = |e: ElementRef| ElementRef {
         block: e.block + first_block,
@@ -409,8 +442,10 @@ pub(super) fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
                 .collect(),
         );
     }
-    for i in 0..part.nodes.len() {
-        mesh.nodes.push(part.nodes.position(i));
+    if present.is_none() {
+        for i in 0..part.nodes.len() {
+            mesh.nodes.push(part.nodes.position(i));
+        }
     }
     for mut block in part.blocks {
         block.connectivity.iter_mut().for_each(|id| *id += offset);

@@ -2,8 +2,8 @@
 //! and patella table, its materials, parts, ties and step written as a scene and built
 //! back give the squat's model — the same elements at the same places, fibers,
 //! materials, densities, element technology, tie nodes and motions (the patella's after
-//! the same pull) and analysis, bit for bit — except that each part has its own copy of
-//! its block's nodes (the gap `docs/design.md` lists first).
+//! the same pull) and analysis, bit for bit, on the knee's nodes by the knee's ids (the
+//! parts share `muscles.inp`'s nodes). Its interactions are not in the scene yet.
 
 use std::fmt::Write as _;
 
@@ -26,7 +26,7 @@ use crate::knee::anatomy::squat::Bone;
 use crate::knee::anatomy::{Anatomy, Resolution, Squat, Tissue};
 
 #[test]
-fn the_knees_scene_builds_the_squats_model_but_for_the_shared_nodes() {
+fn the_knees_scene_builds_the_squats_model() {
     let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
     let squat = Squat {
         duration: 0.2,
@@ -73,7 +73,8 @@ fn the_knees_scene_builds_the_squats_model_but_for_the_shared_nodes() {
         let _ = writeln!(
             text,
             "[[parts]]\nname = {name:?}\nmaterial = {material:?}\nelement = \"hex8-fbar\"\n\
-             density = {}\nmesh = {{ file = {MUSCLES_INP:?}, block = {name:?} }}\n\
+             density = {}\nmesh = {{ file = {MUSCLES_INP:?}, block = {name:?}, shared_nodes = true \
+             }}\n\
              fibers = {{ file = {FIBERS_CSV:?} }}\n",
             format_number(density),
             name = geometry.block_name(b),
@@ -116,21 +117,14 @@ fn the_knees_scene_builds_the_squats_model_but_for_the_shared_nodes() {
             "block {b}"
         );
     }
-    // The gap: every part copies its block's nodes, so the nodes a belly shares with its
-    // tendon at the junction (and a tendon with the next) are there twice.
-    let per_block: usize = knee
-        .mesh
-        .blocks
-        .iter()
-        .map(|block| {
-            let mut nodes = block.connectivity.clone();
-            nodes.sort_unstable();
-            nodes.dedup();
-            nodes.len()
-        })
-        .sum();
-    assert_eq!(scene.mesh.node_count(), per_block);
-    assert!(per_block > knee.mesh.node_count());
+    // The parts share the file's nodes: the knee's nodes, by the knee's ids.
+    assert_eq!(scene.mesh.node_count(), knee.mesh.node_count());
+    for b in 0..knee.mesh.blocks.len() {
+        assert_eq!(
+            scene.mesh.blocks[b].connectivity,
+            knee.mesh.blocks[b].connectivity
+        );
+    }
 
     // Ties: the same names, nodes at the same places, the same motions.
     let ties = (&scene.loads.rigid_ties, &knee.loads.rigid_ties);
