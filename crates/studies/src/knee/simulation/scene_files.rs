@@ -9,10 +9,11 @@
 //! blocks and node sets read back as they were; each surface's faces read back sorted
 //! (the Abaqus reader sorts them), where the knee lists them ring by ring.
 //!
-//! Not yet: the `scene.toml` that names them (one part per block sharing the file's
-//! nodes, which the scene format cannot say yet: each part takes its own copy of its
-//! block's nodes), and the height-limited bonded surfaces of
-//! [`super::interactions`] (see `docs/design.md`, "One run, one observer").
+//! Parts take the file's blocks with `shared_nodes = true`, so that a belly and its
+//! tendon stay joined (`super::scene_tests` builds the whole model from these files).
+//! Not yet: `musclefem knee` writing them with its `scene.toml`, and the height-limited
+//! bonded surfaces of [`super::interactions`] (see `docs/design.md`, "One run, one
+//! observer").
 
 use std::path::Path;
 

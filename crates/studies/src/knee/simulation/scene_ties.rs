@@ -3,10 +3,8 @@
 //! (the rectus femoris), each insertion on the patella, with the knee's follower kinds
 //! ([`super::followers`]). A tie names the part (block) that holds its node set.
 //!
-//! The parts are still separate copies of their blocks' nodes (the scene format cannot
-//! share a file's nodes between parts yet), so a scene of these files builds the knee's
-//! parts, materials, fibers, ties and analysis, but its bellies and tendons are not
-//! joined at the muscle–tendon junction: see `docs/design.md`.
+//! With the parts on `muscles.inp`'s blocks sharing its nodes (`shared_nodes = true`)
+//! the ties hold the knee's own nodes (`super::scene_tests`).
 
 use std::fmt::Write as _;
 
