@@ -46,7 +46,8 @@ pub fn format_fibers_csv(rows: &[FiberRow]) -> String {
 
 /// Read a fibers file, each row with its 1-based line. Errors name the file and line: a
 /// wrong header, a non-numeric field, a fractional or out-of-range element id, a
-/// non-finite or zero direction. Directions come back normalised.
+/// non-finite or zero direction. Directions come back normalised; one that is unit to
+/// round-off (|‖d‖ − 1| ≤ 4ε) comes back as written, bit for bit.
 pub fn read_fibers_csv(path: &Path) -> Result<Vec<(usize, FiberRow)>, OutputError> {
     let error = |line: usize, message: String| OutputError::Parse {
         path: path.to_path_buf(),
@@ -76,11 +77,26 @@ pub fn read_fibers_csv(path: &Path) -> Result<Vec<(usize, FiberRow)>, OutputErro
                 FiberRow {
                     element: id as i64,
                     centroid: Vector3::new(row[1], row[2], row[3]),
-                    direction: direction / norm,
+                    direction: unit(direction, norm),
                 },
             ))
         })
         .collect()
+}
+
+/// Largest |‖d‖ − 1| of a direction taken as already unit: a few rounding errors of the
+/// norm of a normalised vector.
+const UNIT_TOLERANCE: f64 = 4.0 * f64::EPSILON;
+
+/// `direction` (of norm `norm`) made unit: as written when it is unit to round-off, so
+/// that a field written with round-trip numbers reads back bit for bit (dividing by its
+/// norm again would move its last bits); else divided by its norm.
+fn unit(direction: Vector3<f64>, norm: f64) -> Vector3<f64> {
+    if (norm - 1.0).abs() <= UNIT_TOLERANCE {
+        direction
+    } else {
+        direction / norm
+    }
 }
 
 #[cfg(test)]
@@ -113,6 +129,35 @@ mod tests {
         let read = read_fibers_csv(&path).unwrap();
         assert_eq!(read[0], (2, rows[0].clone()));
         assert_eq!(read[1].1.direction, Vector3::x());
+    }
+
+    #[test]
+    fn unit_directions_read_back_bit_for_bit() {
+        // Normalised vectors whose norm is not exactly 1: dividing by it again would move
+        // the last bits of some of them.
+        let rows: Vec<FiberRow> = (1..200)
+            .map(|k| {
+                let k = f64::from(k);
+                FiberRow {
+                    element: k as i64,
+                    centroid: Vector3::zeros(),
+                    direction: Vector3::new(k.sin(), (2.0 * k).cos(), 0.3 * k.sqrt()).normalize(),
+                }
+            })
+            .collect();
+        let moved = rows
+            .iter()
+            .filter(|r| r.direction / r.direction.norm() != r.direction)
+            .count();
+        assert!(moved > 0, "no direction would have moved");
+        let path = temp("unit.csv", &format_fibers_csv(&rows));
+        let read = read_fibers_csv(&path).unwrap();
+        for ((_, read), written) in read.iter().zip(&rows) {
+            assert_eq!(
+                read.direction.map(f64::to_bits),
+                written.direction.map(f64::to_bits)
+            );
+        }
     }
 
     #[test]

@@ -114,3 +114,118 @@ fn the_mesh_files_orientations_are_the_fibers_unless_the_scene_gives_them() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Two blocks of one file (a belly and its tendon, one hex each) as two parts, both
+/// reading their fibers from one file that covers the whole mesh: each part takes its
+/// own elements' rows and skips the other block's; a row for an element of no block is
+/// still refused.
+#[test]
+fn one_fibers_file_serves_every_block_of_a_mesh_file() {
+    let dir = std::env::temp_dir().join(format!("musclefem_blocks_fibers_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = DECK.split("*NSET").next().unwrap().replace(
+        "2, 2, 3, 6, 5, 8, 9, 12, 11\n",
+        "*ELEMENT, TYPE=C3D8, ELSET=TENDON\n2, 2, 3, 6, 5, 8, 9, 12, 11\n",
+    );
+    std::fs::write(dir.join("muscle.inp"), &deck).unwrap();
+    let part = |name: &str, block: &str| {
+        format!(
+            "[[parts]]\nname = \"{name}\"\nmaterial = \"rubber\"\nelement = \"hex8-fbar\"\n\
+             density = 1000.0\nmesh = {{ file = \"muscle.inp\", block = \"{block}\" }}\n\
+             fibers = {{ file = \"fibers.csv\" }}\n\n"
+        )
+    };
+    let text = format!(
+        "schema_version = 1\n\n[[materials]]\nname = \"rubber\"\nmodel = \"neo-hookean\"\n\n{}{}\
+         [step]\nsolver = \"implicit\"\nduration = 1.0\n",
+        part("belly", "MUSCLE"),
+        part("tendon", "TENDON")
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let header = "element,cx,cy,cz,fx,fy,fz\n";
+    let load = |rows: &str| {
+        std::fs::write(dir.join("fibers.csv"), format!("{header}{rows}")).unwrap();
+        load_scene(&path, &mut MaterialLibrary::with_builtins()).map_err(|e| e.to_string())
+    };
+    let model = load("2,1.5,0.5,0.5,0,0,1\n1,0.5,0.5,0.5,0,1,0\n").unwrap();
+    assert_eq!(model.part_names, vec!["belly", "tendon"]);
+    assert_eq!(
+        model.mesh.blocks[0].fiber_direction,
+        vec![nalgebra::Vector3::y()]
+    );
+    assert_eq!(
+        model.mesh.blocks[1].fiber_direction,
+        vec![nalgebra::Vector3::z()]
+    );
+    let message = load("2,0,0,0,0,0,1\n1,0,0,0,0,1,0\n3,0,0,0,1,0,0\n").unwrap_err();
+    assert!(
+        message.contains("line 4: the part has no element 3"),
+        "{message}"
+    );
+    // Each part copies its block's nodes: the four nodes of the face at x = 1 are there
+    // twice, and the blocks are not joined.
+    assert_eq!(model.mesh.node_count(), 16);
+    let message = load("1,0,0,0,0,1,0\n").unwrap_err();
+    assert!(
+        message.contains("no fiber for 1 of the part's 1 elements (the first: element 2)"),
+        "{message}"
+    );
+}
+
+/// With `shared_nodes`, two parts of one file share its nodes: the belly and the tendon
+/// stay joined at their common face, every node by its id in the file; a generated box
+/// cannot share.
+#[test]
+fn parts_of_one_file_share_its_nodes_when_they_say_so() {
+    let dir = std::env::temp_dir().join(format!("musclefem_shared_nodes_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let deck = DECK.split("*NSET").next().unwrap().replace(
+        "2, 2, 3, 6, 5, 8, 9, 12, 11\n",
+        "*ELEMENT, TYPE=C3D8, ELSET=TENDON\n2, 2, 3, 6, 5, 8, 9, 12, 11\n*NSET, NSET=end\n3, 6, 9, 12\n",
+    );
+    std::fs::write(dir.join("muscle.inp"), &deck).unwrap();
+    let part = |name: &str, block: &str| {
+        format!(
+            "[[parts]]\nname = \"{name}\"\nmaterial = \"rubber\"\nelement = \"hex8-fbar\"\n\
+             density = 1000.0\nmesh = {{ file = \"muscle.inp\", block = \"{block}\", shared_nodes = true }}\n\n"
+        )
+    };
+    let text = format!(
+        "schema_version = 1\n\n[[materials]]\nname = \"rubber\"\nmodel = \"neo-hookean\"\n\n{}{}\
+         [[rigid_ties]]\nname = \"pull\"\npart = \"tendon\"\nnodes = \"end\"\ntranslation = [0.001, 0.0, 0.0]\n\n\
+         [step]\nsolver = \"implicit\"\nduration = 1.0\n",
+        part("belly", "MUSCLE"),
+        part("tendon", "TENDON")
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    let model = load_scene(&path, &mut MaterialLibrary::with_builtins()).unwrap();
+    assert_eq!(model.mesh.node_count(), 12);
+    assert_eq!(
+        model.mesh.blocks[0].connectivity,
+        vec![0, 1, 4, 3, 6, 7, 10, 9]
+    );
+    assert_eq!(
+        model.mesh.blocks[1].connectivity,
+        vec![1, 2, 5, 4, 7, 8, 11, 10]
+    );
+    assert_eq!(model.loads.rigid_ties[0].nodes, vec![2, 5, 8, 11]);
+    // The tendon's sets hold only its block's nodes: the belly has no `end`.
+    assert!(!model.mesh.node_sets.contains_key("belly.end"));
+    assert_eq!(
+        model.mesh.nodes.position(11),
+        nalgebra::Vector3::new(2.0, 1.0, 1.0)
+    );
+
+    let boxed = text.replacen(
+        "mesh = { file = \"muscle.inp\", block = \"MUSCLE\", shared_nodes = true }",
+        "mesh = { generator = \"box\", size = [1.0, 1.0, 1.0], divisions = [1, 1, 1], shared_nodes = true }",
+        1,
+    );
+    std::fs::write(&path, &boxed).unwrap();
+    let message = load_scene(&path, &mut MaterialLibrary::with_builtins())
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("a generated box has its own"), "{message}");
+}

@@ -19,7 +19,8 @@ use musclefem_materials::{ActivationHistory, Amplitude, Material, MaterialLibrar
 use super::activation::{activation_history, driven_material};
 use super::amplitudes::Amplitudes;
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{PartEntry, RotationEntry, SceneFile};
+use super::followers::{Followers, PrescribedMotion, followed_alone};
+use super::format::{PartEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::locking::small_strain_shear_modulus;
 use super::part_mesh::{append_part, part_mesh};
@@ -158,6 +159,7 @@ pub fn build_model(
     let mut part_names: Vec<String> = Vec::new();
     let mut part_notes: Vec<Vec<String>> = Vec::new();
     let mut material_names: Vec<String> = Vec::new();
+    let mut shared_offsets = std::collections::HashMap::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -187,8 +189,8 @@ pub fn build_model(
                 format!("density {density} kg/m3 must be positive"),
             ));
         }
-        let (part_mesh, notes) = part_mesh(entry, technology.shape(), locator)?;
-        append_part(&mut mesh, part_mesh, name);
+        let (part_mesh, notes, shared) = part_mesh(entry, technology.shape(), locator)?;
+        append_part(&mut mesh, part_mesh, name, shared, &mut shared_offsets);
         part_notes.push(notes);
         parts.push(Part {
             block: parts.len(),
@@ -330,31 +332,48 @@ pub fn build_model(
             amplitude: scaled(&entry.amplitude, entry.value)?,
         });
     }
-    for entry in &scene.rigid_ties {
+    let tie_names: Vec<String> = scene
+        .rigid_ties
+        .iter()
+        .map(|t| t.name.get_ref().clone())
+        .collect();
+    let motion_tables: Vec<_> = scene.rigid_ties.iter().map(|t| t.motion.as_ref()).collect();
+    let (mut followers, tie_followers) = Followers::of_ties(&motion_tables, &tie_names, locator)?;
+    for (entry, follower) in scene.rigid_ties.iter().zip(tie_followers) {
         let nodes = node_set(&entry.part, &entry.nodes)?;
+        let prescribed = (
+            &entry.translation,
+            &entry.translation_amplitude,
+            &entry.rotation,
+        );
         loads.rigid_ties.push(RigidTie {
             name: entry.name.get_ref().clone(),
             nodes,
-            motion: rigid_motion(
-                &entry.translation,
-                &entry.translation_amplitude,
-                &entry.rotation,
-                &scaled,
-                locator,
-            )?,
+            motion: match (follower, &entry.motion) {
+                (Some(follower), Some(table)) => {
+                    followed_alone(table, prescribed, locator)?;
+                    RigidMotion::followed(follower)
+                }
+                _ => rigid_motion(prescribed, &scaled, locator)?,
+            },
         });
     }
 
     // Rigid bodies and interactions.
     let mut rigid_bodies = Vec::with_capacity(scene.rigid_bodies.len());
     for entry in &scene.rigid_bodies {
-        let motion = rigid_motion(
+        let prescribed = (
             &entry.translation,
             &entry.translation_amplitude,
             &entry.rotation,
-            &scaled,
-            locator,
-        )?;
+        );
+        let motion = match &entry.motion {
+            Some(table) => {
+                followed_alone(table, prescribed, locator)?;
+                RigidMotion::followed(followers.of_body(table, &tie_names, locator)?)
+            }
+            None => rigid_motion(prescribed, &scaled, locator)?,
+        };
         rigid_bodies.push(rigid_body(entry, motion, locator)?);
     }
     let interactions = build_interactions(
@@ -417,9 +436,7 @@ type ScaledAmplitude<'a> =
 /// The motion of a rigid tie or body: `translation` [m] times its amplitude, and a
 /// rotation about an axis.
 fn rigid_motion(
-    translation: &[f64; 3],
-    translation_amplitude: &Option<Spanned<String>>,
-    rotation: &Option<RotationEntry>,
+    (translation, translation_amplitude, rotation): PrescribedMotion<'_>,
     scaled: &ScaledAmplitude<'_>,
     locator: &Locator,
 ) -> Result<RigidMotion, SceneError> {

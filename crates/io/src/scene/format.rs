@@ -8,6 +8,8 @@ use std::collections::BTreeMap;
 use serde::Deserialize;
 use toml::Spanned;
 
+pub use super::followers::MotionTable;
+
 /// The version of the scene format this program reads.
 pub const SCHEMA_VERSION: u32 = 1;
 
@@ -143,6 +145,12 @@ pub struct MeshEntry {
     pub units: Option<Spanned<String>>,
     /// The element block of the file to use (by name); needed when it has several.
     pub block: Option<Spanned<String>>,
+    /// Share the file's nodes with the other parts that take a block of the same file
+    /// (with the same `units`) and say so: the file's nodes enter the model once, in the
+    /// file's order, and blocks that meet there stay joined; default false (the part
+    /// takes its own copy of its block's nodes).
+    #[serde(default)]
+    pub shared_nodes: bool,
 }
 
 /// `[parts.fibers]`: a constant fiber direction (normalised when read), one per element
@@ -231,6 +239,9 @@ pub struct RigidTieEntry {
     pub translation_amplitude: Option<Spanned<String>>,
     /// Rotation about an axis; default none.
     pub rotation: Option<RotationEntry>,
+    /// A pose the run sets, `{ follower = "KIND", ... }` (a registered follower kind and
+    /// its parameters), in place of `translation` and `rotation`.
+    pub motion: Option<Spanned<MotionTable>>,
 }
 
 /// `[rigid_ties.rotation]`.
@@ -260,6 +271,9 @@ pub struct RigidBodyEntry {
     pub translation_amplitude: Option<Spanned<String>>,
     /// Rotation about an axis; default none.
     pub rotation: Option<RotationEntry>,
+    /// A pose the run sets, `{ follower = "KIND", ... }`, as for a rigid tie (a body
+    /// with the same table as ties moves with them).
+    pub motion: Option<Spanned<MotionTable>>,
 }
 
 /// `[rigid_bodies.surface]`: `shape = "plane"` (`point`, `normal`, `half_size`),

@@ -8,6 +8,7 @@ mod amplitudes;
 mod build;
 mod describe;
 mod error;
+mod followers;
 mod format;
 mod interactions;
 mod locking;
@@ -25,6 +26,10 @@ use musclefem_materials::MaterialLibrary;
 
 pub use build::{Analysis, ELEMENT_NAMES, Model, build_model, element_technology};
 pub use error::{Locator, SceneError};
+pub use followers::{
+    FOLLOWER_KEY, FollowerParameter, FollowerParameters, FollowerRegistration, MotionTable,
+    follower_kinds,
+};
 pub use format::{SCHEMA_VERSION, SceneFile};
 pub use interactions::InteractionModel;
 pub use locking::{

@@ -3,7 +3,7 @@
 //! per element from a CSV file), and how parts are appended into the one mesh of a model
 //! (node sets, element sets and surfaces renamed `PART.SET`).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use nalgebra::Vector3;
 use toml::Spanned;
@@ -32,13 +32,17 @@ pub(super) struct FileNotes {
 ///
 /// Fibers: the scene's `fibers` table when it has one; otherwise the mesh file's
 /// orientations when it has them; otherwise e_x.
+///
+/// A part with `shared_nodes` keeps every node of its file, by the file's ids, and
+/// comes with the key of its file (path and length unit) for [`append_part`].
 pub(super) fn part_mesh(
     entry: &PartEntry,
     shape: ElementShape,
     locator: &Locator,
-) -> Result<(Mesh, Vec<String>), SceneError> {
+) -> Result<(Mesh, Vec<String>, Option<String>), SceneError> {
     let spec = &entry.mesh;
     let mut notes = FileNotes::default();
+    let mut shared_file = None;
     let (mut mesh, labels) = match (&spec.generator, &spec.file) {
         (Some(generator), None) => {
             if let Some(units) = &spec.units {
@@ -49,10 +53,23 @@ pub(super) fn part_mesh(
                         .to_string(),
                 ));
             }
+            if spec.shared_nodes {
+                return Err(locator.error(
+                    generator.span(),
+                    "`shared_nodes` shares a mesh file's nodes between parts; a generated \
+                     box has its own"
+                        .to_string(),
+                ));
+            }
             (generate_box(entry, generator, locator)?, None)
         }
         (None, Some(file)) => {
             let (mesh, labels) = read_block(entry, file, locator, &mut notes)?;
+            if spec.shared_nodes {
+                let path = locator.resolve(file.span(), file.get_ref())?;
+                let units = spec.units.as_ref().map_or("m", |u| u.get_ref().as_str());
+                shared_file = Some(format!("{} ({units})", path.display()));
+            }
             (mesh, Some(labels))
         }
         _ => {
@@ -83,7 +100,7 @@ pub(super) fn part_mesh(
         .collect();
     match (&entry.fibers, notes.fiber_source) {
         (Some(fibers), source) => {
-            let directions = fiber_directions(fibers, &mesh, labels.as_deref(), locator)?;
+            let directions = fiber_directions(fibers, &mesh, labels.as_ref(), locator)?;
             mesh.blocks[0].fiber_direction = directions;
             if let Some(source) = source {
                 lines.push(format!(
@@ -94,7 +111,7 @@ pub(super) fn part_mesh(
         (None, Some(source)) => lines.push(format!("fibers from the mesh file: {source}")),
         (None, None) => {}
     }
-    Ok((mesh, lines))
+    Ok((mesh, lines, shared_file))
 }
 
 /// The fiber direction of every element of the part's (one) block: a constant, or read
@@ -102,7 +119,7 @@ pub(super) fn part_mesh(
 fn fiber_directions(
     fibers: &Spanned<FiberEntry>,
     mesh: &Mesh,
-    labels: Option<&[i64]>,
+    labels: Option<&BlockLabels>,
     locator: &Locator,
 ) -> Result<Vec<Vector3<f64>>, SceneError> {
     let elements = mesh.blocks[0].len();
@@ -139,12 +156,22 @@ fn fiber_directions(
             let rows = read_fibers_csv(&path).map_err(|e| at(e.to_string()))?;
             // Element id → index in the block.
             let index: HashMap<i64, usize> = match labels {
-                Some(labels) => labels.iter().enumerate().map(|(i, &l)| (l, i)).collect(),
+                Some(labels) => labels
+                    .own
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &l)| (l, i))
+                    .collect(),
                 None => (0..elements).map(|i| (i as i64, i)).collect(),
             };
             let mut directions: Vec<Option<Vector3<f64>>> = vec![None; elements];
             for (line, row) in rows {
                 let Some(&element) = index.get(&row.element) else {
+                    if labels.is_some_and(|l| l.others.contains(&row.element)) {
+                        // Another block of the same mesh file: one fibers file serves
+                        // every part of it.
+                        continue;
+                    }
                     return Err(at(format!(
                         "'{}' line {line}: the part has no element {}",
                         path.display(),
@@ -161,7 +188,7 @@ fn fiber_directions(
             }
             let missing: Vec<usize> = (0..elements).filter(|&e| directions[e].is_none()).collect();
             if let Some(&first) = missing.first() {
-                let id = labels.map_or(first as i64, |l| l[first]);
+                let id = labels.map_or(first as i64, |l| l.own[first]);
                 return Err(at(format!(
                     "'{}' gives no fiber for {} of the part's {elements} elements (the first: \
                      element {id})",
@@ -251,6 +278,13 @@ fn generate_box(
     Ok(mesh)
 }
 
+/// The element labels of a block read from a mesh file: its own (by element index) and
+/// those of the file's other blocks (rows of a fibers file for them are skipped).
+pub(super) struct BlockLabels {
+    own: Vec<i64>,
+    others: HashSet<i64>,
+}
+
 /// One block of a mesh file, with only its nodes (renumbered in the file's order), the node sets, element sets
 /// and surfaces restricted to it, and the file's label of each element.
 fn read_block(
@@ -258,7 +292,7 @@ fn read_block(
     file: &Spanned<String>,
     locator: &Locator,
     notes: &mut FileNotes,
-) -> Result<(Mesh, Vec<i64>), SceneError> {
+) -> Result<(Mesh, BlockLabels), SceneError> {
     let path = locator.resolve(file.span(), file.get_ref())?;
     let imported = read_mesh_with(&path, locator.trust().outside_paths)
         .map_err(|e| locator.error(file.span(), e.to_string()))?;
@@ -309,14 +343,16 @@ fn read_block(
     notes.fiber_source = imported.fiber_sources.get(index).cloned().flatten();
     let mut block = mesh.blocks[index].clone();
     // The block's nodes keep the file's order (a mesh written by a study reads back with
-    // its own numbering, and with it the implicit solver's ordering and round-off).
+    // its own numbering, and with it the implicit solver's ordering and round-off); with
+    // `shared_nodes`, every node of the file is kept, by its id in the file.
     let mut used = vec![false; mesh.nodes.len()];
     for &id in &block.connectivity {
         used[id as usize] = true;
     }
+    let shared = entry.mesh.shared_nodes;
     let mut new_id = vec![u32::MAX; mesh.nodes.len()];
     let mut nodes = musclefem_core::mesh::Nodes::new();
-    for old in (0..mesh.nodes.len()).filter(|&old| used[old]) {
+    for old in (0..mesh.nodes.len()).filter(|&old| shared || used[old]) {
         new_id[old] = nodes.push(scale * mesh.nodes.position(old));
     }
     for id in block.connectivity.iter_mut() {
@@ -324,10 +360,11 @@ fn read_block(
     }
     let mut part = Mesh::new(nodes, vec![block]);
     for (name, set) in &mesh.node_sets {
+        // The set's nodes on this block.
         let kept: Vec<u32> = set
             .iter()
+            .filter(|&&n| used[n as usize])
             .map(|&n| new_id[n as usize])
-            .filter(|&n| n != u32::MAX)
             .collect();
         if !kept.is_empty() {
             part.node_sets.insert(name.clone(), kept);
@@ -360,13 +397,28 @@ fn read_block(
             part.surfaces.insert(name.clone(), kept);
         }
     }
-    Ok((part, std::mem::take(&mut element_labels[index])))
+    let own = std::mem::take(&mut element_labels[index]);
+    let others = element_labels.into_iter().flatten().collect();
+    Ok((part, BlockLabels { own, others }))
 }
 
 /// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
 /// block named after the part, node sets, element sets and surfaces renamed `PART.SET`.
-pub(super) fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
-    let offset = mesh.nodes.len() as u32;
+/// A part of a shared file (`shared`: its key, see [`part_mesh`]) whose file an earlier
+/// part brought in (`offsets`: where each shared file's nodes start) adds no nodes: its
+/// block refers to that file's.
+pub(super) fn append_part(
+    mesh: &mut Mesh,
+    part: Mesh,
+    name: &str,
+    shared: Option<String>,
+    offsets: &mut HashMap<String, u32>,
+) {
+    let present = shared.as_ref().and_then(|key| offsets.get(key)).copied();
+    let offset = present.unwrap_or(mesh.nodes.len() as u32);
+    if let (Some(key), None) = (shared, present) {
+        offsets.insert(key, offset);
+    }
     let first_block = mesh.blocks.len() as u32;
     let moved = |e: ElementRef| ElementRef {
         block: e.block + first_block,
@@ -390,8 +442,10 @@ pub(super) fn append_part(mesh: &mut Mesh, part: Mesh, name: &str) {
                 .collect(),
         );
     }
-    for i in 0..part.nodes.len() {
-        mesh.nodes.push(part.nodes.position(i));
+    if present.is_none() {
+        for i in 0..part.nodes.len() {
+            mesh.nodes.push(part.nodes.position(i));
+        }
     }
     for mut block in part.blocks {
         block.connectivity.iter_mut().for_each(|id| *id += offset);

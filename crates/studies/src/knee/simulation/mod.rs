@@ -50,6 +50,7 @@
 
 mod checkpoint;
 pub mod files;
+pub mod followers;
 pub mod interactions;
 pub mod model;
 pub mod patella;
@@ -59,6 +60,12 @@ pub mod plausibility;
 mod recorder;
 pub mod resolution;
 pub mod run;
+pub mod scene_files;
+pub mod scene_materials;
+pub mod scene_step;
+#[cfg(test)]
+mod scene_tests;
+pub mod scene_ties;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};

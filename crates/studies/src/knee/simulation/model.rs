@@ -236,6 +236,12 @@ pub fn muscle_material(
     squat: &Squat,
     slack: f64,
 ) -> Result<Arc<dyn Material>> {
+    HillMuscle::with_parameters(&muscle_parameters(activation, squat, slack))
+        .context("the quadriceps' Hill muscle")
+}
+
+/// The parameters of [`muscle_material`].
+pub fn muscle_parameters(activation: Activation, squat: &Squat, slack: f64) -> HillParameters {
     let level = match activation {
         Activation::Passive => 0.0,
         Activation::Active => ACTIVE_LEVEL,
@@ -244,7 +250,7 @@ pub fn muscle_material(
     parameters.activation.n2 = level;
     parameters.activation.t0 = flexion_time(squat, ACTIVATION_FLEXION);
     parameters.parallel_slack = slack;
-    HillMuscle::with_parameters(&parameters).context("the quadriceps' Hill muscle")
+    parameters
 }
 
 /// The tendon material: [`musclefem_materials::tendon`] with its defaults (fibers of

@@ -41,7 +41,10 @@ use musclefem_core::solver::{
 use crate::knee::anatomy::{ClosedChain, KneeKinematics, PatellaPose, Squat, TendonSpring};
 
 mod checkpoint;
+mod table_csv;
 mod tendon_csv;
+
+pub use table_csv::PATELLA_TABLE_CSV_HEADER;
 
 pub use tendon_csv::{
     TENDON_CSV_HEADER, TendonRow, tendon_summary, tendon_values, write_tendon_csv,

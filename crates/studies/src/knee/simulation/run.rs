@@ -12,7 +12,9 @@ use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{
     CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, StepReport,
 };
-use musclefem_core::solver::{Analysis, Checkpoint, Outcome, Problem, Snapshot, resume, run};
+use musclefem_core::solver::{
+    Analysis, Checkpoint, Outcome, Problem, RigidMotion, Snapshot, resume, run,
+};
 use musclefem_fibers::FiberField;
 use musclefem_io::output::StudyRunWriter;
 use musclefem_io::scene::dissipative_newmark;
@@ -302,7 +304,6 @@ pub fn run_squat(
         femur_contacts: built.femur_contacts.clone(),
         plausibility: Vec::new(),
     };
-    let duration = settings.squat.duration;
     let context = || {
         format!(
             "{} {} squat ({} elements)",
@@ -318,35 +319,7 @@ pub fn run_squat(
             .with_context(context)?;
     }
     let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
-    let analysis = match settings.solver {
-        Solver::Implicit => {
-            let increments = (duration / settings.time_step).round().max(1.0) as usize;
-            let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
-            solver_settings.residual_tolerance = settings.residual_tolerance;
-            solver_settings.correction_tolerance = settings.correction_tolerance;
-            // Every Newton iteration factorizes: on the coarse knee a Cholesky factorization
-            // (≈ 45 ms then, in the nested-dissection order) costs about 15 conjugate-gradient
-            // iterations preconditioned with the last factor, and the tangents change too much
-            // between iterations for fewer. Measured on an idle 2-core machine, default run:
-            // 282 s without reuse, 322 s with the default reuse (2026-11-23, before the AMD
-            // order and LBLᵀ, which made factorizations 3× cheaper and reuse less worth it).
-            solver_settings.factor_reuse = None;
-            solver_settings.line_search_cuts = KNEE_LINE_SEARCH_CUTS;
-            if settings.inertia {
-                solver_settings.dynamics = Some(dissipative_newmark(KNEE_NEWMARK_DISSIPATION));
-            }
-            // The muscles ride on the femur, which moves in the closed chain: each
-            // increment starts from them carried with it.
-            solver_settings.predictor_frame = Some(Box::new(geometry.motions.femur.clone()));
-            Analysis::Implicit(solver_settings)
-        }
-        Solver::Explicit => {
-            let mut solver_settings = ExplicitSettings::new(duration);
-            solver_settings.mass_scaling_time_step = Some(settings.time_step);
-            solver_settings.history_interval = settings.record_interval;
-            Analysis::Explicit(solver_settings)
-        }
-    };
+    let analysis = squat_analysis(settings, &geometry.motions.femur);
     let problem = Problem {
         mesh: &model.mesh,
         parts: &model.parts,
@@ -408,4 +381,39 @@ pub fn run_squat(
         plausibility_rows: plausibility_table,
         resumed_from: resume_from.map(|point| point.solver.time),
     })
+}
+
+/// The analysis of a squat with `settings`, the femur moving as `femur` (the implicit
+/// solver's predictor frame).
+pub fn squat_analysis(settings: &SquatSettings, femur: &RigidMotion) -> Analysis {
+    let duration = settings.squat.duration;
+    match settings.solver {
+        Solver::Implicit => {
+            let increments = (duration / settings.time_step).round().max(1.0) as usize;
+            let mut solver_settings = ImplicitSettings::new(duration, increments).with_cutting();
+            solver_settings.residual_tolerance = settings.residual_tolerance;
+            solver_settings.correction_tolerance = settings.correction_tolerance;
+            // Every Newton iteration factorizes: on the coarse knee a Cholesky factorization
+            // (≈ 45 ms then, in the nested-dissection order) costs about 15 conjugate-gradient
+            // iterations preconditioned with the last factor, and the tangents change too much
+            // between iterations for fewer. Measured on an idle 2-core machine, default run:
+            // 282 s without reuse, 322 s with the default reuse (2026-11-23, before the AMD
+            // order and LBLᵀ, which made factorizations 3× cheaper and reuse less worth it).
+            solver_settings.factor_reuse = None;
+            solver_settings.line_search_cuts = KNEE_LINE_SEARCH_CUTS;
+            if settings.inertia {
+                solver_settings.dynamics = Some(dissipative_newmark(KNEE_NEWMARK_DISSIPATION));
+            }
+            // The muscles ride on the femur, which moves in the closed chain: each
+            // increment starts from them carried with it.
+            solver_settings.predictor_frame = Some(Box::new(femur.clone()));
+            Analysis::Implicit(solver_settings)
+        }
+        Solver::Explicit => {
+            let mut solver_settings = ExplicitSettings::new(duration);
+            solver_settings.mass_scaling_time_step = Some(settings.time_step);
+            solver_settings.history_interval = settings.record_interval;
+            Analysis::Explicit(solver_settings)
+        }
+    }
 }

@@ -1,0 +1,179 @@
+//! The knee's scene files together (issue 30, step 4): the coarse knee's mesh, fibers
+//! and patella table, its materials, parts, ties and step written as a scene and built
+//! back give the squat's model — the same elements at the same places, fibers,
+//! materials, densities, element technology, tie nodes and motions (the patella's after
+//! the same pull) and analysis, bit for bit, on the knee's nodes by the knee's ids (the
+//! parts share `muscles.inp`'s nodes). Its interactions are not in the scene yet.
+
+use std::fmt::Write as _;
+
+use nalgebra::Vector3;
+
+use musclefem_core::solver::{PoseFollower, RigidReaction};
+use musclefem_io::csv::format_number;
+use musclefem_io::scene::load_scene;
+use musclefem_materials::MaterialLibrary;
+
+use super::followers::closed_chain_motion;
+use super::model::{Activation, KneeGeometry, KneeModel, MUSCLE_DENSITY, TENDON_DENSITY};
+use super::run::{SquatSettings, squat_analysis};
+use super::scene_files::{FIBERS_CSV, MUSCLES_INP, write_model_files};
+use super::scene_materials::knee_material_entries;
+use super::scene_step::squat_step_entry;
+use super::scene_ties::knee_tie_entries;
+use crate::elongation::{ElementChoice, Solver};
+use crate::knee::anatomy::squat::Bone;
+use crate::knee::anatomy::{Anatomy, Resolution, Squat, Tissue};
+
+#[test]
+fn the_knees_scene_builds_the_squats_model() {
+    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+    let squat = Squat {
+        duration: 0.2,
+        peak_flexion: 10f64.to_radians(),
+    };
+    let geometry = KneeGeometry::default_knee(&anatomy, &squat).unwrap();
+    let fibers = geometry.fibers().unwrap();
+    let activation = Activation::Active;
+    let knee = KneeModel::new(
+        &geometry,
+        &fibers,
+        activation,
+        &squat,
+        ElementChoice::Hex8Fbar,
+    )
+    .unwrap();
+    let mut settings = SquatSettings::recommended(Solver::Implicit);
+    settings.squat = squat;
+
+    let directory =
+        std::env::temp_dir().join(format!("musclefem-knee-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&directory).unwrap();
+    write_model_files(&directory, &knee.mesh, &geometry.patella_table).unwrap();
+    let muscles: Vec<(&str, f64)> = (0..geometry.muscles.len())
+        .map(|m| (geometry.block_name(m), geometry.passive_slack[m]))
+        .collect();
+    let mut text = format!(
+        "schema_version = 1\n\n{}\n",
+        knee_material_entries(&muscles, activation, &squat)
+    );
+    for (b, role) in geometry.roles.iter().enumerate() {
+        let muscle = geometry
+            .muscles
+            .iter()
+            .position(|&m| m == role.muscle)
+            .unwrap();
+        let (material, density) = match role.tissue {
+            Tissue::Muscle => (
+                format!("{}_muscle", geometry.block_name(muscle)),
+                MUSCLE_DENSITY,
+            ),
+            Tissue::Tendon => ("tendon".to_string(), TENDON_DENSITY),
+        };
+        let _ = writeln!(
+            text,
+            "[[parts]]\nname = {name:?}\nmaterial = {material:?}\nelement = \"hex8-fbar\"\n\
+             density = {}\nmesh = {{ file = {MUSCLES_INP:?}, block = {name:?}, shared_nodes = true \
+             }}\n\
+             fibers = {{ file = {FIBERS_CSV:?} }}\n",
+            format_number(density),
+            name = geometry.block_name(b),
+        );
+    }
+    text.push_str(&knee_tie_entries(&geometry).unwrap());
+    let _ = writeln!(
+        text,
+        "[[rigid_bodies]]\nname = \"femur\"\nsurface = {{ shape = \"sphere\", center = [0.0, \
+         0.2, 0.0], radius = 0.01 }}\nmotion = {}\n",
+        closed_chain_motion(Bone::Femur, &geometry.motions.chain, &squat)
+    );
+    text.push_str(&squat_step_entry(&settings, "femur"));
+    let path = directory.join("scene.toml");
+    std::fs::write(&path, &text).unwrap();
+    let scene =
+        load_scene(&path, &mut MaterialLibrary::with_builtins()).unwrap_or_else(|e| panic!("{e}"));
+
+    // Parts: the same materials, densities and technologies.
+    assert_eq!(scene.parts.len(), knee.parts.len());
+    for (a, b) in scene.parts.iter().zip(&knee.parts) {
+        assert_eq!(format!("{:?}", a.material), format!("{:?}", b.material));
+        assert_eq!(a.density, b.density);
+        assert_eq!(format!("{:?}", a.technology), format!("{:?}", b.technology));
+    }
+    // Elements: the same corners at the same places, the same fibers.
+    let corners = |mesh: &musclefem_core::mesh::Mesh, b: usize| -> Vec<[u64; 3]> {
+        mesh.blocks[b]
+            .connectivity
+            .iter()
+            .map(|&n| mesh.nodes.position(n as usize).map(f64::to_bits).into())
+            .collect()
+    };
+    for b in 0..knee.mesh.blocks.len() {
+        assert_eq!(corners(&scene.mesh, b), corners(&knee.mesh, b), "block {b}");
+        let bits = |d: &[Vector3<f64>]| d.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&scene.mesh.blocks[b].fiber_direction),
+            bits(&knee.mesh.blocks[b].fiber_direction),
+            "block {b}"
+        );
+    }
+    // The parts share the file's nodes: the knee's nodes, by the knee's ids.
+    assert_eq!(scene.mesh.node_count(), knee.mesh.node_count());
+    for b in 0..knee.mesh.blocks.len() {
+        assert_eq!(
+            scene.mesh.blocks[b].connectivity,
+            knee.mesh.blocks[b].connectivity
+        );
+    }
+
+    // Ties: the same names, nodes at the same places, the same motions.
+    let ties = (&scene.loads.rigid_ties, &knee.loads.rigid_ties);
+    assert_eq!(ties.0.len(), ties.1.len());
+    let places = |mesh: &musclefem_core::mesh::Mesh, nodes: &[u32]| -> Vec<[u64; 3]> {
+        nodes
+            .iter()
+            .map(|&n| mesh.nodes.position(n as usize).map(f64::to_bits).into())
+            .collect()
+    };
+    let reactions: Vec<RigidReaction> = (0..ties.1.len())
+        .map(|i| RigidReaction {
+            force: Vector3::new(100.0 * i as f64, -30.0, 5.0),
+            moment: Vector3::zeros(),
+        })
+        .collect();
+    for (a, b) in ties.0.iter().zip(ties.1) {
+        assert_eq!(a.name, b.name);
+        assert_eq!(
+            places(&scene.mesh, &a.nodes),
+            places(&knee.mesh, &b.nodes),
+            "{}",
+            a.name
+        );
+    }
+    // The patella hears the same pull (its insertions') in both.
+    ties.0[1]
+        .motion
+        .follower
+        .as_ref()
+        .unwrap()
+        .observe(0.05, &reactions);
+    knee.patella.observe(0.05, &reactions);
+    for (a, b) in ties.0.iter().zip(ties.1) {
+        for time in [0.0, 0.05, 0.08, 0.1, 0.17] {
+            assert_eq!(
+                a.motion.isometry_at(time),
+                b.motion.isometry_at(time),
+                "{} {time}",
+                a.name
+            );
+        }
+    }
+    assert!(knee.patella.tension_at(0.1) > 100.0);
+
+    // The analysis.
+    assert_eq!(
+        format!("{:?}", scene.analysis),
+        format!("{:?}", squat_analysis(&settings, &geometry.motions.femur))
+    );
+    std::fs::remove_dir_all(&directory).unwrap();
+}
