@@ -206,9 +206,10 @@ fn visible_human_fibers_from_origin_to_aponeurosis_are_unit_vectors() {
 ///   measurements of lower extremity muscle architecture accurate?", Clin Orthop Relat Res
 ///   467:1074–1082 (21 cadaveric lower limbs): VL 18.4 ± 6.8°, VM 29.6 ± 6.9° (the
 ///   oblique distal part weighs in), RF 13.9 ± 3.5°.
-/// - VI: 5–15°, the in vivo ultrasound range of Blazevich, Gill & Zhou 2006,
-///   "Intra- and intermuscular variation in human quadriceps femoris architecture
-///   assessed in vivo", J Anat 209:289–310. Ward et al. give 4.5 ± 4.5° (0–9°), which the
+/// - VI: 5–15°, the in vivo (ultrasound) range for the VI after Blazevich, Gill & Zhou
+///   2006, "Intra- and intermuscular variation in human quadriceps femoris architecture
+///   assessed in vivo", J Anat 209:289–310 (the bound, not the paper's per-region
+///   table, which was not re-read when this test was written). Ward et al. give 4.5 ± 4.5° (0–9°), which the
 ///   flow does not reach: the VI wraps the femur, so even a nearly end-to-end flow (the
 ///   origin only the proximal cap, the aponeurosis the anterior face below s = 0.3) lies
 ///   19° from its straight long axis on average; the committed rules give 14–15°.
