@@ -70,7 +70,7 @@ BONES = {"patella": ("Bone_Patella", 1.5), "patella_cartilage": ("Cartilage_Pate
 FEATURE_ANGLE = 60.0  # degrees, as the RF needs (musclefem mesh --feature-angle)
 END = 0.04  # height fraction of the distal and proximal end caps
 FACING = 0.5  # cosine: a face "faces the femur" when n · r < −FACING
-ANTERIOR = 0.3  # cosine with the anterior direction for the VI's aponeurosis
+ANTERIOR = 0.3  # cosine with the anterior direction y⊥: "anterior" and "posterior" faces
 #: The fiber flow's inlet (`origin`, besides the proximal cap s > 1 − END) and outlet
 #: (`aponeurosis`, besides the insertion s < END) on each muscle's side faces: (side,
 #: lowest s, highest s) or None, side one of "deep" (n · r < −FACING, facing the femur),
