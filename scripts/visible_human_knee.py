@@ -35,12 +35,10 @@ radial unit r = the part of c − (axis point) normal to a, normalised, and the 
 fraction s = (c − lowest point) · a / the muscle's extent along a (0 distal, 1 proximal):
 
 - insertion: s < END (the distal end, towards the quadriceps tendon and patella);
-- origin: RF: s > 1 − END (its proximal end, at the AIIS); VI, VL, VM: the proximal cap
-  s > 1 − END, and the faces facing the femur (n · r < −FACING) with s > ORIGIN_FROM[M];
-- aponeurosis: below the origin, END ≤ s < APONEUROSIS_TO[M]: VI: faces facing away from
-  the femur and anterior (n · r > FACING and n · y⊥ > ANTERIOR, y⊥ the anterior direction
-  normal to a); VL, VM, RF: faces facing the femur (n · r < −FACING), the deep
-  aponeurosis;
+- origin (the flow's inlet): the proximal cap s > 1 − END and the faces of
+  RULES[M]["origin"];
+- aponeurosis (an outlet with the insertion): not insertion or origin, the faces of
+  RULES[M]["aponeurosis"];
 - interface_N: faces whose centroid or a corner lies within INTERFACE_REACH of muscle
   N's surface.
 """
@@ -72,12 +70,41 @@ BONES = {"patella": ("Bone_Patella", 1.5), "patella_cartilage": ("Cartilage_Pate
 FEATURE_ANGLE = 60.0  # degrees, as the RF needs (musclefem mesh --feature-angle)
 END = 0.04  # height fraction of the distal and proximal end caps
 FACING = 0.5  # cosine: a face "faces the femur" when n · r < −FACING
-ANTERIOR = 0.3  # cosine with the anterior direction for the VI's aponeurosis
-#: Height fraction of the origin's lower edge on the femur side (VI, VL, VM) and of the
-#: aponeurosis's upper edge: the fibers run from the origin distally to the aponeurosis
-#: below it.
-ORIGIN_FROM = {"VI": 0.5, "VL": 0.7, "VM": 0.7}
-APONEUROSIS_TO = {"VI": 0.35, "VL": 0.5, "VM": 0.5, "RF": 0.5}
+ANTERIOR = 0.3  # cosine with the anterior direction y⊥: "anterior" and "posterior" faces
+#: The fiber flow's inlet (`origin`, besides the proximal cap s > 1 − END) and outlet
+#: (`aponeurosis`, besides the insertion s < END) on each muscle's side faces: (side,
+#: lowest s, highest s) or None, side one of "deep" (n · r < −FACING, facing the femur),
+#: "superficial" (n · r > FACING), "anterior" (superficial and n · y⊥ > ANTERIOR) and
+#: "posterior" (n · y⊥ < −ANTERIOR). Inlet and outlet are staggered along the muscle (the
+#: inlet proximal, the outlet distal, on opposite faces) so that the flow crosses the belly
+#: obliquely, as the fibers do: where they face each other across the belly the flow runs
+#: straight across it (90° to the long axis). RULE_REASONS gives each rule's anatomy.
+RULES = {
+    "VI": {"origin": ("deep", 0.85, 1.0), "aponeurosis": ("anterior", END, 0.2)},
+    "VL": {"origin": ("superficial", 0.8, 1.0), "aponeurosis": ("deep", END, 0.3)},
+    "VM": {"origin": ("posterior", 0.6, 1.0), "aponeurosis": ("deep", END, 0.3)},
+    "RF": {"origin": ("superficial", 0.8, 1.0), "aponeurosis": ("deep", END, 0.3)},
+}
+#: Why each muscle's inlet and outlet lie where RULES puts them (for the README).
+RULE_REASONS = {
+    "VI": "arises from the anterior and lateral femoral shaft (its deep face) and inserts "
+          "on the aponeurosis on its anterior face that joins the quadriceps tendon; the "
+          "origin is kept to the upper 15 % and the aponeurosis to the lower 16 % (the "
+          "anatomical ones span the upper two thirds and most of the anterior face) because "
+          "the VI is thin: where the two faces overlap in height the flow crosses the belly "
+          "at right angles",
+    "VL": "arises from the greater trochanter and intertrochanteric line through a "
+          "proximal aponeurosis on its superficial (lateral) face; its fibers cross the "
+          "belly distally and deep to the distal aponeurosis on its deep face, which joins "
+          "the quadriceps tendon",
+    "VM": "arises from the lower intertrochanteric line, the spiral line and the medial "
+          "lip of the linea aspera, on its posterior (posteromedial) face; its fibers run "
+          "anteriorly and distally to the aponeurosis on its deep face and the medial "
+          "quadriceps tendon (the oblique distal part)",
+    "RF": "arises from the anterior inferior iliac spine by a tendon that spreads as an "
+          "aponeurosis over its anterior (superficial) proximal face; its fibers run "
+          "distally and deep to the distal aponeurosis on its posterior (deep) face",
+}
 INTERFACE_REACH = 1.0  # mm
 #: Smallest det J of a curved tet10 over its straight value (see straighten).
 MIN_JACOBIAN = 0.1
@@ -300,18 +327,32 @@ def name_groups(key, nodes, faces, femur, reach):
     heights = [geo.dot(geo.sub(c, femur.point), a) for c in centres]
     low, high = min(heights), max(heights)
     groups = {"origin": [], "insertion": [], "aponeurosis": []}
+
+    def on(rule, s, radial, n):
+        if rule is None:
+            return False
+        side, lowest, highest = rule
+        if not lowest <= s < highest:
+            return False
+        if side == "deep":
+            return radial < -FACING
+        if side == "superficial":
+            return radial > FACING
+        if side == "anterior":
+            return radial > FACING and geo.dot(n, anterior) > ANTERIOR
+        if side == "posterior":
+            return geo.dot(n, anterior) < -ANTERIOR
+        raise ValueError(side)
+
     for i, (c, n, h) in enumerate(zip(centres, normals, heights)):
         s = (h - low) / (high - low)
         offset = geo.sub(c, geo.add(femur.point, geo.scale(a, h)))
         radial = geo.dot(n, geo.normalize(offset))
-        facing_femur = radial < -FACING
         if s < END:
             groups["insertion"].append(i)
-        elif s > 1 - END or (key != "RF" and facing_femur and s > ORIGIN_FROM[key]):
+        elif s > 1 - END or on(RULES[key]["origin"], s, radial, n):
             groups["origin"].append(i)
-        elif s < APONEUROSIS_TO[key] and (
-                (key == "VI" and radial > FACING and geo.dot(n, anterior) > ANTERIOR)
-                or (key != "VI" and facing_femur)):
+        elif on(RULES[key]["aponeurosis"], s, radial, n):
             groups["aponeurosis"].append(i)
     for other in MUSCLES:
         if other != key:

@@ -6,6 +6,16 @@ GROUPS = ["origin", "insertion", "aponeurosis", "interface_VI", "interface_VL",
           "interface_VM", "interface_RF"]
 
 
+def band(rule):
+    """A RULES entry as text: "deep, s ≥ 0.8", "anterior, 0.04 ≤ s < 0.2" or "–"."""
+    if rule is None:
+        return "–"
+    side, lowest, highest = rule
+    if highest >= 1.0:
+        return f"{side}, s ≥ {lowest:g}"
+    return f"{side}, {lowest:g} ≤ s < {highest:g}"
+
+
 def readme_text(rows, femur, knee):
     lines = [
         "# The Visible Human Female's knee: volume meshes and surfaces",
@@ -92,20 +102,39 @@ def readme_text(rows, femur, knee):
         f"−{knee.FACING}:",
         "",
         f"- `insertion`: s < {knee.END} (the distal end, towards the quadriceps tendon);",
-        f"- `origin`: RF: s > {1 - knee.END:g} (its proximal end, the AIIS); VI, VL, VM: s > {1 - knee.END:g}",
-        "  and the faces facing the femur with s > "
-        + ", ".join(f"{k} {v}" for k, v in knee.ORIGIN_FROM.items()) + ";",
-        "- `aponeurosis` (an outlet of the fiber flow with the insertion), below the origin,",
-        f"  {knee.END} ≤ s < " + ", ".join(f"{k} {v}" for k, v in knee.APONEUROSIS_TO.items())
-        + ", so that the fibers run",
-        f"  distally from the one to the other: VI: its anterior face (n · r > {knee.FACING} and",
-        f"  n · y⊥ > {knee.ANTERIOR}, y⊥ anterior normal to a); VL, VM, RF: their deep faces",
-        "  (facing the femur).",
-        "  The origins' lower edges lie above the anatomical ones (VI: the upper two thirds of",
-        "  the shaft, VL and VM: the upper half of the linea aspera) so that a gap of 15–20 %",
-        "  of the length separates origin and aponeurosis: where they meet, the flow between",
-        "  them short-circuits in arcs (with VI 0.35 / 0.35, VL and VM 0.5 / 0.5 the fibers'",
-        "  mean angle to the muscle's long axis was 42–45°, against 34–36° with the gap);",
+        f"- `origin` (the fiber flow's inlet): the proximal cap s > {1 - knee.END:g} and the",
+        "  side faces below;",
+        "- `aponeurosis` (an outlet of the fiber flow with the insertion): the side faces",
+        "  below that are neither insertion nor origin.",
+        "",
+        "  The side faces are \"deep\" (n · r < "
+        f"−{knee.FACING}, facing the femur), \"superficial\" (n · r > {knee.FACING}),",
+        f"  \"anterior\" (superficial and n · y⊥ > {knee.ANTERIOR}, y⊥ anterior normal to a) or"
+        f" \"posterior\" (n · y⊥ < −{knee.ANTERIOR}),",
+        "  within a band of s:",
+        "",
+        "  | muscle | origin | aponeurosis | anatomical reason |",
+        "  |---|---|---|---|",
+    ] + [
+        f"  | {m} | {band(r['origin'])} | {band(r['aponeurosis'])} | {knee.RULE_REASONS[m]} |"
+        for m, r in knee.RULES.items()
+    ] + [
+        "",
+        "  Origin and aponeurosis are staggered, the origin proximal and the aponeurosis",
+        "  distal on the opposite face, so that the flow crosses the belly obliquely from",
+        "  the one to the other as the fibers do. The flow leaves and enters a fixed-potential",
+        "  face at right angles, so where the two face each other across the belly, or meet,",
+        "  it runs across the belly or in arcs: with the VL's and VM's origin and aponeurosis",
+        "  both on the deep face (s > 0.7 and s < 0.5), the VI's origin on its deep face from",
+        "  s = 0.5 and its anterior aponeurosis up to s = 0.35, and the RF's deep",
+        "  aponeurosis up to s = 0.5, the fibers' mean angles to the long axis were",
+        "  VI 36.0°, VL 34.1°, VM 36.1°, RF 19.8° (coarse). With the rules above they lie",
+        "  in the measured ranges that tests/visible_human.rs checks (mean ± SD of Ward et",
+        "  al. 2009, Clin Orthop Relat Res 467:1074, for VL, VM and RF; 5–15° for the VI,",
+        "  in vivo, Blazevich et al. 2006, J Anat 209:289), docs/knee-model.md gives the",
+        "  table. The bands are narrower than the anatomical attachments (which overlap in",
+        "  height): the potential flow cannot give the shallow angle at which real fibers",
+        "  meet an aponeurosis.",
         f"- `interface_<N>`: faces whose centroid or a corner is within {knee.INTERFACE_REACH:g} mm of",
         "  muscle N's segmented surface (exact point–triangle distance). Where the remeshed",
         "  neighbours overlap (a node of one inside the other's boundary, up to the",

@@ -190,21 +190,58 @@ pub fn long_axis(mesh: &Mesh) -> Vector3<f64> {
     if axis.z < 0.0 { -axis } else { axis }
 }
 
-/// Volume-weighted mean angle [rad] between the fibers (one unit vector per element, in
-/// block order) and the muscle's [`long_axis`]: the mean pennation relative to the line
-/// of the muscle, in [0, π/2].
-pub fn mean_pennation(mesh: &Mesh, directions: &[Vector3<f64>]) -> Result<f64> {
+/// The distribution of the fibers' angle to the muscle's [`long_axis`] over its volume
+/// [rad]: the volume-weighted mean and the 10th and 90th percentiles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PennationStatistics {
+    /// Volume-weighted mean angle [rad].
+    pub mean: f64,
+    /// 10th percentile by volume [rad]: a tenth of the volume has fibers closer to the axis.
+    pub p10: f64,
+    /// 90th percentile by volume [rad].
+    pub p90: f64,
+}
+
+/// The [`PennationStatistics`] of the fibers (one unit vector per element, in block
+/// order) relative to the muscle's [`long_axis`]; each angle is in [0, π/2].
+pub fn pennation_statistics(
+    mesh: &Mesh,
+    directions: &[Vector3<f64>],
+) -> Result<PennationStatistics> {
     let axis = long_axis(mesh);
-    let (mut weighted, mut total) = (0.0, 0.0);
+    let mut samples = Vec::with_capacity(mesh.element_count());
     let mut e = 0;
     for (b, block) in mesh.blocks.iter().enumerate() {
         for element in 0..block.len() {
             let volume = mesh.element_volume(ElementRef::new(b as u32, element as u32))?;
             let cosine = directions[e].dot(&axis).abs().min(1.0);
-            weighted += volume * cosine.acos();
-            total += volume;
+            samples.push((cosine.acos(), volume));
             e += 1;
         }
     }
-    Ok(weighted / total)
+    let total: f64 = samples.iter().map(|s| s.1).sum();
+    let mean = samples.iter().map(|(a, v)| a * v).sum::<f64>() / total;
+    samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let percentile = |q: f64| {
+        let mut below = 0.0;
+        for &(angle, volume) in &samples {
+            below += volume;
+            if below >= q * total {
+                return angle;
+            }
+        }
+        samples.last().map_or(0.0, |s| s.0)
+    };
+    Ok(PennationStatistics {
+        mean,
+        p10: percentile(0.1),
+        p90: percentile(0.9),
+    })
+}
+
+/// Volume-weighted mean angle [rad] between the fibers (one unit vector per element, in
+/// block order) and the muscle's [`long_axis`]: the mean pennation relative to the line
+/// of the muscle, in [0, π/2].
+pub fn mean_pennation(mesh: &Mesh, directions: &[Vector3<f64>]) -> Result<f64> {
+    Ok(pennation_statistics(mesh, directions)?.mean)
 }
