@@ -36,11 +36,13 @@
 //! summed in fixed chunks in order, so that a run is the same bit for bit on 1 and on 2
 //! threads.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use super::amg::Multigrid;
 use super::amg::csr::{Csr, dot};
 use super::amg::tentative::{MODES, rigid_body_modes};
+use super::krylov::{self, CgFailure};
 
 /// Which linear solver the implicit solver uses for its symmetric tangents.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -283,57 +285,33 @@ impl AmgCg {
     }
 }
 
-/// Preconditioned conjugate gradients on the multigrid's finest matrix.
+/// Preconditioned conjugate gradients on the multigrid's finest matrix, one V-cycle per
+/// iteration (`krylov::conjugate_gradients` with the thread-count-independent `dot`).
 fn conjugate_gradients(
     multigrid: &mut Multigrid,
     rhs: &mut [f64],
     settings: &AmgCgSettings,
 ) -> Result<usize, AmgCgFailure> {
-    let n = rhs.len();
-    let b_norm = dot(rhs, rhs).sqrt();
-    if b_norm == 0.0 {
-        return Ok(0);
-    }
-    let target = settings.tolerance * b_norm;
-    let mut x = vec![0.0; n];
-    let mut r = rhs.to_vec();
-    let mut z = vec![0.0; n];
-    let mut q = vec![0.0; n];
-    multigrid.apply(&r, &mut z);
-    let mut p = z.clone();
-    let mut rz = dot(&r, &z);
-    let mut residual = b_norm;
-    for iteration in 1..=settings.max_iterations {
-        multigrid.matrix().multiply(&p, &mut q);
-        let curvature = dot(&p, &q);
-        if curvature.is_nan() || curvature <= 0.0 {
-            return Err(AmgCgFailure::NotPositiveDefinite { iteration });
+    // The product reads the finest matrix and the V-cycle writes the levels' work
+    // vectors, one after the other: a RefCell lends the multigrid to both closures.
+    let multigrid = RefCell::new(multigrid);
+    krylov::conjugate_gradients(
+        rhs,
+        settings.tolerance,
+        settings.max_iterations,
+        dot,
+        |p, q| multigrid.borrow().matrix().multiply(p, q),
+        |r, z| multigrid.borrow_mut().apply(r, z),
+    )
+    .map_err(|failure| match failure {
+        CgFailure::NotPositiveDefinite { iteration } => {
+            AmgCgFailure::NotPositiveDefinite { iteration }
         }
-        if rz.is_nan() || rz <= 0.0 {
-            return Err(AmgCgFailure::PreconditionerIndefinite { iteration });
+        CgFailure::PreconditionerIndefinite { iteration } => {
+            AmgCgFailure::PreconditionerIndefinite { iteration }
         }
-        let alpha = rz / curvature;
-        for ((xi, ri), (pi, qi)) in x.iter_mut().zip(r.iter_mut()).zip(p.iter().zip(&q)) {
-            *xi += alpha * pi;
-            *ri -= alpha * qi;
-        }
-        residual = dot(&r, &r).sqrt();
-        if residual <= target {
-            rhs.copy_from_slice(&x);
-            return Ok(iteration);
-        }
-        if !residual.is_finite() {
-            break;
-        }
-        multigrid.apply(&r, &mut z);
-        let rz_next = dot(&r, &z);
-        let beta = rz_next / rz;
-        rz = rz_next;
-        for (pi, zi) in p.iter_mut().zip(&z) {
-            *pi = zi + beta * *pi;
-        }
-    }
-    Err(AmgCgFailure::TooManyIterations {
-        residual: residual / b_norm,
+        CgFailure::TooManyIterations { relative_residual } => AmgCgFailure::TooManyIterations {
+            residual: relative_residual,
+        },
     })
 }

@@ -32,50 +32,99 @@ pub(crate) fn preconditioned_cg(
     rhs: &mut [f64],
     tolerance: f64,
     max_iterations: usize,
-    mut multiply: impl FnMut(&[f64], &mut [f64]),
+    multiply: impl FnMut(&[f64], &mut [f64]),
     mut precondition: impl FnMut(&mut [f64]),
 ) -> Option<usize> {
-    let n = rhs.len();
-    let target = tolerance * norm(rhs);
-    if target == 0.0 {
+    if tolerance * norm(rhs) == 0.0 {
         return Some(0);
     }
-    let mut residual = rhs.to_vec();
+    conjugate_gradients(
+        rhs,
+        tolerance,
+        max_iterations,
+        dot,
+        multiply,
+        |residual, z| {
+            z.copy_from_slice(residual);
+            precondition(z);
+        },
+    )
+    .ok()
+}
+
+/// Why [`conjugate_gradients`] stopped without a solution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum CgFailure {
+    /// pᵀ K p ≤ 0 (or not a number) at this iteration: K is not positive definite.
+    NotPositiveDefinite { iteration: usize },
+    /// rᵀ M⁻¹ r ≤ 0 (or not a number) at this iteration: the preconditioner is not.
+    PreconditionerIndefinite { iteration: usize },
+    /// `max_iterations` reached, or the residual stopped being finite; the relative
+    /// residual ‖b − K x‖ / ‖b‖ at the end.
+    TooManyIterations { relative_residual: f64 },
+}
+
+/// Preconditioned conjugate gradients, the one loop behind [`preconditioned_cg`] and the
+/// multigrid solver: K x = `rhs` with K = `multiply`, z = M⁻¹ r by `precondition(r, z)`,
+/// inner products by `dot` (so a caller chooses its summation order, e.g. fixed chunks
+/// for results independent of the thread count). Stops when ‖r‖ ≤ `tolerance` ‖b‖ and
+/// writes x into `rhs`, returning the iterations; on failure `rhs` is unchanged.
+/// Allocates its four work vectors once per call.
+pub(crate) fn conjugate_gradients(
+    rhs: &mut [f64],
+    tolerance: f64,
+    max_iterations: usize,
+    dot: impl Fn(&[f64], &[f64]) -> f64,
+    mut multiply: impl FnMut(&[f64], &mut [f64]),
+    mut precondition: impl FnMut(&[f64], &mut [f64]),
+) -> Result<usize, CgFailure> {
+    let n = rhs.len();
+    let b_norm = dot(rhs, rhs).sqrt();
+    if b_norm == 0.0 {
+        return Ok(0);
+    }
+    let target = tolerance * b_norm;
     let mut x = vec![0.0; n];
-    let mut z = residual.clone();
-    let mut product = vec![0.0; n];
-    precondition(&mut z);
-    let mut direction = z.clone();
-    let mut rz = dot(&residual, &z);
+    let mut r = rhs.to_vec();
+    let mut z = vec![0.0; n];
+    let mut q = vec![0.0; n];
+    precondition(&r, &mut z);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut residual = b_norm;
     for iteration in 1..=max_iterations {
-        multiply(&direction, &mut product);
-        let curvature = dot(&direction, &product);
+        multiply(&p, &mut q);
+        let curvature = dot(&p, &q);
         if curvature.is_nan() || curvature <= 0.0 {
-            return None;
+            return Err(CgFailure::NotPositiveDefinite { iteration });
+        }
+        if rz.is_nan() || rz <= 0.0 {
+            return Err(CgFailure::PreconditionerIndefinite { iteration });
         }
         let alpha = rz / curvature;
-        for ((xi, ri), (pi, qi)) in x
-            .iter_mut()
-            .zip(residual.iter_mut())
-            .zip(direction.iter().zip(&product))
-        {
+        for ((xi, ri), (pi, qi)) in x.iter_mut().zip(r.iter_mut()).zip(p.iter().zip(&q)) {
             *xi += alpha * pi;
             *ri -= alpha * qi;
         }
-        if norm(&residual) <= target {
+        residual = dot(&r, &r).sqrt();
+        if residual <= target {
             rhs.copy_from_slice(&x);
-            return Some(iteration);
+            return Ok(iteration);
         }
-        z.copy_from_slice(&residual);
-        precondition(&mut z);
-        let rz_next = dot(&residual, &z);
+        if !residual.is_finite() {
+            break;
+        }
+        precondition(&r, &mut z);
+        let rz_next = dot(&r, &z);
         let beta = rz_next / rz;
         rz = rz_next;
-        for (pi, zi) in direction.iter_mut().zip(&z) {
+        for (pi, zi) in p.iter_mut().zip(&z) {
             *pi = zi + beta * *pi;
         }
     }
-    None
+    Err(CgFailure::TooManyIterations {
+        relative_residual: residual / b_norm,
+    })
 }
 
 /// GMRES on K x = `rhs` for a general (unsymmetric) K, right-preconditioned with
