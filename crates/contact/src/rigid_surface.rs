@@ -1,12 +1,12 @@
 //! Rigid surfaces (bones, tools): triangles fixed in a body frame that moves with a
 //! prescribed [`RigidMotion`], x = c + R(t)(X − c) + T(t).
 //!
-//! Generated shapes (a plane, a sphere, a cylinder) and triangle files (STL, OBJ, see
-//! `rigid_surface/read.rs`). Each triangle's right-hand normal (X₂ − X₁) × (X₃ − X₁)
-//! points to the side where the other body is: out of the bone. The generated sphere and
-//! cylinder are faceted: their vertices lie on the exact shape, the flat facets inside it
-//! by at most r (1 − cos(θ/2)), θ the angle between neighbouring vertices seen from the
-//! centre (the contact sees the facets).
+//! Generated shapes (a plane, a sphere, a cylinder) and triangle files (STL, OBJ with or
+//! without vertex normals, see `rigid_surface/read.rs`). Each triangle's right-hand
+//! normal (X₂ − X₁) × (X₃ − X₁) points to the side where the other body is: out of the
+//! bone. The generated sphere and cylinder are faceted: their vertices lie on the exact
+//! shape, the flat facets inside it by at most r (1 − cos(θ/2)), θ the angle between
+//! neighbouring vertices seen from the centre (the contact sees the facets).
 
 mod read;
 
@@ -273,12 +273,18 @@ impl RigidSurface {
     }
 
     /// The faces of a Wavefront OBJ file (`v` and `f` lines; polygons fanned into
-    /// triangles from their first vertex), named after the file stem. Errors name the file
-    /// and the line.
+    /// triangles from their first vertex), named after the file stem, with the file's
+    /// `vn` normals as [`RigidSurface::vertex_normals`] when they give every vertex one
+    /// normal (the rules are `rigid_surface/read.rs`'s `obj`). Errors name the file and
+    /// the line.
     pub fn from_obj(path: impl AsRef<Path>) -> Result<Self, ContactError> {
         let path = path.as_ref();
-        let (vertices, triangles) = read::obj(path)?;
-        Self::new(&stem(path), vertices, triangles)
+        let read = read::obj(path)?;
+        let surface = Self::new(&stem(path), read.vertices, read.triangles)?;
+        match read.normals {
+            Some(normals) => surface.with_vertex_normals(normals),
+            None => Ok(surface),
+        }
     }
 
     /// Total area [m²].
