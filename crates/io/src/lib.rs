@@ -12,7 +12,8 @@
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
 //!   labels with units, legend) drawn with a bundled font, so no system font is needed;
 //! - [`mesh_export`]: meshes as Abaqus `.inp` text that [`mesh_import`] reads back
-//!   unchanged (a study's generated mesh handed to a scene file);
+//!   unchanged (a study's generated mesh handed to a scene file), and rigid surfaces
+//!   with their vertex normals as OBJ text that a scene's rigid body reads back unchanged;
 //! - [`mesh_import`]: meshes from Abaqus `.inp` and Gmsh `.msh` (4.1, 2.2) files, with
 //!   file and line in every error;
 //! - [`scene`]: scene files (TOML): parts, materials, loads and the step, checked and built

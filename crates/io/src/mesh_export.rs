@@ -8,10 +8,17 @@
 //!
 //! Nodes are labelled 1, 2, ... in id order and elements 1, 2, ... in block order. Fiber
 //! directions are not part of an Abaqus mesh: a scene gives them (`fibers = ...`).
+//!
+//! Rigid surfaces (bones) with their vertex normals are written as OBJ text by
+//! [`obj_text`] (`mesh_export/obj.rs`).
+
+mod obj;
 
 use std::fmt::Write as _;
 
 use musclefem_mesh::{ElementRef, ElementShape, Mesh};
+
+pub use obj::obj_text;
 
 /// Entries per data line of a set (Abaqus reads at most 16).
 const PER_LINE: usize = 16;
