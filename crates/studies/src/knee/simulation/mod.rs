@@ -60,6 +60,7 @@ pub mod plausibility;
 mod recorder;
 pub mod resolution;
 pub mod run;
+pub mod scene_bones;
 pub mod scene_files;
 pub mod scene_materials;
 pub mod scene_step;

@@ -2,27 +2,28 @@
 //! and patella table, its materials, parts, ties and step written as a scene and built
 //! back give the squat's model — the same elements at the same places, fibers,
 //! materials, densities, element technology, tie nodes and motions (the patella's after
-//! the same pull) and analysis, bit for bit, on the knee's nodes by the knee's ids (the
-//! parts share `muscles.inp`'s nodes). Its interactions are not in the scene yet.
+//! the same pull), bones (surfaces, the femur's vertex normals, poses) and analysis, bit
+//! for bit, on the knee's nodes by the knee's ids (the parts share `muscles.inp`'s
+//! nodes). Its interactions are not in the scene yet.
 
 use std::fmt::Write as _;
+use std::sync::Arc;
 
 use nalgebra::Vector3;
 
-use musclefem_core::solver::{PoseFollower, RigidReaction};
+use musclefem_core::solver::{PoseFollower, RigidMotion, RigidReaction};
 use musclefem_io::csv::format_number;
 use musclefem_io::scene::load_scene;
 use musclefem_materials::MaterialLibrary;
 
-use super::followers::closed_chain_motion;
 use super::model::{Activation, KneeGeometry, KneeModel, MUSCLE_DENSITY, TENDON_DENSITY};
 use super::run::{SquatSettings, squat_analysis};
+use super::scene_bones::{FEMUR_BODY, knee_bone_entries, write_bone_files};
 use super::scene_files::{FIBERS_CSV, MUSCLES_INP, write_model_files};
 use super::scene_materials::knee_material_entries;
 use super::scene_step::squat_step_entry;
 use super::scene_ties::knee_tie_entries;
 use crate::elongation::{ElementChoice, Solver};
-use crate::knee::anatomy::squat::Bone;
 use crate::knee::anatomy::{Anatomy, Resolution, Squat, Tissue};
 
 #[test]
@@ -81,13 +82,9 @@ fn the_knees_scene_builds_the_squats_model() {
         );
     }
     text.push_str(&knee_tie_entries(&geometry).unwrap());
-    let _ = writeln!(
-        text,
-        "[[rigid_bodies]]\nname = \"femur\"\nsurface = {{ shape = \"sphere\", center = [0.0, \
-         0.2, 0.0], radius = 0.01 }}\nmotion = {}\n",
-        closed_chain_motion(Bone::Femur, &geometry.motions.chain, &squat)
-    );
-    text.push_str(&squat_step_entry(&settings, "femur"));
+    write_bone_files(&directory, &geometry).unwrap();
+    text.push_str(&knee_bone_entries(&geometry));
+    text.push_str(&squat_step_entry(&settings, FEMUR_BODY));
     let path = directory.join("scene.toml");
     std::fs::write(&path, &text).unwrap();
     let scene =
@@ -101,6 +98,7 @@ fn the_knees_scene_builds_the_squats_model() {
         assert_eq!(format!("{:?}", a.technology), format!("{:?}", b.technology));
     }
     // Elements: the same corners at the same places, the same fibers.
+    let bits = |v: &[Vector3<f64>]| v.iter().map(|x| x.map(f64::to_bits)).collect::<Vec<_>>();
     let corners = |mesh: &musclefem_core::mesh::Mesh, b: usize| -> Vec<[u64; 3]> {
         mesh.blocks[b]
             .connectivity
@@ -110,7 +108,6 @@ fn the_knees_scene_builds_the_squats_model() {
     };
     for b in 0..knee.mesh.blocks.len() {
         assert_eq!(corners(&scene.mesh, b), corners(&knee.mesh, b), "block {b}");
-        let bits = |d: &[Vector3<f64>]| d.iter().map(|v| v.map(f64::to_bits)).collect::<Vec<_>>();
         assert_eq!(
             bits(&scene.mesh.blocks[b].fiber_direction),
             bits(&knee.mesh.blocks[b].fiber_direction),
@@ -169,6 +166,39 @@ fn the_knees_scene_builds_the_squats_model() {
         }
     }
     assert!(knee.patella.tension_at(0.1) > 100.0);
+
+    // Bones: the knee's surfaces (the femur with its normals), in the order of its
+    // frames, moving as its bones do; the patella's surface with its insertions.
+    let bones = [
+        ("femur", &geometry.femur, geometry.motions.femur.clone()),
+        ("tibia", &geometry.tibia, geometry.motions.tibia.clone()),
+        (
+            "patella",
+            &geometry.patella,
+            RigidMotion::followed(knee.patella.clone()),
+        ),
+    ];
+    assert_eq!(scene.rigid_bodies.len(), bones.len());
+    for (body, (name, bone, motion)) in scene.rigid_bodies.iter().zip(&bones) {
+        assert_eq!(body.name, *name);
+        assert_eq!(bits(&body.vertices), bits(&bone.vertices), "{name}");
+        assert_eq!(body.triangles, bone.triangles, "{name}");
+        for time in [0.0, 0.05, 0.1, 0.17] {
+            assert_eq!(
+                body.motion.isometry_at(time),
+                motion.isometry_at(time),
+                "{name} {time}"
+            );
+        }
+    }
+    assert_eq!(
+        bits(scene.rigid_bodies[0].vertex_normals.as_deref().unwrap()),
+        bits(geometry.femur_normals.as_deref().unwrap())
+    );
+    assert!(Arc::ptr_eq(
+        scene.rigid_bodies[2].motion.follower.as_ref().unwrap(),
+        ties.0[1].motion.follower.as_ref().unwrap()
+    ));
 
     // The analysis.
     assert_eq!(

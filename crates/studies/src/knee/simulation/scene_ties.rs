@@ -33,16 +33,22 @@ fn block_holding(geometry: &KneeGeometry, set: &str) -> Result<String> {
     bail!("no block of the knee's mesh holds every node of '{set}'")
 }
 
+/// The `motion` table of `geometry`'s patella on `patella_table.csv`: the insertions'
+/// and the patella's rigid body's (one table, so one follower that moves them all).
+pub fn knee_patella_motion(geometry: &KneeGeometry) -> String {
+    patella_motion(
+        PATELLA_TABLE_CSV,
+        geometry.patella_table.tendon(),
+        &geometry.motions.chain,
+        &geometry.motions.squat,
+    )
+}
+
 /// The `[[rigid_ties]]` entries of `geometry`'s squat: `<abbreviation>_origin` and
 /// `<abbreviation>_insertion` per muscle, as [`super::model::KneeModel`] names them.
 pub fn knee_tie_entries(geometry: &KneeGeometry) -> Result<String> {
     let (chain, squat) = (&geometry.motions.chain, &geometry.motions.squat);
-    let patella = patella_motion(
-        PATELLA_TABLE_CSV,
-        geometry.patella_table.tendon(),
-        chain,
-        squat,
-    );
+    let patella = knee_patella_motion(geometry);
     let mut text = String::new();
     for (b, muscle) in geometry.muscles.iter().enumerate() {
         let name = geometry.block_name(b);
