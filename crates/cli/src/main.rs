@@ -98,6 +98,10 @@ enum Command {
     /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
     /// front marked) and bench.log.
     Bench(bench_command::BenchArgs),
+    /// One case of `bench --problem scaling`, in a process of its own (so that its peak
+    /// memory is its own); prints one line of key=value.
+    #[command(hide = true)]
+    ScalingCase(bench_command::scaling::ScalingCaseArgs),
     /// Abaqus/Explicit VUMATs as materials: `vumat build FILE.f --name NAME --props ...
     /// --nstatev N --out LIB.so` compiles a user's Fortran VUMAT, unchanged, into a
     /// material plugin (docs/vumat.md).
@@ -214,6 +218,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),
+        Some(Command::ScalingCase(args)) => bench_command::scaling::scaling_case(&args),
         Some(Command::Vumat(args)) => vumat_command::vumat(&args),
         Some(Command::Umat(args)) => vumat_command::umat(&args),
         None => commands::demo(&DemoArgs {

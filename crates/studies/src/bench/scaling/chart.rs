@@ -1,5 +1,6 @@
 //! `scaling.png`: wall time against unknowns on log–log axes, one line per code, solver
-//! and Poisson's ratio, its fitted slope in the legend. Failed runs are not drawn.
+//! and Poisson's ratio, its fitted slope in the legend (lower right: the lines rise to the
+//! right). Failed runs are not drawn.
 
 use musclefem_io::plot::{Axes, Figure, LegendPosition, Panel, Series, SeriesStyle};
 
@@ -14,7 +15,7 @@ pub fn scaling_figure(runs: &[ScalingRun]) -> Figure {
         "wall time [s]",
     )
     .with_axes(Axes::LogLog)
-    .with_legend(LegendPosition::UpperLeft);
+    .with_legend(LegendPosition::LowerRight);
     for series in run_series(runs) {
         let label = match series.slope() {
             Some(slope) => format!("{} ({})", series.label(), slope.describe()),
