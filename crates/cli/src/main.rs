@@ -96,7 +96,8 @@ enum Command {
     /// Speed against accuracy: run a matrix of solvers, elements, mesh sizes and steps on
     /// the cube and the elongation test, time each run and measure its error against a
     /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
-    /// front marked) and bench.log.
+    /// front marked) and bench.log. `--problem scaling` instead times the implicit cube at
+    /// growing sizes (and through felupe): scaling.csv, scaling.png and scaling.log.
     Bench(bench_command::BenchArgs),
     /// One case of `bench --problem scaling`, in a process of its own (so that its peak
     /// memory is its own); prints one line of key=value.
