@@ -1,5 +1,7 @@
 //! `musclefem bench`: the work–precision matrix of each problem (see the library's `bench`
-//! module), written as DIR/work_precision.csv, DIR/work_precision.png and DIR/bench.log.
+//! module), written as DIR/work_precision.csv, DIR/work_precision.png and DIR/bench.log;
+//! or, with `--problem scaling`, the implicit cube timed at growing sizes
+//! ([`scaling`]: DIR/scaling.csv, DIR/scaling.png, DIR/scaling.log).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -14,6 +16,7 @@ use musclefem_studies::bench::chart::work_precision_figure;
 use musclefem_studies::bench::csv::{WorkPrecisionRow, to_csv};
 use musclefem_studies::bench::method::millimetres;
 use musclefem_studies::bench::pareto::pareto_front;
+use musclefem_studies::bench::scaling::ScalingSolver;
 use musclefem_studies::bench::{Measurement, Problem, matrix, reference_method};
 
 /// Which problems to run.
@@ -28,6 +31,11 @@ pub enum ProblemChoice {
     Knee,
     /// Cube, elongate and (without --quick) knee.
     All,
+    /// Not a work–precision matrix: the implicit cube of issue #36 (symmetry planes,
+    /// pulled to stretch 1.5 in 10 steps) timed at each of --sizes, --poisson and
+    /// --solvers (and through felupe when installed), with the fitted growth of the time;
+    /// writes scaling.csv, scaling.png and scaling.log.
+    Scaling,
 }
 
 #[derive(Debug, Args)]
@@ -45,6 +53,44 @@ pub struct BenchArgs {
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub trust: musclefem_studies::scene_study::SceneTrustArgs,
+    /// --problem scaling: elements per edge n of the cubes.
+    #[arg(
+        long,
+        value_name = "N,N,...",
+        value_delimiter = ',',
+        default_value = "10,20,30,40"
+    )]
+    pub sizes: Vec<usize>,
+    /// --problem scaling: Poisson's ratios ν of the cubes (μ = 10 kPa; bulk modulus
+    /// K = 2μ(1 + ν)/(3(1 − 2ν))).
+    #[arg(
+        long,
+        value_name = "NU,NU,...",
+        value_delimiter = ',',
+        default_value = "0.3,0.49"
+    )]
+    pub poisson: Vec<f64>,
+    /// --problem scaling: musclefem's linear solvers.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "direct,amg_cg"
+    )]
+    pub solvers: Vec<ScalingSolver>,
+    /// --problem scaling: run the same cubes through felupe when a Python with felupe is
+    /// found ($MUSCLEFEM_FELUPE_PYTHON or .venv-felupe/bin/python, made by
+    /// scripts/setup-felupe); without one, the log says so and the bench goes on (the
+    /// default).
+    #[arg(long, overrides_with = "no_felupe")]
+    pub felupe: bool,
+    /// --problem scaling: do not run felupe.
+    #[arg(long, overrides_with = "felupe")]
+    pub no_felupe: bool,
+    /// --problem scaling: the sizes felupe runs [default: --sizes] (felupe took 450 s at
+    /// 20³ on 2 cores).
+    #[arg(long, value_name = "N,N,...", value_delimiter = ',')]
+    pub felupe_sizes: Option<Vec<usize>>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     pub out: PathBuf,
@@ -53,9 +99,13 @@ pub struct BenchArgs {
     pub force: bool,
 }
 
+pub mod scaling;
 mod scene;
 
 pub fn bench(args: &BenchArgs) -> Result<()> {
+    if args.problem == ProblemChoice::Scaling {
+        return scaling::bench_scaling(args);
+    }
     crate::commands::refuse_existing(
         &["work_precision.csv", "work_precision.png", "bench.log"].map(|f| args.out.join(f)),
         args.force,
@@ -69,6 +119,7 @@ pub fn bench(args: &BenchArgs) -> Result<()> {
         (ProblemChoice::Knee, false) => &[Problem::Knee],
         (ProblemChoice::All, false) => &[Problem::Cube, Problem::Elongate, Problem::Knee],
         (ProblemChoice::All, true) => &[Problem::Cube, Problem::Elongate],
+        (ProblemChoice::Scaling, _) => unreachable!("--problem scaling returned above"),
         (ProblemChoice::Knee, true) => bail!(
             "--problem knee has no --quick matrix: its reference, the passive squat on the \
              medium mesh, takes about 5 minutes on 2 cores; run it without --quick"

@@ -96,8 +96,13 @@ enum Command {
     /// Speed against accuracy: run a matrix of solvers, elements, mesh sizes and steps on
     /// the cube and the elongation test, time each run and measure its error against a
     /// converged reference; writes work_precision.csv, work_precision.png (log–log, Pareto
-    /// front marked) and bench.log.
+    /// front marked) and bench.log. `--problem scaling` instead times the implicit cube at
+    /// growing sizes (and through felupe): scaling.csv, scaling.png and scaling.log.
     Bench(bench_command::BenchArgs),
+    /// One case of `bench --problem scaling`, in a process of its own (so that its peak
+    /// memory is its own); prints one line of key=value.
+    #[command(hide = true)]
+    ScalingCase(bench_command::scaling::ScalingCaseArgs),
     /// Abaqus/Explicit VUMATs as materials: `vumat build FILE.f --name NAME --props ...
     /// --nstatev N --out LIB.so` compiles a user's Fortran VUMAT, unchanged, into a
     /// material plugin (docs/vumat.md).
@@ -214,6 +219,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),
         Some(Command::Bench(args)) => bench_command::bench(&args),
+        Some(Command::ScalingCase(args)) => bench_command::scaling::scaling_case(&args),
         Some(Command::Vumat(args)) => vumat_command::vumat(&args),
         Some(Command::Umat(args)) => vumat_command::umat(&args),
         None => commands::demo(&DemoArgs {

@@ -1,10 +1,12 @@
 //! `musclefem bench`: the work–precision table and chart of the cube (the elongation's
 //! quick matrix takes about a minute and the knee's half an hour; they are run by hand,
-//! see README), of a scene of one's own, and the `--tolerance` choices read from them.
+//! see README), of a scene of one's own, and the `--tolerance` choices read from them; and
+//! the scaling benchmark on tiny cubes.
 
 use std::process::Command;
 
 use musclefem_studies::bench::csv::WORK_PRECISION_HEADER;
+use musclefem_studies::bench::scaling::csv::SCALING_HEADER;
 use musclefem_studies::bench::{Problem, matrix};
 
 #[test]
@@ -259,5 +261,82 @@ other,implicit,hex8-fbar,2.5,increment=0.5s,0.01,0,{metric}
         "{stderr}"
     );
     assert!(!dir.join("none").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `musclefem bench --problem scaling`: each tiny cube with both linear solvers, each in a
+/// child process, in one table with the right unknowns, the same end force from both
+/// solvers, the chart and the log with the ratios.
+#[test]
+fn the_scaling_bench_times_each_cube_with_each_solver() {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("musclefem-bench-scaling-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
+        .args([
+            "bench",
+            "--problem",
+            "scaling",
+            "--sizes",
+            "2,3",
+            "--no-felupe",
+        ])
+        .arg("--out")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(
+        stdout.contains("wall time ratio amg_cg / direct:"),
+        "{stdout}"
+    );
+
+    let table = std::fs::read_to_string(dir.join("scaling.csv")).unwrap();
+    let mut lines = table.lines();
+    assert_eq!(lines.next(), Some(SCALING_HEADER));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // 2 sizes × 2 Poisson's ratios × 2 solvers.
+    assert_eq!(rows.len(), 8, "{table}");
+    for row in &rows {
+        assert_eq!(row.len(), 9, "{row:?}");
+        assert_eq!(row[0], "musclefem");
+        let n: usize = row[2].parse().unwrap();
+        let unknowns: usize = row[3].parse().unwrap();
+        assert_eq!(unknowns, 3 * (n + 1).pow(3) - 4 * (n + 1).pow(2), "{row:?}");
+        let wall: f64 = row[5].parse().unwrap();
+        assert!(wall > 0.0, "{row:?}");
+        let memory: f64 = row[8].parse().unwrap();
+        assert!(memory > 0.0, "{row:?}");
+    }
+    let force = |solver: &str, n: &str, nu: &str| -> f64 {
+        rows.iter()
+            .find(|r| r[1] == solver && r[2] == n && r[4] == nu)
+            .unwrap_or_else(|| panic!("{solver} {n} {nu}"))[7]
+            .parse()
+            .unwrap()
+    };
+    for n in ["2", "3"] {
+        for nu in ["0.3", "0.49"] {
+            let direct = force("direct", n, nu);
+            let amg_cg = force("amg_cg", n, nu);
+            assert!(
+                (amg_cg - direct).abs() <= 1e-8 * direct.abs(),
+                "{n}³ ν = {nu}: {amg_cg} N against {direct} N"
+            );
+        }
+    }
+    let png = std::fs::read(dir.join("scaling.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let log = std::fs::read_to_string(dir.join("scaling.log")).unwrap();
+    assert!(log.contains("felupe not run (--no-felupe)"), "{log}");
+    assert!(
+        log.contains("musclefem direct, ν = 0.3: slope") && log.contains("(within)"),
+        "{log}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

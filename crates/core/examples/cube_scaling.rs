@@ -1,21 +1,19 @@
 //! The implicit cube of issue #36 with a chosen linear solver, for timing and peak-memory
 //! measurements (`/usr/bin/time -v`): a neo-Hookean cube (μ = 10 kPa, Poisson's ratio ν)
-//! of side 10 mm, n³ F-bar hex8, symmetry on x0, y0, z0, x1 pulled to λ = 1.5 in 10 steps.
+//! of side 10 mm, n³ F-bar hex8, symmetry on x0, y0, z0, x1 pulled to λ = 1.5 in 10 steps
+//! (`musclefem_core::verification::uniaxial_cube`). `musclefem bench --problem scaling`
+//! times the same cubes side by side and charts them.
 //!
 //! `cargo run --release -p musclefem-core --example cube_scaling -- 20 0.3 amg_cg`
 //! (solvers: direct, amg_cg, amg_cg_every: a numeric set-up for every tangent;
 //! an optional fourth argument is AMG-CG's tolerance). Prints one line
 //! of `key=value`.
 
-use std::collections::BTreeMap;
 use std::time::Instant;
 
-use musclefem_core::element::Technology;
-use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_core::solver::amg_cg::{HierarchyReuse, LinearSolver};
-use musclefem_core::solver::implicit::{ImplicitSettings, run_quasi_static};
-use musclefem_core::solver::{Loads, Part, PrescribedDisplacement};
-use musclefem_materials::{Amplitude, MaterialLibrary};
+use musclefem_core::solver::implicit::run_quasi_static;
+use musclefem_core::verification::uniaxial_cube::UniaxialCube;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -25,38 +23,9 @@ fn main() {
         .map_or(0.3, |a| a.parse().expect("Poisson's ratio"));
     let solver = args.get(3).map_or("direct", |s| s.as_str());
     let tolerance: f64 = args.get(4).map_or(1e-8, |a| a.parse().expect("tolerance"));
-    let side = 0.01;
-    let mu = 1e4;
-    // K = 2 μ (1 + ν) / (3 (1 − 2ν)), D = 2 / K.
-    let bulk = 2.0 * mu * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
-    let params = BTreeMap::from([("mu".to_string(), mu), ("D".to_string(), 2.0 / bulk)]);
-    let material = MaterialLibrary::with_builtins()
-        .create("neo-hookean", &params)
-        .unwrap();
-    let mesh = box_of_hexes([side; 3], [n; 3]).unwrap();
-    let parts = vec![Part {
-        block: 0,
-        technology: Technology::Hex8FBar,
-        material,
-        density: 1000.0,
-    }];
-    let fixed = |set: &str, dof: usize| PrescribedDisplacement {
-        nodes: mesh.node_set(set).unwrap().to_vec(),
-        dof,
-        amplitude: Amplitude::new(vec![(0.0, 0.0)]).unwrap(),
-    };
-    let loads: Loads = vec![
-        PrescribedDisplacement {
-            nodes: mesh.node_set("x1").unwrap().to_vec(),
-            dof: 0,
-            amplitude: Amplitude::ramp(1.0, 0.5 * side).unwrap(),
-        },
-        fixed("x0", 0),
-        fixed("y0", 1),
-        fixed("z0", 2),
-    ]
-    .into();
-    let mut settings = ImplicitSettings::new(1.0, 10);
+    let cube = UniaxialCube::with_poisson(n, nu);
+    let model = cube.model();
+    let mut settings = cube.settings();
     settings.amg_cg.tolerance = tolerance;
     match solver {
         "direct" => {}
@@ -68,7 +37,7 @@ fn main() {
         other => panic!("unknown solver {other}"),
     }
     let start = Instant::now();
-    let result = run_quasi_static(&mesh, &parts, &loads, &settings).unwrap();
+    let result = run_quasi_static(&model.mesh, &model.parts, &model.loads, &settings).unwrap();
     let seconds = start.elapsed().as_secs_f64();
     let iterations: usize = result.steps.iter().map(|s| s.iterations).sum();
     let s = &result.linear_solves;

@@ -10,7 +10,9 @@
 //! - [`pareto`]: the runs no other run beats in both time and error;
 //! - [`csv`], [`chart`]: `work_precision.csv` and `work_precision.png`;
 //! - [`scene`]: a scene of the user's own, its step settings against a reference run;
-//! - [`select`]: the cheapest measured setting within an error tolerance.
+//! - [`select`]: the cheapest measured setting within an error tolerance;
+//! - [`scaling`]: not a work–precision matrix: the implicit cube timed at growing sizes
+//!   (and through felupe), with the fitted growth of the time (`--problem scaling`).
 
 pub mod chart;
 pub mod csv;
@@ -21,6 +23,7 @@ pub mod matrix;
 pub mod method;
 pub mod pareto;
 pub mod reference;
+pub mod scaling;
 pub mod scene;
 pub mod select;
 
