@@ -347,7 +347,9 @@ impl SweptSolid {
     /// entries).
     fn sizes_along(&self, table: &[(f64, f64)], s: f64) -> f64 {
         let t = invert(&self.arclength, s, |t| self.curve.derivative(t).norm());
-        let j = table.partition_point(|&(tj, _)| tj < t).max(1);
+        let j = table
+            .partition_point(|&(tj, _)| tj < t)
+            .clamp(1, table.len() - 1);
         let ((t0, z0), (t1, z1)) = (table[j - 1], table[j]);
         if t1 == t0 {
             z0
@@ -374,7 +376,10 @@ impl SweptSolid {
     }
 
     fn arclength_of(&self, t: f64) -> f64 {
-        let j = self.arclength.partition_point(|&(tj, _)| tj < t).max(1);
+        let j = self
+            .arclength
+            .partition_point(|&(tj, _)| tj < t)
+            .clamp(1, self.arclength.len() - 1);
         let ((t0, s0), (t1, s1)) = (self.arclength[j - 1], self.arclength[j]);
         if t1 == t0 {
             s0

@@ -325,3 +325,33 @@ fn junctions_fall_on_layers_and_split_the_elements_into_segments() {
     bad.junctions = vec![0.5 * length, 0.2 * length];
     assert!(swept_muscle_mesh(&bad).is_err());
 }
+
+/// Station arclengths and section counts hold at the very end of the curve: the last
+/// knot's parameter can round past the arclength table's last entry, which once indexed
+/// beyond it. Many perturbed copies of the bent muscle, every station measured.
+#[test]
+fn measures_reach_the_end_of_the_curve_for_perturbed_stations() {
+    let mut seed = 12345u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    for _ in 0..300 {
+        let stations: Vec<SweptStation> = bent()
+            .into_iter()
+            .map(|mut s| {
+                s.centre += Vector3::new(next(), next(), next()) * (4.0 * MM);
+                s
+            })
+            .collect();
+        let Ok(solid) = SweptSolid::new(&stations) else {
+            continue;
+        };
+        let arclengths = solid.station_arclengths();
+        assert_eq!(arclengths.len(), stations.len());
+        assert!((arclengths[arclengths.len() - 1] - solid.length()).abs() < 1e-9);
+        assert!(solid.section_sizes_between(0.0, solid.length()) > 0.0);
+    }
+}
