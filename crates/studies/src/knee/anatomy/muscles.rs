@@ -55,6 +55,10 @@ use super::Resolution;
 use super::dimensions::{MM, PATELLA_SEMI_AXES, mm};
 use super::kinematics::{PatellaPose, QuadricepsPull};
 
+mod stations;
+
+use stations::{RECTUS_FEMORIS, Station, VASTUS_INTERMEDIUS, VASTUS_LATERALIS, VASTUS_MEDIALIS};
+
 /// The four heads of the quadriceps femoris.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Quadriceps {
@@ -198,57 +202,6 @@ impl Quadriceps {
         }
     }
 }
-
-/// A table row: centre [mm], width direction, half-width, half-thickness [mm].
-type Station = ([f64; 3], [f64; 3], f64, f64);
-
-const VASTUS_INTERMEDIUS: &[Station] = &[
-    ([37.0, 402.0, 46.0], [0.0, 0.0, 1.0], 10.0, 4.0),
-    ([40.7, 390.0, 42.9], [0.0, 0.0, 1.0], 18.0, 7.7),
-    ([50.2, 330.0, 38.5], [0.0, 0.0, 1.0], 38.6, 16.7),
-    ([57.5, 270.0, 32.1], [0.0, 0.0, 1.0], 51.5, 23.2),
-    ([59.8, 210.0, 24.7], [0.0, 0.0, 1.0], 54.1, 24.5),
-    ([58.2, 150.0, 17.3], [0.0, 0.0, 1.0], 48.9, 21.9),
-    ([51.2, 105.0, 10.5], [0.0, 0.0, 1.0], 36.1, 14.2),
-    ([48.7, 75.0, 4.6], [0.0, 0.0, 1.0], 23.2, 9.0),
-];
-
-const VASTUS_LATERALIS: &[Station] = &[
-    ([15.0, 420.0, 78.0], [1.0, 0.0, 0.3], 16.0, 7.0),
-    ([18.2, 390.0, 72.6], [0.940, 0.0, 0.342], 32.3, 15.1),
-    ([-2.3, 330.0, 66.9], [0.906, 0.0, 0.423], 47.3, 22.6),
-    ([-6.5, 270.0, 62.4], [0.866, 0.0, 0.500], 53.8, 26.9),
-    ([-5.4, 210.0, 56.0], [0.866, 0.0, 0.500], 53.8, 26.9),
-    ([2.0, 150.0, 49.7], [0.866, 0.0, 0.500], 47.3, 23.7),
-    ([19.4, 105.0, 46.0], [0.819, 0.0, 0.574], 34.4, 17.2),
-    ([37.8, 75.0, 40.6], [0.766, 0.0, 0.643], 21.5, 10.8),
-    ([43.5, 58.0, 27.0], [0.8, 0.0, 0.6], 12.0, 7.0),
-];
-
-const VASTUS_MEDIALIS: &[Station] = &[
-    ([27.0, 352.0, 4.0], [1.0, 0.0, -0.3], 9.0, 5.0),
-    ([20.8, 330.0, -0.3], [0.906, 0.0, -0.423], 27.3, 13.7),
-    ([14.6, 270.0, -10.5], [0.866, 0.0, -0.500], 34.2, 18.2),
-    ([13.6, 210.0, -21.9], [0.819, 0.0, -0.574], 38.7, 22.8),
-    ([15.5, 150.0, -34.0], [0.766, 0.0, -0.643], 41.0, 27.3),
-    ([21.3, 105.0, -40.6], [0.707, 0.0, -0.707], 38.7, 27.3),
-    ([34.0, 75.0, -38.0], [0.643, 0.0, -0.766], 25.0, 18.0),
-    ([42.0, 58.0, -29.0], [0.8, 0.0, -0.6], 14.0, 9.0),
-];
-
-/// The rectus's belly stations sit 1 mm further forward than the 2.5 mm rule placed them:
-/// with its belly alone volume-matched (the tendons left out) its sections grew by 4 %.
-/// The release station (y = 105 mm), which sets its moment arm, stays.
-const RECTUS_FEMORIS: &[Station] = &[
-    ([40.0, 482.0, 20.0], [0.0, 0.0, 1.0], 7.0, 5.0),
-    ([64.5, 390.0, 36.9], [0.0, 0.0, 1.0], 23.3, 12.8),
-    ([86.8, 330.0, 32.5], [0.0, 0.0, 1.0], 30.2, 16.3),
-    ([101.7, 270.0, 26.1], [0.0, 0.0, 1.0], 30.2, 17.4),
-    ([102.9, 210.0, 17.7], [0.0, 0.0, 1.0], 25.6, 15.1),
-    ([93.9, 150.0, 9.3], [0.0, 0.0, 1.0], 18.6, 10.5),
-    ([74.9, 105.0, 4.5], [0.0, 0.0, 1.0], 12.8, 7.0),
-    ([65.4, 75.0, 1.6], [0.0, 0.0, 1.0], 9.3, 5.2),
-];
 
 /// Height of the release station [m]: the musculotendon path is femur-fixed down to the
 /// station at y = 105 mm (where the muscles leave the femoral shaft for the
