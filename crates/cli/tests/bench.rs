@@ -9,21 +9,28 @@ use musclefem_studies::bench::csv::WORK_PRECISION_HEADER;
 use musclefem_studies::bench::scaling::csv::SCALING_HEADER;
 use musclefem_studies::bench::{Problem, matrix};
 
+/// Runs `command` (the musclefem binary with its arguments) and returns its standard
+/// output, failing the test with both streams unless it succeeds.
+fn succeeding_stdout(command: &mut Command) -> String {
+    let output = command.output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
 #[test]
 fn the_quick_cube_bench_writes_the_table_chart_and_log() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("musclefem-bench-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(["bench", "--quick", "--problem", "cube", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
+    let stdout = succeeding_stdout(
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args(["bench", "--quick", "--problem", "cube", "--out"])
+            .arg(&dir),
     );
     assert!(stdout.contains("cube Pareto front"), "{stdout}");
 
@@ -153,18 +160,12 @@ fn a_scene_of_ones_own_is_benchmarked_against_its_reference() {
     let _ = std::fs::remove_dir_all(&dir);
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/neo_hookean_cube_stretch.toml");
-    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args(["bench", "--scene"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
+    succeeding_stdout(
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args(["bench", "--scene"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&dir),
     );
     let table = std::fs::read_to_string(dir.join("work_precision.csv")).unwrap();
     let mut lines = table.lines();
@@ -272,24 +273,18 @@ fn the_scaling_bench_times_each_cube_with_each_solver() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join(format!("musclefem-bench-scaling-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let output = Command::new(env!("CARGO_BIN_EXE_musclefem"))
-        .args([
-            "bench",
-            "--problem",
-            "scaling",
-            "--sizes",
-            "2,3",
-            "--no-felupe",
-        ])
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(
-        output.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&output.stderr)
+    let stdout = succeeding_stdout(
+        Command::new(env!("CARGO_BIN_EXE_musclefem"))
+            .args([
+                "bench",
+                "--problem",
+                "scaling",
+                "--sizes",
+                "2,3",
+                "--no-felupe",
+            ])
+            .arg("--out")
+            .arg(&dir),
     );
     assert!(
         stdout.contains("wall time ratio amg_cg / direct:"),
