@@ -43,7 +43,13 @@ pub(super) fn part_surfaces(
         if listed[..i].contains(full) {
             return Err(locator.error(span.clone(), format!("'{full}' is listed twice")));
         }
-        parts.push(part_of_surface(full, span.clone(), mesh, part_names, locator)?);
+        parts.push(part_of_surface(
+            full,
+            span.clone(),
+            mesh,
+            part_names,
+            locator,
+        )?);
         faces.extend_from_slice(&mesh.surfaces[full]);
     }
     let name = listed.join("+");
@@ -167,9 +173,11 @@ pub(super) fn default_node_penalties(
     let mut penalties = vec![0.0_f64; secondary.nodes.len()];
     for &p in surface_parts {
         let shear = small_strain_shear_modulus(parts[p].material.as_ref()).ok_or_else(|| {
-            at("the secondary part's material gives no shear modulus for the default \
+            at(
+                "the secondary part's material gives no shear modulus for the default \
                 penalty; give penalty_stiffness"
-                .to_string())
+                    .to_string(),
+            )
         })?;
         // Nearly incompressible: E = 2 μ (1 + ν) ≈ 3 μ.
         let penalty = default_penalty(3.0 * shear, secondary.element_size())

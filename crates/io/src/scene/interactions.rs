@@ -209,7 +209,10 @@ pub(super) fn build_interactions(
         let model = match entry.kind.get_ref().as_str() {
             "contact" => {
                 refuse(entry, &COHESIVE_KEYS, "contact", locator)?;
-                let PartSurface { parts: surface_parts, surface } = secondary;
+                let PartSurface {
+                    parts: surface_parts,
+                    surface,
+                } = secondary;
                 // One penalty for every node, or the lowest and each node's own.
                 let (penalty, node_penalties) = match &entry.penalty_stiffness {
                     Some(p) => (*p.get_ref(), None),
