@@ -5,8 +5,9 @@
 //!
 //! - **A muscle's surface** is its `<belly>_lateral` surface, which spans its belly and
 //!   its tendon: in the scene, the list of that surface on each part that has faces of it
-//!   (`["VL.VL_lateral", "VL_tendon.VL_lateral"]`), one surface across parts that share
-//!   the file's nodes. The knee sorts each surface's faces as the mesh file reads them
+//!   (`["vastus_lateralis.vastus_lateralis_lateral",
+//!   "vastus_lateralis_tendon.vastus_lateralis_lateral"]`), one surface across parts that
+//!   share the file's nodes. The knee sorts each surface's faces as the mesh file reads them
 //!   back, so the listed parts' faces, belly then tendon, are the knee's own triangles in
 //!   the knee's order.
 //! - **Bonds**: `bond_band` keeps the knee's height bands ([`MUSCLE_BOND_HEIGHTS`],

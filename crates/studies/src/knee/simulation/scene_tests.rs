@@ -4,7 +4,8 @@
 //! materials, densities, element technology, tie nodes and motions (the patella's after
 //! the same pull), bones (surfaces, the femur's vertex normals, poses) and analysis, bit
 //! for bit, on the knee's nodes by the knee's ids (the parts share `muscles.inp`'s
-//! nodes). Its interactions are not in the scene yet.
+//! nodes) — and its interactions, each as the knee builds it (bonds, penalties,
+//! surfaces), for both interface laws.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
