@@ -400,7 +400,7 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
         settings.element,
     )
     .unwrap();
-    let mut built = knee_interactions(
+    let built = knee_interactions(
         &geometry,
         &model.mesh,
         model.material.as_ref(),
@@ -429,7 +429,7 @@ fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free
     let positions: Vec<Vector3<f64>> = (0..model.mesh.node_count())
         .map(|i| model.mesh.nodes.position(i))
         .collect();
-    for interaction in &mut built.interactions {
+    for interaction in &mut built.solver_interactions() {
         let mut force = vec![Vector3::zeros(); positions.len()];
         interaction.search(0.0, &positions).unwrap();
         interaction

@@ -48,7 +48,7 @@ mod test_surfaces;
 
 pub use broadphase::Broadphase;
 pub use cohesive::{
-    CohesiveError, CohesiveInterface, CohesiveLaw, CohesiveSettings, TangentialMode,
+    Bond, CohesiveError, CohesiveInterface, CohesiveLaw, CohesiveSettings, TangentialMode,
 };
 pub use error::ContactError;
 pub use penalty::{PenaltyContact, default_penalty};

@@ -317,9 +317,10 @@ impl PenaltyContact {
         Ok(self)
     }
 
-    /// ε of secondary node `i` (index into the surface's nodes) [N/m³].
+    /// ε of secondary node `i` (index into the surface's nodes) [N/m³]: its own
+    /// ([`Self::with_node_penalties`]) or [`Self::penalty`].
     #[inline]
-    fn penalty_of(&self, i: usize) -> f64 {
+    pub fn node_penalty(&self, i: usize) -> f64 {
         self.node_penalty.as_ref().map_or(self.penalty, |p| p[i])
     }
 
@@ -437,7 +438,7 @@ impl PenaltyContact {
                 if !c.active {
                     continue;
                 }
-                let force = c.force(self.penalty_of(i) * self.secondary.node_area[i] * c.weight);
+                let force = c.force(self.node_penalty(i) * self.secondary.node_area[i] * c.weight);
                 f(self.secondary.nodes[i], force);
                 if let Some(corners) = self.target.nodes(c.triangle as usize) {
                     for (vertex, phi) in corners.iter().zip(&c.projection.barycentric) {
@@ -451,7 +452,7 @@ impl PenaltyContact {
             if !c.active {
                 continue;
             }
-            let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
+            let k = self.node_penalty(i) * self.secondary.node_area[i] * c.weight;
             let force = c.offset * k;
             f(self.secondary.nodes[i], force);
             if let ContactTarget::Deformable(main) = &self.target {

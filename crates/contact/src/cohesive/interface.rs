@@ -222,6 +222,17 @@ impl CohesiveInterface {
         self.bonds.iter().map(|b| b.area).sum()
     }
 
+    /// The bonds as they formed: node, tributary area, main triangle, bonded point and
+    /// rest separation.
+    pub fn bonds(&self) -> &[Bond] {
+        &self.bonds
+    }
+
+    /// The main surface.
+    pub fn main(&self) -> &ContactTarget {
+        &self.main
+    }
+
     /// The bonded secondary nodes, in bond order.
     pub fn bonded_nodes(&self) -> impl Iterator<Item = u32> + '_ {
         self.bonds.iter().map(|b| b.node)

@@ -33,6 +33,7 @@ mod slide;
 mod slide_tangent;
 mod smooth_slide;
 
+pub use bonds::Bond;
 pub use error::CohesiveError;
 pub use interface::CohesiveInterface;
 pub use law::{CohesiveLaw, TractionResponse};

@@ -38,12 +38,12 @@ impl Interaction for PenaltyContact {
             let (gap, k, force) = match &self.smooth {
                 Some(smooth) if smooth.contacts[i].active => {
                     let c = &smooth.contacts[i];
-                    let k = self.penalty_of(i) * area * c.weight;
+                    let k = self.node_penalty(i) * area * c.weight;
                     (c.gap, k, c.force(k))
                 }
                 None if self.contacts[i].active => {
                     let c = &self.contacts[i];
-                    let k = self.penalty_of(i) * area * c.weight;
+                    let k = self.node_penalty(i) * area * c.weight;
                     (c.gap, k, c.offset * k)
                 }
                 _ => continue,
@@ -64,7 +64,7 @@ impl Interaction for PenaltyContact {
         if let Some(smooth) = &self.smooth {
             for (i, c) in smooth.contacts.iter().enumerate() {
                 if c.active {
-                    let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
+                    let k = self.node_penalty(i) * self.secondary.node_area[i] * c.weight;
                     let corners = self.target.nodes(c.triangle as usize);
                     c.blocks(k, self.secondary.nodes[i], corners, add);
                 }
@@ -77,7 +77,7 @@ impl Interaction for PenaltyContact {
                 continue;
             }
             let node = self.secondary.nodes[i];
-            let k = self.penalty_of(i) * self.secondary.node_area[i] * c.weight;
+            let k = self.node_penalty(i) * self.secondary.node_area[i] * c.weight;
             let vertices = match &self.target {
                 ContactTarget::Deformable(main) => main.triangles[c.triangle as usize],
                 ContactTarget::Rigid(_) => [node; 3],
@@ -151,7 +151,7 @@ impl Interaction for PenaltyContact {
             };
             gap[node as usize] = g;
             if active {
-                pressure[node as usize] = -self.penalty_of(i) * g;
+                pressure[node as usize] = -self.node_penalty(i) * g;
             }
         }
         let mut force = vec![0.0; 3 * node_count];

@@ -314,10 +314,11 @@ pub struct InteractionEntry {
     pub name: Spanned<String>,
     /// "contact" or "cohesive".
     pub kind: Spanned<String>,
-    /// A surface of a part, "PART.SURFACE" (boxes have x0 … z1 and outer).
-    pub secondary: Spanned<String>,
-    /// A rigid body's name, or a surface of a part "PART.SURFACE".
-    pub main: Spanned<String>,
+    /// A surface of a part, "PART.SURFACE" (boxes have x0 … z1 and outer), or a list of
+    /// them, one surface across parts that share nodes (their faces in the order listed).
+    pub secondary: Spanned<OneOrMany>,
+    /// A rigid body's name, or a surface of a part "PART.SURFACE", or a list of them.
+    pub main: Spanned<OneOrMany>,
     /// Contact: penalty stiffness [N/m³] (pressure per penetration); default from the
     /// parts' stiffness and element size.
     pub penalty_stiffness: Option<Spanned<f64>>,
@@ -340,6 +341,22 @@ pub struct InteractionEntry {
     pub tangential: Option<Spanned<String>>,
     /// Cohesive: bonds form where the surfaces are within this distance at the start [m].
     pub bond_tolerance: Option<Spanned<f64>>,
+    /// Cohesive: only the secondary faces whose centroids lie in this band of heights
+    /// bond; default every face.
+    pub bond_band: Option<Spanned<BondBandEntry>>,
+    /// Cohesive: the fewest bonds the interface may have; fewer is an error. Default 1.
+    pub minimum_bonds: Option<Spanned<usize>>,
+}
+
+/// `bond_band = { axis, heights }` of a cohesive interaction: a band of heights along
+/// an axis.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BondBandEntry {
+    /// The direction heights are measured along (made unit length) [1].
+    pub axis: [f64; 3],
+    /// The lowest and the highest height of a face centroid, x · axis [m].
+    pub heights: [f64; 2],
 }
 
 /// `[step]`: the analysis.

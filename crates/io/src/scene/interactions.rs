@@ -6,15 +6,17 @@ use nalgebra::Vector3;
 use toml::Spanned;
 
 use musclefem_contact::{
-    CohesiveInterface, CohesiveSettings, ContactTarget, DeformableSurface, PenaltyContact,
-    RigidSurface, TangentialMode, default_penalty,
+    CohesiveInterface, CohesiveSettings, ContactTarget, PenaltyContact, RigidSurface,
+    TangentialMode,
 };
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Interaction, Part, RigidMotion};
 
 use super::error::{Locator, SceneError, suggestion};
 use super::format::{InteractionEntry, RigidBodyEntry};
-use super::locking::small_strain_shear_modulus;
+use super::interaction_surfaces::{
+    PartSurface, default_node_penalties, faces_in_band, part_surfaces,
+};
 
 /// Subdivisions of a generated rigid surface by default.
 const DEFAULT_DIVISIONS: usize = 16;
@@ -181,7 +183,7 @@ pub(super) fn rigid_body(
 }
 
 /// The interactions of the scene, with their surfaces taken from `mesh` (part surfaces
-/// are named "PART.SURFACE") and `rigid_bodies`.
+/// are named "PART.SURFACE"; a list of them is one surface) and `rigid_bodies`.
 pub(super) fn build_interactions(
     entries: &[InteractionEntry],
     rigid_bodies: &[RigidSurface],
@@ -202,46 +204,30 @@ pub(super) fn build_interactions(
         let at = |span: std::ops::Range<usize>, message: String| {
             locator.error(span, format!("interaction '{name}': {message}"))
         };
-        let (part, secondary) = part_surface(&entry.secondary, mesh, part_names, locator)?;
-        let main = match rigid_bodies
-            .iter()
-            .find(|b| b.name == *entry.main.get_ref())
-        {
-            Some(body) => ContactTarget::Rigid(body.clone()),
-            None if entry.main.get_ref().contains('.') => {
-                ContactTarget::Deformable(part_surface(&entry.main, mesh, part_names, locator)?.1)
-            }
-            None => {
-                let known: Vec<&str> = rigid_bodies.iter().map(|b| b.name.as_str()).collect();
-                return Err(at(
-                    entry.main.span(),
-                    format!(
-                        "main '{}' is neither a rigid body{} nor a part surface \
-                         \"PART.SURFACE\"",
-                        entry.main.get_ref(),
-                        suggestion(entry.main.get_ref(), known.iter().copied())
-                    ),
-                ));
-            }
-        };
+        let secondary = part_surfaces(&entry.secondary, mesh, part_names, locator)?;
+        let main = main_surface(entry, rigid_bodies, mesh, part_names, locator)?;
         let model = match entry.kind.get_ref().as_str() {
             "contact" => {
                 refuse(entry, &COHESIVE_KEYS, "contact", locator)?;
-                let penalty = match &entry.penalty_stiffness {
-                    Some(p) => *p.get_ref(),
+                let PartSurface {
+                    parts: surface_parts,
+                    surface,
+                } = secondary;
+                // One penalty for every node, or the lowest and each node's own.
+                let (penalty, node_penalties) = match &entry.penalty_stiffness {
+                    Some(p) => (*p.get_ref(), None),
                     None => {
-                        let shear = small_strain_shear_modulus(parts[part].material.as_ref())
-                            .ok_or_else(|| {
-                                at(
-                                    entry.secondary.span(),
-                                    "the secondary part's material gives no shear modulus \
-                                     for the default penalty; give penalty_stiffness"
-                                        .to_string(),
-                                )
-                            })?;
-                        // Nearly incompressible: E = 2 μ (1 + ν) ≈ 3 μ.
-                        default_penalty(3.0 * shear, secondary.element_size())
-                            .map_err(|e| at(entry.secondary.span(), e.to_string()))?
+                        let each = default_node_penalties(
+                            entry,
+                            &surface,
+                            &surface_parts,
+                            parts,
+                            mesh,
+                            locator,
+                        )?;
+                        let lowest = each.iter().copied().fold(f64::INFINITY, f64::min);
+                        let uniform = each.iter().all(|&p| p == lowest);
+                        (lowest, (!uniform).then_some(each))
                     }
                 };
                 if let Some(friction) = &entry.friction
@@ -253,17 +239,32 @@ pub(super) fn build_interactions(
                     ));
                 }
                 let smooth = entry.smooth_normals.as_ref().is_some_and(|s| *s.get_ref());
-                PenaltyContact::new(name, secondary, main, penalty)
-                    .map(|c| if smooth { c.with_smooth_normals() } else { c })
-                    .map(|c| InteractionModel::Contact(Box::new(c)))
-                    .map_err(|e| at(entry.kind.span(), e.to_string()))?
+                let contact = PenaltyContact::new(name, surface, main, penalty)
+                    .and_then(|c| match node_penalties {
+                        Some(each) => c.with_node_penalties(each),
+                        None => Ok(c),
+                    })
+                    .map_err(|e| at(entry.kind.span(), e.to_string()))?;
+                let contact = if smooth {
+                    contact.with_smooth_normals()
+                } else {
+                    contact
+                };
+                InteractionModel::Contact(Box::new(contact))
             }
             "cohesive" => {
                 refuse(entry, &CONTACT_KEYS, "cohesive", locator)?;
                 let settings = cohesive_settings(entry, locator)?;
-                CohesiveInterface::new(name, &secondary, main, mesh, &settings)
-                    .map(|c| InteractionModel::Cohesive(Box::new(c)))
-                    .map_err(|e| at(entry.kind.span(), e.to_string()))?
+                let bonding = match &entry.bond_band {
+                    Some(band) => faces_in_band(entry, &secondary.surface, band, mesh, locator)?,
+                    None => secondary.surface,
+                };
+                let interface = CohesiveInterface::new(name, &bonding, main, mesh, &settings)
+                    .map_err(|e| at(entry.kind.span(), e.to_string()))?;
+                if let Some(minimum) = &entry.minimum_bonds {
+                    check_minimum_bonds(&interface, minimum, locator)?;
+                }
+                InteractionModel::Cohesive(Box::new(interface))
             }
             other => {
                 return Err(at(
@@ -280,16 +281,75 @@ pub(super) fn build_interactions(
     Ok(built)
 }
 
+/// The main surface of `entry`: a rigid body by its name, or part surfaces.
+fn main_surface(
+    entry: &InteractionEntry,
+    rigid_bodies: &[RigidSurface],
+    mesh: &Mesh,
+    part_names: &[String],
+    locator: &Locator,
+) -> Result<ContactTarget, SceneError> {
+    let listed = entry.main.get_ref().names();
+    if let [one] = listed.as_slice() {
+        if let Some(body) = rigid_bodies.iter().find(|b| b.name == *one) {
+            return Ok(ContactTarget::Rigid(body.clone()));
+        }
+        if !one.contains('.') {
+            let known: Vec<&str> = rigid_bodies.iter().map(|b| b.name.as_str()).collect();
+            return Err(locator.error(
+                entry.main.span(),
+                format!(
+                    "interaction '{}': main '{one}' is neither a rigid body{} nor a part \
+                     surface \"PART.SURFACE\"",
+                    entry.name.get_ref(),
+                    suggestion(one, known.iter().copied())
+                ),
+            ));
+        }
+    }
+    let main = part_surfaces(&entry.main, mesh, part_names, locator)?;
+    Ok(ContactTarget::Deformable(main.surface))
+}
+
+/// Errors unless `interface` has at least `minimum` bonds.
+fn check_minimum_bonds(
+    interface: &CohesiveInterface,
+    minimum: &Spanned<usize>,
+    locator: &Locator,
+) -> Result<(), SceneError> {
+    let name = interface.name();
+    if *minimum.get_ref() == 0 {
+        return Err(locator.error(
+            minimum.span(),
+            format!("interaction '{name}': minimum_bonds must be at least 1"),
+        ));
+    }
+    if interface.bond_count() < *minimum.get_ref() {
+        return Err(locator.error(
+            minimum.span(),
+            format!(
+                "interaction '{name}': {} secondary nodes bonded, fewer than minimum_bonds = \
+                 {}; leave the interaction out, or widen bond_tolerance or bond_band",
+                interface.bond_count(),
+                minimum.get_ref()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Keys that only a contact takes.
 const CONTACT_KEYS: [&str; 3] = ["penalty_stiffness", "friction", "smooth_normals"];
 /// Keys that only a cohesive interface takes.
-const COHESIVE_KEYS: [&str; 6] = [
+const COHESIVE_KEYS: [&str; 8] = [
     "normal_stiffness",
     "shear_stiffness",
     "initiation_separation",
     "failure_separation",
     "tangential",
     "bond_tolerance",
+    "bond_band",
+    "minimum_bonds",
 ];
 
 /// Errors if `entry` sets one of `keys`, which a `kind` interaction does not take.
@@ -299,7 +359,7 @@ fn refuse(
     kind: &str,
     locator: &Locator,
 ) -> Result<(), SceneError> {
-    let given: [(&str, Option<std::ops::Range<usize>>); 9] = [
+    let given: [(&str, Option<std::ops::Range<usize>>); 11] = [
         (
             "penalty_stiffness",
             entry.penalty_stiffness.as_ref().map(Spanned::span),
@@ -329,6 +389,11 @@ fn refuse(
         (
             "bond_tolerance",
             entry.bond_tolerance.as_ref().map(Spanned::span),
+        ),
+        ("bond_band", entry.bond_band.as_ref().map(Spanned::span)),
+        (
+            "minimum_bonds",
+            entry.minimum_bonds.as_ref().map(Spanned::span),
         ),
     ];
     for (key, span) in given {
@@ -385,48 +450,4 @@ fn cohesive_settings(
         .validate(entry.name.get_ref())
         .map_err(|e| locator.error(entry.kind.span(), e.to_string()))?;
     Ok(settings)
-}
-
-/// The part index and the surface of "PART.SURFACE".
-fn part_surface(
-    name: &Spanned<String>,
-    mesh: &Mesh,
-    part_names: &[String],
-    locator: &Locator,
-) -> Result<(usize, DeformableSurface), SceneError> {
-    let full = name.get_ref();
-    let Some((part, surface)) = full.split_once('.') else {
-        return Err(locator.error(
-            name.span(),
-            format!("'{full}' is not a part surface \"PART.SURFACE\""),
-        ));
-    };
-    let Some(index) = part_names.iter().position(|p| p == part) else {
-        return Err(locator.error(
-            name.span(),
-            format!(
-                "unknown part '{part}'{}",
-                suggestion(part, part_names.iter().map(String::as_str))
-            ),
-        ));
-    };
-    if !mesh.surfaces.contains_key(full) {
-        let prefix = format!("{part}.");
-        let known: Vec<&str> = mesh
-            .surfaces
-            .keys()
-            .filter_map(|k| k.strip_prefix(&prefix))
-            .collect();
-        return Err(locator.error(
-            name.span(),
-            format!(
-                "part '{part}' has no surface '{surface}'{}; it has: {}",
-                suggestion(surface, known.iter().copied()),
-                known.join(", ")
-            ),
-        ));
-    }
-    let built = DeformableSurface::from_mesh_surface(mesh, full)
-        .map_err(|e| locator.error(name.span(), e.to_string()))?;
-    Ok((index, built))
 }

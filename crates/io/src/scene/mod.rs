@@ -10,6 +10,7 @@ mod describe;
 mod error;
 mod followers;
 mod format;
+mod interaction_surfaces;
 mod interactions;
 mod locking;
 pub mod memory;

@@ -433,8 +433,8 @@ pub struct BlockRole {
 /// The muscles' meshes as one mesh: the bellies first, one block per muscle in the order
 /// given (block `b` is `muscles[b]`'s belly), then every tendon block. Every node set and
 /// surface of muscle `m` is renamed `<m>_<name>` (`vastus_lateralis_origin`, ...), its
-/// element sets likewise, and the element set `<m>` holds all its elements; returns the
-/// role of every block.
+/// element sets likewise, and the element set `<m>` holds all its elements; each
+/// surface's faces are sorted. Returns the role of every block.
 pub fn combined_mesh(muscles: &[Muscle]) -> (Mesh, Vec<BlockRole>) {
     let mut combined = Mesh::default();
     let mut roles = Vec::new();
@@ -488,14 +488,15 @@ pub fn combined_mesh(muscles: &[Muscle]) -> (Mesh, Vec<BlockRole>) {
                 elements.iter().map(moved).collect(),
             );
         }
+        // Each surface's faces sorted (by block, element, face) as a mesh file reads them
+        // back, so that a scene of the knee has the knee's own triangles in its order.
         for (surface, faces) in &mesh.surfaces {
-            combined.surfaces.insert(
-                format!("{name}_{surface}"),
-                faces
-                    .iter()
-                    .map(|f| Face::new(moved(&f.element), f.face))
-                    .collect(),
-            );
+            let mut faces: Vec<Face> = faces
+                .iter()
+                .map(|f| Face::new(moved(&f.element), f.face))
+                .collect();
+            faces.sort_unstable();
+            combined.surfaces.insert(format!("{name}_{surface}"), faces);
         }
     }
     (combined, roles)

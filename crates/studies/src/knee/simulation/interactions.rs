@@ -43,7 +43,7 @@ use musclefem_contact::{
 };
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::Interaction;
-use musclefem_io::scene::small_strain_shear_modulus;
+use musclefem_io::scene::{InteractionModel, small_strain_shear_modulus};
 use musclefem_materials::Material;
 
 use super::super::anatomy::Tissue;
@@ -54,7 +54,7 @@ pub const BOND_TOLERANCE: f64 = 0.004;
 
 /// Bonds fewer than this between two muscles are not an interface (a few corner nodes
 /// that happen to come close).
-const MINIMUM_BONDS: usize = 3;
+pub const MINIMUM_BONDS: usize = 3;
 
 /// What one interaction is, for the log.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,7 +70,9 @@ pub struct InteractionSummary {
 
 /// The interactions of one squat, fresh (no damage, no history).
 pub struct KneeInteractions {
-    pub interactions: Vec<Box<dyn Interaction>>,
+    /// Contacts and cohesive interfaces as a scene builds them (its `[[interactions]]`:
+    /// [`super::scene_interactions`]), in the order the solver sums their forces.
+    pub interactions: Vec<InteractionModel>,
     pub summaries: Vec<InteractionSummary>,
     /// Nodes on a muscle–muscle interface (both sides), for locating peak stresses.
     pub interface_nodes: BTreeSet<u32>,
@@ -81,6 +83,16 @@ pub struct KneeInteractions {
     /// (secondary muscle, main muscle, index in `interactions`) of every muscle–muscle
     /// cohesive interface.
     pub muscle_interfaces: Vec<(usize, usize, usize)>,
+}
+
+impl KneeInteractions {
+    /// Fresh copies of the interactions for a solver.
+    pub fn solver_interactions(&self) -> Vec<Box<dyn Interaction>> {
+        self.interactions
+            .iter()
+            .map(InteractionModel::boxed)
+            .collect()
+    }
 }
 
 /// The muscle surface of block `b`: its named `<block>_lateral` surface if the mesh has
@@ -177,7 +189,7 @@ impl InterfaceLaw {
         }
     }
 
-    fn tangential(self) -> TangentialMode {
+    pub fn tangential(self) -> TangentialMode {
         match self {
             InterfaceLaw::Sliding => TangentialMode::SmoothSlide,
             InterfaceLaw::ElasticShear => TangentialMode::Elastic,
@@ -265,7 +277,9 @@ pub fn knee_interactions(
             nodes: interface.bond_count(),
             area: interface.bonded_reference_area(),
         });
-        result.interactions.push(Box::new(interface));
+        result
+            .interactions
+            .push(InteractionModel::Cohesive(Box::new(interface)));
     };
     for main in 0..surfaces.len() {
         for secondary in main + 1..surfaces.len() {
@@ -336,7 +350,9 @@ pub fn knee_interactions(
             nodes: surfaces[secondary].nodes.len(),
             area: surfaces[secondary].area(),
         });
-        result.interactions.push(Box::new(contact));
+        result
+            .interactions
+            .push(InteractionModel::Contact(Box::new(contact)));
     }
     for (b, surface) in surfaces.iter().enumerate() {
         let name = format!("{}-femur-contact", abbreviation(b));
@@ -352,7 +368,9 @@ pub fn knee_interactions(
             nodes: surface.nodes.len(),
             area: surface.area(),
         });
-        result.interactions.push(Box::new(contact));
+        result
+            .interactions
+            .push(InteractionModel::Contact(Box::new(contact)));
     }
     Ok(result)
 }

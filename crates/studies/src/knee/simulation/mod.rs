@@ -62,6 +62,7 @@ pub mod resolution;
 pub mod run;
 pub mod scene_bones;
 pub mod scene_files;
+pub mod scene_interactions;
 pub mod scene_materials;
 pub mod scene_step;
 #[cfg(test)]

@@ -249,7 +249,7 @@ pub fn run_squat(
         &settings.squat,
         settings.element,
     )?;
-    let mut built = knee_interactions(
+    let built = knee_interactions(
         geometry,
         &model.mesh,
         model.material.as_ref(),
@@ -320,11 +320,12 @@ pub fn run_squat(
     }
     let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
     let analysis = squat_analysis(settings, &geometry.motions.femur);
+    let mut interactions = built.solver_interactions();
     let problem = Problem {
         mesh: &model.mesh,
         parts: &model.parts,
         loads: &model.loads,
-        interactions: &mut built.interactions,
+        interactions: &mut interactions,
     };
     let outcome = match &resume_from {
         Some(point) => resume(problem, &analysis, &point.solver, &mut recorder),

@@ -6,14 +6,13 @@
 //! back to the same numbers, bit for bit: coordinates, fibers and table entries are
 //! written as the shortest decimals that parse back to them
 //! ([`musclefem_io::mesh_export`], [`musclefem_io::csv::format_number`]). The node ids,
-//! blocks and node sets read back as they were; each surface's faces read back sorted
-//! (the Abaqus reader sorts them), where the knee lists them ring by ring.
+//! blocks, node sets and surfaces read back as they were (the knee sorts each surface's
+//! faces as the Abaqus reader does).
 //!
 //! Parts take the file's blocks with `shared_nodes = true`, so that a belly and its
 //! tendon stay joined (`super::scene_tests` builds the whole model from these files).
-//! Not yet: `musclefem knee` writing them with its `scene.toml`, and the height-limited
-//! bonded surfaces of [`super::interactions`] (see `docs/design.md`, "One run, one
-//! observer").
+//! Not yet: `musclefem knee` writing them with its `scene.toml` (see `docs/design.md`,
+//! "One run, one observer").
 
 use std::path::Path;
 
@@ -107,17 +106,8 @@ mod tests {
             assert_eq!(a.connectivity, b.connectivity, "block {}", b.name);
         }
         assert_eq!(read.node_sets, mesh.node_sets);
-        // The same faces; the reader sorts each surface's faces (by block, element,
-        // face), where the knee lists a muscle's belly and tendon faces ring by ring.
-        assert_eq!(
-            read.surfaces.keys().collect::<Vec<_>>(),
-            mesh.surfaces.keys().collect::<Vec<_>>()
-        );
-        for (name, faces) in &mesh.surfaces {
-            let mut sorted = faces.clone();
-            sorted.sort_unstable();
-            assert_eq!(read.surfaces[name], sorted, "surface {name}");
-        }
+        // The same faces in the same order (the knee's are sorted, as the reader sorts).
+        assert_eq!(read.surfaces, mesh.surfaces);
         // The sets the squat ties and the surfaces its interactions take.
         for (b, muscle) in geometry.muscles.iter().enumerate() {
             let name = geometry.block_name(b);

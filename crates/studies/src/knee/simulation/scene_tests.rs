@@ -4,30 +4,36 @@
 //! materials, densities, element technology, tie nodes and motions (the patella's after
 //! the same pull), bones (surfaces, the femur's vertex normals, poses) and analysis, bit
 //! for bit, on the knee's nodes by the knee's ids (the parts share `muscles.inp`'s
-//! nodes). Its interactions are not in the scene yet.
+//! nodes) — and its interactions, each as the knee builds it (bonds, penalties,
+//! surfaces), for both interface laws.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use nalgebra::Vector3;
 
+use musclefem_contact::{ContactTarget, DeformableSurface, PenaltyContact};
 use musclefem_core::solver::{PoseFollower, RigidMotion, RigidReaction};
 use musclefem_io::csv::format_number;
-use musclefem_io::scene::load_scene;
+use musclefem_io::scene::{InteractionModel, load_scene};
 use musclefem_materials::MaterialLibrary;
 
+use super::interactions::{InterfaceLaw, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel, MUSCLE_DENSITY, TENDON_DENSITY};
 use super::run::{SquatSettings, squat_analysis};
 use super::scene_bones::{FEMUR_BODY, knee_bone_entries, write_bone_files};
 use super::scene_files::{FIBERS_CSV, MUSCLES_INP, write_model_files};
+use super::scene_interactions::knee_interaction_entries;
 use super::scene_materials::knee_material_entries;
 use super::scene_step::squat_step_entry;
 use super::scene_ties::knee_tie_entries;
 use crate::elongation::{ElementChoice, Solver};
 use crate::knee::anatomy::{Anatomy, Resolution, Squat, Tissue};
 
-#[test]
-fn the_knees_scene_builds_the_squats_model() {
+/// The coarse knee of a 10° squat for the scene tests: its geometry, its model (active),
+/// the squat's settings (implicit).
+fn coarse_knee() -> (KneeGeometry, KneeModel, SquatSettings) {
     let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
     let squat = Squat {
         duration: 0.2,
@@ -35,28 +41,36 @@ fn the_knees_scene_builds_the_squats_model() {
     };
     let geometry = KneeGeometry::default_knee(&anatomy, &squat).unwrap();
     let fibers = geometry.fibers().unwrap();
-    let activation = Activation::Active;
     let knee = KneeModel::new(
         &geometry,
         &fibers,
-        activation,
+        Activation::Active,
         &squat,
         ElementChoice::Hex8Fbar,
     )
     .unwrap();
     let mut settings = SquatSettings::recommended(Solver::Implicit);
     settings.squat = squat;
+    (geometry, knee, settings)
+}
 
-    let directory =
-        std::env::temp_dir().join(format!("musclefem-knee-scene-{}", std::process::id()));
-    std::fs::create_dir_all(&directory).unwrap();
-    write_model_files(&directory, &knee.mesh, &geometry.patella_table).unwrap();
+/// Write the knee's scene into `directory`: its files, materials, parts, ties, bones,
+/// `interactions` (entries, or nothing) and step; returns the scene file's path.
+fn write_knee_scene(
+    directory: &Path,
+    geometry: &KneeGeometry,
+    knee: &KneeModel,
+    settings: &SquatSettings,
+    interactions: &str,
+) -> PathBuf {
+    std::fs::create_dir_all(directory).unwrap();
+    write_model_files(directory, &knee.mesh, &geometry.patella_table).unwrap();
     let muscles: Vec<(&str, f64)> = (0..geometry.muscles.len())
         .map(|m| (geometry.block_name(m), geometry.passive_slack[m]))
         .collect();
     let mut text = format!(
         "schema_version = 1\n\n{}\n",
-        knee_material_entries(&muscles, activation, &squat)
+        knee_material_entries(&muscles, Activation::Active, &settings.squat)
     );
     for (b, role) in geometry.roles.iter().enumerate() {
         let muscle = geometry
@@ -81,12 +95,22 @@ fn the_knees_scene_builds_the_squats_model() {
             name = geometry.block_name(b),
         );
     }
-    text.push_str(&knee_tie_entries(&geometry).unwrap());
-    write_bone_files(&directory, &geometry).unwrap();
-    text.push_str(&knee_bone_entries(&geometry));
-    text.push_str(&squat_step_entry(&settings, FEMUR_BODY));
+    text.push_str(&knee_tie_entries(geometry).unwrap());
+    write_bone_files(directory, geometry).unwrap();
+    text.push_str(&knee_bone_entries(geometry));
+    text.push_str(interactions);
+    text.push_str(&squat_step_entry(settings, FEMUR_BODY));
     let path = directory.join("scene.toml");
     std::fs::write(&path, &text).unwrap();
+    path
+}
+
+#[test]
+fn the_knees_scene_builds_the_squats_model() {
+    let (geometry, knee, settings) = coarse_knee();
+    let directory =
+        std::env::temp_dir().join(format!("musclefem-knee-scene-{}", std::process::id()));
+    let path = write_knee_scene(&directory, &geometry, &knee, &settings, "");
     let scene =
         load_scene(&path, &mut MaterialLibrary::with_builtins()).unwrap_or_else(|e| panic!("{e}"));
 
@@ -206,4 +230,115 @@ fn the_knees_scene_builds_the_squats_model() {
         format!("{:?}", squat_analysis(&settings, &geometry.motions.femur))
     );
     std::fs::remove_dir_all(&directory).unwrap();
+}
+
+/// A deformable surface's nodes, triangles, areas and rim, bit for bit (the shortest
+/// decimals print distinct numbers distinctly), without its name.
+fn surface_bits(surface: &DeformableSurface) -> String {
+    format!(
+        "{:?} {:?} {:?} {:?} {:?}",
+        surface.nodes,
+        surface.triangles,
+        surface.triangle_area,
+        surface.node_area,
+        surface.boundary_edges
+    )
+}
+
+/// A main surface bit for bit: a rigid body's name, vertices, triangles and vertex
+/// normals, or a deformable surface's [`surface_bits`].
+fn main_bits(target: &ContactTarget) -> String {
+    match target {
+        ContactTarget::Rigid(body) => format!(
+            "{} {:?} {:?} {:?}",
+            body.name, body.vertices, body.triangles, body.vertex_normals
+        ),
+        ContactTarget::Deformable(surface) => surface_bits(surface),
+    }
+}
+
+#[test]
+fn the_knees_interactions_read_back_as_scene_interactions() {
+    let (geometry, knee, settings) = coarse_knee();
+    for law in [InterfaceLaw::Sliding, InterfaceLaw::ElasticShear] {
+        let built = knee_interactions(&geometry, &knee.mesh, knee.material.as_ref(), law).unwrap();
+        let entries = knee_interaction_entries(&geometry, &built, law).unwrap();
+        let directory = std::env::temp_dir().join(format!(
+            "musclefem-knee-interactions-{}-{}",
+            law.name(),
+            std::process::id()
+        ));
+        let path = write_knee_scene(&directory, &geometry, &knee, &settings, &entries);
+        let scene = load_scene(&path, &mut MaterialLibrary::with_builtins())
+            .unwrap_or_else(|e| panic!("{e}"));
+
+        let names = |list: &[InteractionModel]| -> Vec<String> {
+            list.iter().map(|i| i.name().to_string()).collect()
+        };
+        assert_eq!(names(&scene.interactions), names(&built.interactions));
+        let mut kinds = (0, 0);
+        for (a, b) in scene.interactions.iter().zip(&built.interactions) {
+            let name = b.name();
+            match (a, b) {
+                (InteractionModel::Cohesive(a), InteractionModel::Cohesive(b)) => {
+                    // The same bonds: nodes, areas, triangles, bonded points, normals and
+                    // rest separations; the same law, on the same main surface.
+                    assert_eq!(
+                        format!("{:?}", a.bonds()),
+                        format!("{:?}", b.bonds()),
+                        "{name}"
+                    );
+                    assert_eq!(a.bonded_reference_area(), b.bonded_reference_area());
+                    assert_eq!(format!("{:?}", a.law()), format!("{:?}", b.law()), "{name}");
+                    assert_eq!(a.law().tangential(), law.tangential());
+                    assert_eq!(main_bits(a.main()), main_bits(b.main()), "{name}");
+                    kinds.0 += 1;
+                }
+                (InteractionModel::Contact(a), InteractionModel::Contact(b)) => {
+                    // The same secondary nodes and triangles, each node's penalty, the
+                    // same main surface, along its smooth normals.
+                    assert_eq!(
+                        surface_bits(a.secondary()),
+                        surface_bits(b.secondary()),
+                        "{name}"
+                    );
+                    let penalties = |c: &PenaltyContact| -> Vec<u64> {
+                        (0..c.secondary().nodes.len())
+                            .map(|i| c.node_penalty(i).to_bits())
+                            .collect()
+                    };
+                    assert_eq!(penalties(a), penalties(b), "{name}");
+                    assert_eq!(a.penalty().to_bits(), b.penalty().to_bits(), "{name}");
+                    assert_eq!(main_bits(a.target()), main_bits(b.target()), "{name}");
+                    assert!(a.smooth_normals() && b.smooth_normals(), "{name}");
+                    kinds.1 += 1;
+                }
+                _ => panic!("{name}: the scene's is of another kind"),
+            }
+        }
+        // Bonds between the vasti and the rectus and on the femur; contact of every
+        // muscle with every other, both ways, and with the femur.
+        let muscles = geometry.muscles.len();
+        assert_eq!(
+            kinds,
+            (
+                built.muscle_interfaces.len() + built.femur_interfaces.len(),
+                muscles * (muscles - 1) + muscles
+            )
+        );
+        assert!(built.muscle_interfaces.len() >= 3 && built.femur_interfaces.len() >= 3);
+        // Tendon nodes press harder than belly nodes.
+        let InteractionModel::Contact(contact) = &scene.interactions[kinds.0] else {
+            panic!("a contact follows the bonds");
+        };
+        let nodes = contact.secondary().nodes.len();
+        let lowest = (0..nodes)
+            .map(|i| contact.node_penalty(i))
+            .fold(f64::INFINITY, f64::min);
+        let highest = (0..nodes)
+            .map(|i| contact.node_penalty(i))
+            .fold(0.0, f64::max);
+        assert!(highest > 10.0 * lowest, "{lowest} {highest}");
+        std::fs::remove_dir_all(&directory).unwrap();
+    }
 }
