@@ -152,6 +152,27 @@ impl DeformableSurface {
         Self::from_faces(mesh, &name, &faces)
     }
 
+    /// The triangles whose centroids (the mean of their corners at the reference
+    /// positions of `mesh`) lie at heights x · `axis` between `heights` [m], both
+    /// included, in this surface's order; `axis` is a unit vector.
+    pub fn triangles_between_heights(
+        &self,
+        mesh: &Mesh,
+        axis: &Vector3<f64>,
+        heights: [f64; 2],
+    ) -> Vec<[u32; 3]> {
+        let height = |triangle: &[u32; 3]| {
+            let [a, b, c] = triangle.map(|n| mesh.nodes.position(n as usize));
+            let centroid = Vector3::from_fn(|k, _| (a[k] + b[k] + c[k]) / 3.0);
+            centroid.dot(axis)
+        };
+        self.triangles
+            .iter()
+            .filter(|t| (heights[0]..=heights[1]).contains(&height(t)))
+            .copied()
+            .collect()
+    }
+
     /// The surface of `triangles` (global node ids of `mesh`, outward right-hand normal).
     pub fn from_triangles(
         mesh: &Mesh,

@@ -130,17 +130,7 @@ pub(super) fn faces_in_band(
             "bond_band: heights [{low}, {high}] must be finite, the lower first"
         )));
     }
-    let height = |triangle: &[u32; 3]| {
-        let [a, b, c] = triangle.map(|n| mesh.nodes.position(n as usize));
-        let centroid = Vector3::from_fn(|k, _| (a[k] + b[k] + c[k]) / 3.0);
-        centroid.dot(&axis)
-    };
-    let triangles: Vec<[u32; 3]> = surface
-        .triangles
-        .iter()
-        .filter(|t| (low..=high).contains(&height(t)))
-        .copied()
-        .collect();
+    let triangles = surface.triangles_between_heights(mesh, &axis, [low, high]);
     if triangles.is_empty() {
         return Err(at(format!(
             "bond_band: no face of '{}' has its centroid between heights {low} and {high} m",

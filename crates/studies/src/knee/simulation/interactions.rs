@@ -131,19 +131,7 @@ fn faces_between(
     heights: [f64; 2],
     name: &str,
 ) -> Result<Option<DeformableSurface>> {
-    let triangles: Vec<[u32; 3]> = surface
-        .triangles
-        .iter()
-        .filter(|t| {
-            let y = t
-                .iter()
-                .map(|&n| mesh.nodes.position(n as usize).y)
-                .sum::<f64>()
-                / 3.0;
-            (heights[0]..=heights[1]).contains(&y)
-        })
-        .copied()
-        .collect();
+    let triangles = surface.triangles_between_heights(mesh, &nalgebra::Vector3::y(), heights);
     if triangles.is_empty() {
         return Ok(None);
     }
