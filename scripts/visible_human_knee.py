@@ -18,6 +18,8 @@ crates/studies/data/visible_human. Writes into OUT:
 - `femur_shaft.stl` (see build_femur), `femur_cartilage_distal.stl`,
   `patella.stl`, `patella_cartilage.stl`, `tibia.stl` (binary STL in mm, the bones
   remeshed by Gmsh at BONE_SIZE);
+- `landmarks.csv`: the knee's landmarks (flexion axis, trochlear groove, patella,
+  patellar tendon, hip and ankle; scripts/visible_human_landmarks.py);
 - `summary.csv` (one row per mesh: counts, volumes, group areas), `femur.csv` (the
   shaft's fitted sections) and `femur_rings.csv` (its rings' radii);
 - `README.md` (sources, citations, the rules below and the summary) and a copy of
@@ -55,6 +57,7 @@ from types import SimpleNamespace
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import musclefem_mesh as mesher  # noqa: E402
 import visible_human_geometry as geo  # noqa: E402
+import visible_human_landmarks as landmarks  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_DATA = ROOT.parent / "shared/data/visible_human_female_right"
@@ -160,9 +163,11 @@ def build(data, out):
             print(", ".join(f"{k} {v}" for k, v in rows[-1].items()), flush=True)
     for name, (source, size) in BONES.items():
         remesh_bone(data / f"VHF_Right_{source}_smooth.stl", out / f"{name}.stl", name, size)
+    marks = landmarks.knee_landmarks(data)
+    landmarks.write_landmarks(out / "landmarks.csv", marks)
     write_summary(out / "summary.csv", rows)
     shutil.copyfile(data / "SOURCE_README.txt", out / "SOURCE_README.txt")
-    write_readme(out / "README.md", rows, femur)
+    write_readme(out / "README.md", rows, femur, marks)
 
 
 # --- femur --------------------------------------------------------------------------------
@@ -432,10 +437,10 @@ def write_summary(path, rows):
             f.write(",".join(str(row.get(c, "")) for c in columns) + "\n")
 
 
-def write_readme(path, rows, femur):
+def write_readme(path, rows, femur, marks):
     from visible_human_readme import readme_text
 
-    path.write_text(readme_text(rows, femur, sys.modules[__name__]), encoding="utf-8")
+    path.write_text(readme_text(rows, femur, marks, sys.modules[__name__]), encoding="utf-8")
 
 
 if __name__ == "__main__":

@@ -16,7 +16,27 @@ def band(rule):
     return f"{side}, {lowest:g} ≤ s < {highest:g}"
 
 
-def readme_text(rows, femur, knee):
+def landmark_lines(marks, rules):
+    """The landmarks' section: the rules (the module documentation of
+    visible_human_landmarks.py, from its "Knee frame" paragraph) and a table of the values
+    in the knee frame."""
+    doc = rules.__doc__
+    frame = rules.KneeFrame(*(dict((n, p) for n, p, _ in marks)[k]
+                              for k in ("medial_condyle", "lateral_condyle", "femoral_head")))
+    lines = ["## The knee's landmarks (`landmarks.csv`)", "",
+             "Written by `scripts/visible_human_landmarks.py` in the data frame [mm]; the knee",
+             "study places the anatomy in its knee frame from them.", ""]
+    lines += doc[doc.index("**Knee frame**"):].rstrip().split("\n")
+    lines += ["", "In the knee frame (x anterior, y proximal, z lateral) [mm]:", "",
+              "| landmark | x | y | z | radius |", "|---|---|---|---|---|"]
+    for name, point, radius in marks:
+        x, y, z = (round(c, 1) + 0.0 for c in frame.to_knee(point))
+        r = "–" if radius is None else f"{radius:.1f}"
+        lines.append(f"| {name} | {x:.1f} | {y:.1f} | {z:.1f} | {r} |")
+    return lines
+
+
+def readme_text(rows, femur, marks, knee):
     lines = [
         "# The Visible Human Female's knee: volume meshes and surfaces",
         "",
@@ -64,6 +84,8 @@ def readme_text(rows, femur, knee):
         "  the segmented surfaces remeshed by Gmsh at "
         + ", ".join(f"{name} {size:g}" for name, (_, size) in knee.BONES.items())
         + " mm (binary STL, mm).",
+        "- `landmarks.csv`: the knee's landmarks in the data frame [mm] (rules and values",
+        "  below).",
         "- `summary.csv`: the table below, one row per mesh, machine-readable (the tests read",
         "  the surface volumes from it when ../shared is not there).",
         "",
@@ -139,6 +161,8 @@ def readme_text(rows, femur, knee):
         "  muscle N's segmented surface (exact point–triangle distance). Where the remeshed",
         "  neighbours overlap (a node of one inside the other's boundary, up to the",
         "  remeshing's deviation), the node is on these faces (tests/visible_human.rs).",
+        "",
+    ] + landmark_lines(marks, knee.landmarks) + [
         "",
         "## Summary",
         "",
