@@ -7,7 +7,8 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 
-use musclefem_core::mesh::Mesh;
+use musclefem_core::element::Technology;
+use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::{Loads, Part, RigidMotion, RigidTie};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
 use musclefem_materials::hill::{HillMuscle, HillParameters};
@@ -17,6 +18,7 @@ use crate::elongation::ElementChoice;
 
 use super::super::anatomy::bones::{femur_distance, implicit_normals};
 use super::super::anatomy::moment_arms::belly_stretch_in_squat;
+use super::super::anatomy::visible_human::TendonStrand;
 use super::super::anatomy::{
     Anatomy, BlockRole, BoneMotions, ClosedChain, Quadriceps, Squat, TendonSpring, Tissue,
     TriangleSurface,
@@ -75,6 +77,10 @@ pub struct KneeGeometry {
     /// The patella's poses in the femur's frame with the patellar tendon as a spring
     /// (the run's patella).
     pub patella_table: Arc<PatellaTable>,
+    /// Tendon strands from the muscles' fiber outlets to their attachment nodes on the
+    /// patella (the Visible Human knee's tendinous tissue); none where the tendons are
+    /// element blocks (the default anatomy).
+    pub strands: Vec<TendonStrand>,
 }
 
 impl KneeGeometry {
@@ -107,6 +113,7 @@ impl KneeGeometry {
             motions,
             passive_slack,
             patella_table: Arc::new(patella_table),
+            strands: Vec::new(),
         })
     }
 
@@ -253,6 +260,26 @@ pub fn muscle_parameters(activation: Activation, squat: &Squat, slack: f64) -> H
     parameters
 }
 
+/// The element technology of a block of `shape`: `element` (a hexahedron) for the hex8
+/// blocks of the default anatomy, the quadratic tetrahedron for the Visible Human's tet10
+/// meshes.
+pub fn block_technology(
+    element: ElementChoice,
+    shape: ElementShape,
+    material: &dyn Material,
+) -> Result<Technology> {
+    match shape {
+        ElementShape::Hex8 if element.is_hex() => element.technology(material),
+        ElementShape::Hex8 => bail!(
+            "the knee's hex8 blocks need a hexahedron: element {} is not one (use hex8-fbar \
+             or hex8-one-point)",
+            element.name()
+        ),
+        ElementShape::Tet10 => ElementChoice::Tet10.technology(material),
+        ElementShape::Tet4 => bail!("the knee takes hex8 or tet10 meshes, not tet4"),
+    }
+}
+
 /// The tendon material: [`musclefem_materials::tendon`] with its defaults (fibers of
 /// 1 GPa in a 1 MPa matrix).
 pub fn tendon_material() -> Result<Arc<dyn Material>> {
@@ -277,8 +304,9 @@ pub struct KneeModel {
 }
 
 impl KneeModel {
-    /// The model of `geometry` with `fibers` and `activation` over `squat`, its muscles
-    /// meshed with `element` (a hexahedron: the knee's meshes are hex8).
+    /// The model of `geometry` with `fibers` and `activation` over `squat`, its hex8
+    /// blocks with `element` (a hexahedron), its tet10 blocks with the quadratic
+    /// tetrahedron ([`block_technology`]).
     pub fn new(
         geometry: &KneeGeometry,
         fibers: &FiberField,
@@ -286,13 +314,6 @@ impl KneeModel {
         squat: &Squat,
         element: ElementChoice,
     ) -> Result<Self> {
-        if !element.is_hex() {
-            bail!(
-                "the knee's muscles are meshed with hex8: element {} needs a tetrahedral \
-                 mesh (use hex8-fbar or hex8-one-point)",
-                element.name()
-            );
-        }
         let mesh = geometry.fibered_mesh(fibers)?;
         let materials = geometry
             .passive_slack
@@ -314,7 +335,12 @@ impl KneeModel {
                 };
                 Ok(Part {
                     block,
-                    technology: element.technology(material.as_ref())?,
+                    technology: block_technology(
+                        element,
+                        geometry.mesh.blocks[block].shape,
+                        material.as_ref(),
+                    )
+                    .with_context(|| format!("block '{}'", geometry.block_name(block)))?,
                     material,
                     density,
                 })

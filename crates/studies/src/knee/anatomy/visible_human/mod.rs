@@ -21,6 +21,12 @@ use musclefem_io::mesh_import::read_mesh;
 
 use super::{Quadriceps, TriangleSurface};
 
+pub mod knee;
+pub mod landmarks;
+
+pub use knee::{TendonStrand, VisibleHumanKnee};
+pub use landmarks::{Landmark, Landmarks};
+
 /// The folder of the committed meshes, surfaces and their README.
 pub fn data_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/visible_human")
