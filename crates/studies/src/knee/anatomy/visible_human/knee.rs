@@ -22,10 +22,11 @@
 //! the quadriceps tendon carries about the patellar tendon's force (0.5–1.1 times it,
 //! Huberti et al. 1984), so the two strain about alike.
 //!
-//! **Attachments** on the patella (its bone's vertices within [`BASE_DEPTH`] of its most
-//! proximal one, the base): the rectus femoris at the most anterior of them, the vastus
-//! intermedius at the most posterior, the vastus lateralis at the most lateral, the
-//! vastus medialis at the most medial.
+//! **Attachments** on the patella's base, at the corners of its superior border: the
+//! patella's vertex farthest along proximal + anterior for the rectus femoris (the
+//! superficial layer of the quadriceps tendon), proximal + posterior for the vastus
+//! intermedius (the deep layer), proximal + lateral for the vastus lateralis and
+//! proximal + medial for the vastus medialis (each direction at 45° between the two).
 
 use std::collections::BTreeMap;
 
@@ -38,10 +39,6 @@ use super::super::tendon::{PATELLAR_TENDON_STIFFNESS, PATELLAR_TENDON_TOE_STRAIN
 use super::super::{BlockRole, Quadriceps, Tissue, TriangleSurface};
 use super::landmarks::Landmarks;
 use super::{FIBER_INLETS, FIBER_OUTLETS, MeshResolution, load_muscle, load_surface};
-
-/// Depth of the patella's base below its most proximal point [m]: the strands' attachments
-/// are chosen among the vertices this close to the top.
-pub const BASE_DEPTH: f64 = 0.010;
 
 /// One tendon strand: from a node of a muscle's fiber outlets to the muscle's attachment
 /// node on the patella.
@@ -144,6 +141,30 @@ impl VisibleHumanKnee {
     }
 }
 
+impl VisibleHumanKnee {
+    /// Where `muscle`'s strands start on average, weighted by their stiffness (the
+    /// outlets' tributary areas) [m]: the point the muscle's pull on the patella comes
+    /// from, the release point of its line of action in the knee's mechanism.
+    pub fn outlet_centroid(&self, muscle: Quadriceps) -> Vector3<f64> {
+        let (sum, weight) = self
+            .strands
+            .iter()
+            .filter(|s| s.muscle == muscle)
+            .fold((Vector3::zeros(), 0.0), |(sum, weight), s| {
+                let x = self.mesh.nodes.position(s.node as usize);
+                (sum + s.strain_stiffness * x, weight + s.strain_stiffness)
+            });
+        sum / weight
+    }
+
+    /// The attachment of `muscle`'s strands on the patella [m] (knee frame, at 0°).
+    pub fn attachment_point(&self, muscle: Quadriceps) -> Result<Vector3<f64>> {
+        let set = format!("{}_insertion", muscle.name());
+        let node = self.mesh.node_set(&set)?[0];
+        Ok(self.mesh.nodes.position(node as usize))
+    }
+}
+
 /// Length of the patellar tendon in the data's pose, apex to tuberosity [m].
 pub fn patellar_tendon_length(landmarks: &Landmarks) -> f64 {
     (landmarks.patella_apex.point - landmarks.tibial_tuberosity.point).norm()
@@ -213,19 +234,17 @@ fn combine(muscles: &[Quadriceps], meshes: &[Mesh]) -> Result<(Mesh, Vec<BlockRo
 
 /// The attachment of `muscle` on the patella (see the module documentation) [m].
 pub fn attachment(muscle: Quadriceps, patella: &TriangleSurface) -> Result<Vector3<f64>> {
-    let top = patella
+    let side = match muscle {
+        Quadriceps::RectusFemoris => Vector3::x(),
+        Quadriceps::VastusIntermedius => -Vector3::x(),
+        Quadriceps::VastusLateralis => Vector3::z(),
+        Quadriceps::VastusMedialis => -Vector3::z(),
+    };
+    let direction = Vector3::y() + side;
+    patella
         .vertices
         .iter()
-        .map(|v| v.y)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let base = patella.vertices.iter().filter(|v| v.y >= top - BASE_DEPTH);
-    let score = |v: &Vector3<f64>| match muscle {
-        Quadriceps::RectusFemoris => v.x,
-        Quadriceps::VastusIntermedius => -v.x,
-        Quadriceps::VastusLateralis => v.z,
-        Quadriceps::VastusMedialis => -v.z,
-    };
-    base.max_by(|a, b| score(a).total_cmp(&score(b)))
+        .max_by(|a, b| a.dot(&direction).total_cmp(&b.dot(&direction)))
         .copied()
         .context("the patella has no vertices")
 }
@@ -296,6 +315,20 @@ mod tests {
                 .node_set(&format!("{}_insertion", muscle.name()))
                 .unwrap()[0];
             let mine: Vec<_> = knee.strands.iter().filter(|s| s.muscle == muscle).collect();
+            let stiffness: f64 = mine.iter().map(|s| s.strain_stiffness).sum();
+            let (shortest, longest) = mine.iter().fold((f64::MAX, 0.0_f64), |(a, b), s| {
+                (a.min(s.slack_length), b.max(s.slack_length))
+            });
+            println!(
+                "{}: {} strands, E A = {:.1} kN, slack {:.1}–{:.1} mm, from {:.1?} mm to {:.1?} mm",
+                muscle.abbreviation(),
+                mine.len(),
+                stiffness * 1e-3,
+                shortest * 1e3,
+                longest * 1e3,
+                knee.outlet_centroid(muscle) * 1e3,
+                knee.attachment_point(muscle).unwrap() * 1e3,
+            );
             assert!(mine.len() > 20, "{muscle:?}: {} strands", mine.len());
             assert!(mine.iter().all(|s| s.attachment == attachment));
             // Strands run from the muscle's outlets to the patella: 1 to 25 cm.
