@@ -13,14 +13,14 @@
 //! flexion φ (rotation about −z, like the tibia's). Two constraints hold them:
 //!
 //! 1. *contact with the trochlea*: the patella's articular ridge (the circle of radius
-//!    ρ_p = [`KneeDimensions::patella_ridge_radius`] osculating its ellipsoid at the posterior pole) is
-//!    tangent to the groove floor, the circle (C_g, r_g) continued proximally by the line
-//!    x = x_g + r_g, so the ridge's centre lies on the offset curve at distance
-//!    r_g + ρ_p, parameterised by its arclength u (u ≥ 0 on the straight part above
-//!    C_g, u < 0 around the circle);
+//!    ρ_p = [`KneeDimensions::patella_ridge_radius`] osculating its ellipsoid at the
+//!    posterior pole) is tangent to the groove floor, the circle (C_g, r_g) continued
+//!    proximally by the line x = x_g + r_g, so the ridge's centre lies on the offset
+//!    curve at distance r_g + ρ_p, parameterised by its arclength u (u ≥ 0 on the
+//!    straight part above C_g, u < 0 around the circle);
 //! 2. *the patellar tendon at its length*: |A(u, φ) − T(θ)| = ℓ, A the apex, T the
-//!    tuberosity moving with the tibia, ℓ = [`KneeDimensions::patellar_tendon_length`] for a slack
-//!    tendon (the finite-element squat stretches it by its tension: see
+//!    tuberosity moving with the tibia, ℓ = [`KneeDimensions::patellar_tendon_length`]
+//!    for a slack tendon (the finite-element squat stretches it by its tension: see
 //!    `knee::simulation::patella`, which uses [`KneeKinematics::with_tendon_length`]).
 //!
 //! The groove runs 120° round its circle below the straight part (to the notch); u is
