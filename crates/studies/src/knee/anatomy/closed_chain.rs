@@ -34,7 +34,7 @@
 
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
-use super::dimensions::{ANKLE, HIP_CENTRE};
+use super::dimensions::KneeDimensions;
 use super::kinematics::flexion_rotation;
 
 /// The leg's closed chain: the pin at the ankle and the hip centre (see the module
@@ -73,11 +73,18 @@ fn placement(centre: &Vector3<f64>, target: &Vector3<f64>, angle: f64) -> Isomet
 }
 
 impl ClosedChain {
-    /// The default knee's chain: the ankle pin at [`ANKLE`], the hip at [`HIP_CENTRE`].
+    /// The default knee's chain: the ankle pin at [`ANKLE`](super::dimensions::ANKLE), the
+    /// hip at [`HIP_CENTRE`](super::dimensions::HIP_CENTRE).
     pub fn default_knee() -> Self {
+        Self::from_dimensions(&KneeDimensions::default_knee())
+    }
+
+    /// The chain of the knee of `dimensions`: the ankle pin at its ankle, the hip at its
+    /// hip centre.
+    pub fn from_dimensions(dimensions: &KneeDimensions) -> Self {
         Self {
-            ankle: ANKLE,
-            hip: HIP_CENTRE,
+            ankle: dimensions.ankle,
+            hip: dimensions.hip_centre,
         }
     }
 

@@ -21,6 +21,11 @@
 //! tuberosity [`TUBEROSITY`]. The values of the groove, tendon and tuberosity were
 //! chosen within their anatomical ranges (sources on each) so that the quadriceps' moment
 //! arms match the Rajagopal–Lai–Uhlrich 2023 model (`tests/knee_anatomy.rs`).
+//!
+//! # Landmarks as data
+//! The mechanism (kinematics, wrap, moment arms, tendon spring, closed chain) reads these
+//! landmarks from a [`KneeDimensions`], so that a knee measured from data runs the same
+//! squat; [`KneeDimensions::default_knee`] is the constants below.
 
 use nalgebra::Vector3;
 
@@ -99,3 +104,112 @@ pub const HIP_CENTRE: Vector3<f64> = mm(10.0, 445.0, -5.0);
 /// below the flexion axis (the tibia of [`super::bones`] ends there; adult male tibiae
 /// are 370–420 mm long).
 pub const ANKLE: Vector3<f64> = mm(1.0, -398.0, 0.0);
+
+/// The landmarks a knee's mechanism reads: the groove's sagittal circle, the patella's
+/// ellipsoid, the patellar tendon, the wrap offset and the closed chain's hip and ankle
+/// (see the module documentation), in this module's frame, lengths in metres.
+/// [`KneeDimensions::default_knee`] holds the constants above; a knee measured from
+/// data (the Visible Human Female's, issue #35) brings its own. The procedural bones
+/// ([`super::bones`]) are the default knee's shapes and keep reading the constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KneeDimensions {
+    /// Radius of the posterior femoral condyles' circular profile about the flexion axis
+    /// [m] (default [`CONDYLE_RADIUS`]).
+    pub condyle_radius: f64,
+    /// Height of the tibial plateau (the joint line) relative to the flexion axis [m],
+    /// negative: below it (default [`JOINT_LINE`]).
+    pub joint_line: f64,
+    /// Centre (x, y) of the trochlear groove floor's sagittal circle [m] (default
+    /// [`GROOVE_CENTRE`]).
+    pub groove_centre: [f64; 2],
+    /// Radius of the trochlear groove floor's sagittal circle [m] (default
+    /// [`GROOVE_RADIUS`]).
+    pub groove_radius: f64,
+    /// Semi-axes of the patella's ellipsoid [m]: mediolateral, proximodistal,
+    /// anteroposterior (default [`PATELLA_SEMI_AXES`]).
+    pub patella_semi_axes: [f64; 3],
+    /// The patellar tendon's origin on the patella [m], in the patella's frame (origin at
+    /// its centroid, axes along the global ones at 0° of patellar flexion): the apex
+    /// (default [`APEX`]).
+    pub apex: Vector3<f64>,
+    /// The patellar tendon's insertion on the tibial tuberosity [m], in the tibia's frame
+    /// (the global frame at 0° of flexion) (default [`TUBEROSITY`]).
+    pub tuberosity: Vector3<f64>,
+    /// Length of the slack patellar tendon from apex to tuberosity [m] (default
+    /// [`PATELLAR_TENDON_LENGTH`]).
+    pub patellar_tendon_length: f64,
+    /// Offset of the quadriceps tendon's wrapping cylinder beyond the groove floor [m]:
+    /// half the tendon's thickness (default [`TENDON_WRAP_OFFSET`]).
+    pub tendon_wrap_offset: f64,
+    /// Centre of the femoral head, the hip joint centre [m], in the femur's frame
+    /// (default [`HIP_CENTRE`]).
+    pub hip_centre: Vector3<f64>,
+    /// The pin of the closed-chain squat at the tibia's distal end [m], in the tibia's
+    /// frame (default [`ANKLE`]).
+    pub ankle: Vector3<f64>,
+}
+
+impl KneeDimensions {
+    /// The default right knee: the constants of this module.
+    pub fn default_knee() -> Self {
+        Self {
+            condyle_radius: CONDYLE_RADIUS,
+            joint_line: JOINT_LINE,
+            groove_centre: GROOVE_CENTRE,
+            groove_radius: GROOVE_RADIUS,
+            patella_semi_axes: PATELLA_SEMI_AXES,
+            apex: APEX,
+            tuberosity: TUBEROSITY,
+            patellar_tendon_length: PATELLAR_TENDON_LENGTH,
+            tendon_wrap_offset: TENDON_WRAP_OFFSET,
+            hip_centre: HIP_CENTRE,
+            ankle: ANKLE,
+        }
+    }
+
+    /// The anterior femoral surface above the groove, x = x_g + r_g [m] (default
+    /// [`ANTERIOR_FEMUR`]).
+    pub fn anterior_femur(&self) -> f64 {
+        self.groove_centre[0] + self.groove_radius
+    }
+
+    /// Radius of the patella's articular ridge in the sagittal plane [m]: the osculating
+    /// circle of its ellipse at the posterior pole, ρ_p = b²/c for the proximodistal and
+    /// anteroposterior semi-axes b, c (default [`PATELLA_RIDGE_RADIUS`]).
+    pub fn patella_ridge_radius(&self) -> f64 {
+        let [_, b, c] = self.patella_semi_axes;
+        b * b / c
+    }
+
+    /// The knee similar to this one by `factor` about the flexion axis (the origin):
+    /// every length and every point times `factor`.
+    pub fn scaled(&self, factor: f64) -> Self {
+        let [gx, gy] = self.groove_centre;
+        Self {
+            condyle_radius: factor * self.condyle_radius,
+            joint_line: factor * self.joint_line,
+            groove_centre: [factor * gx, factor * gy],
+            groove_radius: factor * self.groove_radius,
+            patella_semi_axes: self.patella_semi_axes.map(|s| factor * s),
+            apex: factor * self.apex,
+            tuberosity: factor * self.tuberosity,
+            patellar_tendon_length: factor * self.patellar_tendon_length,
+            tendon_wrap_offset: factor * self.tendon_wrap_offset,
+            hip_centre: factor * self.hip_centre,
+            ankle: factor * self.ankle,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_knees_dimensions_are_the_constants() {
+        let knee = KneeDimensions::default_knee();
+        assert_eq!(knee.anterior_femur(), ANTERIOR_FEMUR);
+        assert_eq!(knee.patella_ridge_radius(), PATELLA_RIDGE_RADIUS);
+        assert_eq!(knee.scaled(1.0), knee);
+    }
+}

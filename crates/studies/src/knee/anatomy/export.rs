@@ -21,8 +21,6 @@ use nalgebra::Vector3;
 
 use musclefem_io::output::{Frame, write_vtu};
 
-use super::dimensions::{APEX, TUBEROSITY};
-use super::kinematics::flexion_rotation;
 use super::path::free_path_points;
 use super::{Anatomy, TriangleSurface};
 
@@ -86,8 +84,8 @@ pub fn write_anatomy(anatomy: &Anatomy, directory: &Path, angles_degrees: &[f64]
             lines.push(points);
         }
         lines.push(vec![
-            pose.to_world(&APEX),
-            flexion_rotation(angle) * TUBEROSITY,
+            pose.to_world(&anatomy.dimensions().apex),
+            anatomy.kinematics.tuberosity(angle),
         ]);
         write_polylines(&directory.join(format!("paths_{tag}.vtk")), &lines)?;
     }

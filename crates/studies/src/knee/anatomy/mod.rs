@@ -3,7 +3,8 @@
 //! patellar tendon's attachments, and the knee's kinematics.
 //!
 //! - [`dimensions`]: the frame (x anterior, y proximal, z lateral; origin on the flexion
-//!   axis) and the landmark dimensions with their sources;
+//!   axis), the landmark dimensions with their sources, and [`KneeDimensions`], the
+//!   landmarks the mechanism reads;
 //! - [`surface`]: [`TriangleSurface`], its closedness check, volume and winding number;
 //! - [`implicit`]: implicit primitives and marching tetrahedra;
 //! - [`bones`]: femur, tibia, patella;
@@ -49,13 +50,14 @@ use musclefem_core::mesh::Mesh;
 
 pub use bones::Bones;
 pub use closed_chain::{ClosedChain, LegPose};
+pub use dimensions::KneeDimensions;
 pub use kinematics::{KneeKinematics, PatellaPose};
 pub use muscles::{BlockRole, Muscle, Quadriceps, Tissue};
 pub use squat::{BoneMotions, Squat};
 pub use surface::TriangleSurface;
 pub use tendon::TendonSpring;
 
-use dimensions::{APEX, MM, PATELLAR_TENDON_LENGTH, TUBEROSITY};
+use dimensions::MM;
 
 /// How finely the muscles and bones are meshed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
@@ -131,6 +133,18 @@ pub struct PatellarTendon {
     pub length: f64,
 }
 
+impl PatellarTendon {
+    /// The slack tendon of the knee of `dimensions`, its patella at `patella_reference`
+    /// (the pose at 0°).
+    pub fn from_dimensions(dimensions: &KneeDimensions, patella_reference: &PatellaPose) -> Self {
+        Self {
+            apex: patella_reference.to_world(&dimensions.apex),
+            tuberosity: dimensions.tuberosity,
+            length: dimensions.patellar_tendon_length,
+        }
+    }
+}
+
 /// The default knee: bones, muscles, patellar tendon and kinematics, every part in its
 /// pose at 0° of flexion in the global frame of [`dimensions`].
 #[derive(Clone, Debug)]
@@ -140,6 +154,7 @@ pub struct Anatomy {
     /// VI, VL, VM, RF (in [`Quadriceps::ALL`] order).
     pub muscles: Vec<Muscle>,
     pub patellar_tendon: PatellarTendon,
+    /// The knee's kinematics, which hold its landmarks ([`Anatomy::dimensions`]).
     pub kinematics: KneeKinematics,
     /// The patella's pose at 0° (the reference pose of the patella's surface and of its
     /// rigid motion).
@@ -152,7 +167,10 @@ impl Anatomy {
     /// the patella's equilibrium at 0°, which places the muscles' insertions; then the
     /// muscles are volume-matched and meshed, and the bones triangulated.
     pub fn default_knee(resolution: Resolution) -> Result<Anatomy> {
-        let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
+        let kinematics = KneeKinematics::from_dimensions(
+            KneeDimensions::default_knee(),
+            Quadriceps::ALL.iter().map(|m| m.pull()).collect(),
+        );
         let reference = kinematics
             .patella_pose(0.0)
             .context("the patella's pose in extension")?;
@@ -164,16 +182,17 @@ impl Anatomy {
         bones.patella = bones.patella.transformed(&reference.isometry());
         Ok(Anatomy {
             bones,
-            patellar_tendon: PatellarTendon {
-                apex: reference.to_world(&APEX),
-                tuberosity: TUBEROSITY,
-                length: PATELLAR_TENDON_LENGTH,
-            },
+            patellar_tendon: PatellarTendon::from_dimensions(&kinematics.dimensions, &reference),
             muscles,
             kinematics,
             patella_reference: reference,
             resolution,
         })
+    }
+
+    /// The knee's landmarks, those its kinematics reads.
+    pub fn dimensions(&self) -> &KneeDimensions {
+        &self.kinematics.dimensions
     }
 
     /// The muscle `muscle`.

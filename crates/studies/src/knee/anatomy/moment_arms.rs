@@ -19,7 +19,7 @@
 
 use anyhow::Result;
 
-use super::dimensions::{HIP_CENTRE, PATELLAR_TENDON_LENGTH};
+use super::dimensions::KneeDimensions;
 use super::kinematics::{KneeKinematics, PatellaPose, flexion_rotation};
 use super::muscles::Muscle;
 use super::path::free_path;
@@ -51,7 +51,7 @@ pub fn musculotendon_length(
         &kinematics.trochlea,
     );
     MusculotendonLength {
-        total: muscle.fixed_length + free.length + PATELLAR_TENDON_LENGTH,
+        total: muscle.fixed_length + free.length + kinematics.dimensions.patellar_tendon_length,
         free: free.length,
         wrapped: free.wrapped,
     }
@@ -87,19 +87,26 @@ pub fn moment_arms_at(
 }
 
 /// How much hip flexion `hip` [rad] changes the musculotendon length of `muscle` [m]
-/// (negative: shortens), for a muscle whose origin is on the pelvis (the rectus femoris):
-/// the pelvis turns by R(hip) about the hip centre relative to the femur (forward and
-/// down, see [`super::closed_chain`]), which moves the origin,
-/// and the path from it to the first femur-fixed station (a straight line) changes by
-/// |H + R(hip)(O − H) − S₁| − |O − S₁|, R the flexion rotation. Zero for a muscle whose
-/// origin is on the femur.
+/// in the default knee ([`hip_length_change_in`] with [`KneeDimensions::default_knee`]).
 pub fn hip_length_change(muscle: &Muscle, hip: f64) -> f64 {
+    hip_length_change_in(&KneeDimensions::default_knee(), muscle, hip)
+}
+
+/// How much hip flexion `hip` [rad] changes the musculotendon length of `muscle` [m]
+/// (negative: shortens) in the knee of `dimensions`, for a muscle whose origin is on the
+/// pelvis (the rectus femoris): the pelvis turns by R(hip) about the hip centre H
+/// relative to the femur (forward and down, see [`super::closed_chain`]), which moves the
+/// origin, and the path from it to the first femur-fixed station (a straight line)
+/// changes by |H + R(hip)(O − H) − S₁| − |O − S₁|, R the flexion rotation. Zero for a
+/// muscle whose origin is on the femur.
+pub fn hip_length_change_in(dimensions: &KneeDimensions, muscle: &Muscle, hip: f64) -> f64 {
     if muscle.muscle != super::Quadriceps::RectusFemoris {
         return 0.0;
     }
     let origin = muscle.stations[0].centre;
     let first = muscle.stations[1].centre;
-    let moved = HIP_CENTRE + flexion_rotation(hip) * (origin - HIP_CENTRE);
+    let centre = dimensions.hip_centre;
+    let moved = centre + flexion_rotation(hip) * (origin - centre);
     (moved - first).norm() - (origin - first).norm()
 }
 
@@ -118,7 +125,7 @@ pub fn belly_stretch_in_squat(
         .iter()
         .zip(extended.iter().zip(&flexed))
         .map(|(m, (a, b))| {
-            let change = b.total - a.total + hip_length_change(m, angle);
+            let change = b.total - a.total + hip_length_change_in(&kinematics.dimensions, m, angle);
             1.0 + change / (m.belly.1 - m.belly.0)
         })
         .collect())

@@ -17,7 +17,7 @@
 
 use nalgebra::Vector3;
 
-use super::dimensions::{GROOVE_CENTRE, GROOVE_RADIUS, TENDON_WRAP_OFFSET};
+use super::dimensions::KneeDimensions;
 
 /// A wrapping cylinder about an axis along z.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,12 +29,12 @@ pub struct WrapCylinder {
 }
 
 impl WrapCylinder {
-    /// The trochlea of the default knee: the groove circle grown by half the tendon's
-    /// thickness.
-    pub fn trochlea() -> Self {
+    /// The trochlea of the knee of `dimensions`: the groove circle grown by the wrap
+    /// offset, half the tendon's thickness.
+    pub fn trochlea(dimensions: &KneeDimensions) -> Self {
         Self {
-            centre: GROOVE_CENTRE,
-            radius: GROOVE_RADIUS + TENDON_WRAP_OFFSET,
+            centre: dimensions.groove_centre,
+            radius: dimensions.groove_radius + dimensions.tendon_wrap_offset,
         }
     }
 }

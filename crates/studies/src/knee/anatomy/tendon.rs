@@ -17,13 +17,14 @@
 //! patellar tendons measured in vivo by O'Brien, Reeves, Baltzopoulos, Jones & Maganaris
 //! (2010, J Biomech 43:1190: ultrasound of the tendon during ramped isometric knee
 //! extension; maximal tendon force 5453 N at 5.0 mm elongation). ε_l = 0.03 is
-//! Blankevoort's spread strain of the toe region. ℓ₀ = [`PATELLAR_TENDON_LENGTH`], the
-//! length of the default knee's tendon. At O'Brien's maximal force this spring is
+//! Blankevoort's spread strain of the toe region. ℓ₀ is the knee's tendon length
+//! ([`KneeDimensions::patellar_tendon_length`]; the default knee's
+//! [`PATELLAR_TENDON_LENGTH`](super::dimensions::PATELLAR_TENDON_LENGTH)). At O'Brien's maximal force this spring is
 //! 6.6 mm longer than at rest, against the 5.0 ± 0.5 mm measured: the 3 % toe region
 //! adds 1.5 mm that the in-vivo measurement (which starts from a preloaded tendon) sees
 //! only in part.
 
-use super::dimensions::PATELLAR_TENDON_LENGTH;
+use super::dimensions::KneeDimensions;
 
 /// Linear stiffness of the patellar tendon [N/m] (O'Brien et al. 2010, men).
 pub const PATELLAR_TENDON_STIFFNESS: f64 = 1076.0e3;
@@ -44,8 +45,14 @@ pub struct TendonSpring {
 impl TendonSpring {
     /// The default knee's tendon.
     pub fn default_knee() -> Self {
+        Self::from_dimensions(&KneeDimensions::default_knee())
+    }
+
+    /// The patellar tendon of the knee of `dimensions`: slack at its tendon length, with
+    /// O'Brien et al.'s stiffness and Blankevoort's toe strain.
+    pub fn from_dimensions(dimensions: &KneeDimensions) -> Self {
         Self {
-            slack_length: PATELLAR_TENDON_LENGTH,
+            slack_length: dimensions.patellar_tendon_length,
             stiffness: PATELLAR_TENDON_STIFFNESS,
             toe_strain: PATELLAR_TENDON_TOE_STRAIN,
         }

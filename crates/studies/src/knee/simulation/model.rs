@@ -20,8 +20,8 @@ use super::super::anatomy::bones::{femur_distance, implicit_normals};
 use super::super::anatomy::moment_arms::belly_stretch_in_squat;
 use super::super::anatomy::visible_human::TendonStrand;
 use super::super::anatomy::{
-    Anatomy, BlockRole, BoneMotions, ClosedChain, Quadriceps, Squat, TendonSpring, Tissue,
-    TriangleSurface,
+    Anatomy, BlockRole, BoneMotions, ClosedChain, KneeDimensions, Quadriceps, Squat, TendonSpring,
+    Tissue, TriangleSurface,
 };
 use super::patella::{PatellaTable, TendonPatella};
 
@@ -67,6 +67,9 @@ pub struct KneeGeometry {
     /// The tibia and patella at 0° (for the frames of the bones).
     pub tibia: TriangleSurface,
     pub patella: TriangleSurface,
+    /// The knee's landmarks (the patellar tendon's apex and tuberosity for its extensor
+    /// moment).
+    pub dimensions: KneeDimensions,
     /// The squat's bone motions (the closed chain).
     pub motions: BoneMotions,
     /// The parallel element's slack stretch λ_PE of each muscle (in `muscles` order): the
@@ -86,12 +89,13 @@ pub struct KneeGeometry {
 impl KneeGeometry {
     /// The default knee at the anatomy's resolution, squatting `squat`.
     pub fn default_knee(anatomy: &Anatomy, squat: &Squat) -> Result<Self> {
+        let dimensions = *anatomy.dimensions();
         let motions = squat
-            .motions(&ClosedChain::default_knee())
+            .motions(&ClosedChain::from_dimensions(&dimensions))
             .context("the squat's bone motions")?;
         let patella_table = PatellaTable::new(
             &anatomy.kinematics,
-            TendonSpring::default_knee(),
+            TendonSpring::from_dimensions(&dimensions),
             squat.peak_flexion,
         )
         .context("the patella's poses with the tendon stretched")?;
@@ -110,6 +114,7 @@ impl KneeGeometry {
             femur_normals: Some(implicit_normals(&anatomy.bones.femur, femur_distance)),
             tibia: anatomy.bones.tibia.clone(),
             patella: anatomy.bones.patella.clone(),
+            dimensions,
             motions,
             passive_slack,
             patella_table: Arc::new(patella_table),

@@ -23,9 +23,8 @@ use std::path::Path;
 
 use anyhow::{Result, bail};
 
-use super::super::anatomy::dimensions::{APEX, TUBEROSITY};
 use super::super::anatomy::kinematics::flexion_rotation;
-use super::super::anatomy::{Quadriceps, Squat};
+use super::super::anatomy::{KneeDimensions, Quadriceps, Squat};
 use super::patella::TendonState;
 use super::peak_stress::{Phase, table_instants};
 
@@ -61,12 +60,12 @@ impl PlausibilitySample {
     }
 }
 
-/// The knee extensor moment [N m] of the patellar tendon in `state`: its force along the
-/// line from the tuberosity to the apex, about the flexion axis (+z: extension), in the
-/// femur's frame.
-pub fn extensor_moment(state: &TendonState) -> f64 {
-    let apex = state.pose.to_world(&APEX);
-    let tuberosity = flexion_rotation(state.knee_angle) * TUBEROSITY;
+/// The knee extensor moment [N m] of the patellar tendon in `state` in the knee of
+/// `dimensions`: its force along the line from the tuberosity to the apex, about the
+/// flexion axis (+z: extension), in the femur's frame.
+pub fn extensor_moment(dimensions: &KneeDimensions, state: &TendonState) -> f64 {
+    let apex = state.pose.to_world(&dimensions.apex);
+    let tuberosity = flexion_rotation(state.knee_angle) * dimensions.tuberosity;
     let Some(direction) = (apex - tuberosity).try_normalize(0.0) else {
         return 0.0;
     };
@@ -249,6 +248,7 @@ pub fn plausibility_report(rows: &[PlausibilityRow], muscles: &[Quadriceps]) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::knee::anatomy::dimensions::APEX;
     use crate::knee::anatomy::{KneeKinematics, Quadriceps};
     use crate::knee::simulation::patella::TendonState;
 
@@ -273,7 +273,7 @@ mod tests {
             let tuberosity = kinematics.tuberosity(angle);
             let e = (apex - tuberosity).normalize();
             let lever = (tuberosity - tuberosity.dot(&e) * e).norm();
-            let moment = extensor_moment(&state);
+            let moment = extensor_moment(&kinematics.dimensions, &state);
             assert!(
                 (moment - 1000.0 * lever).abs() < 1e-9,
                 "{degrees}°: {moment}"

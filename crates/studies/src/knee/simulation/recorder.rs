@@ -15,7 +15,7 @@ use musclefem_core::solver::{
     SolverError,
 };
 
-use super::super::anatomy::Squat;
+use super::super::anatomy::{KneeDimensions, Squat};
 use super::patella::{LARGEST_TENDON_STRAIN, TendonPatella, TendonRow};
 use super::patella_clearance::PatellaClearance;
 use super::peak_stress::{ElementRegions, StressSample, percentile};
@@ -49,6 +49,8 @@ pub(super) struct Recorder<'a> {
     pub(super) stall: StallDetector,
     /// The patella, told the quadriceps' pull at every report.
     pub(super) patella: &'a TendonPatella,
+    /// The knee's landmarks (the patellar tendon's attachments).
+    pub(super) dimensions: &'a KneeDimensions,
     pub(super) insertion_ties: &'a [usize],
     pub(super) tendon: Vec<TendonRow>,
     /// The muscles' nodes against the patella (which has no contact surface).
@@ -158,7 +160,7 @@ impl Recorder<'_> {
             flexion: self.squat.flexion_at(time),
             insertion_pull,
             tendon_force: applied.tendon_force,
-            extensor_moment: extensor_moment(&applied),
+            extensor_moment: extensor_moment(self.dimensions, &applied),
             fiber_stretch_median: 1.0,
             fiber_stretch_p95: 1.0,
             femur_interface_force: per_muscle(&self.femur_interfaces),

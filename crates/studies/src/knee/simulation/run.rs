@@ -295,6 +295,7 @@ pub fn run_squat(
         energy_error: 0.0,
         stall: StallDetector::default(),
         patella: &model.patella,
+        dimensions: &geometry.dimensions,
         insertion_ties: &model.insertion_ties,
         tendon: Vec::new(),
         patella_clearance: PatellaClearance::new(geometry)?,
