@@ -23,6 +23,7 @@ use super::{Quadriceps, TriangleSurface};
 
 pub mod knee;
 pub mod landmarks;
+pub mod mechanism;
 
 pub use knee::{TendonStrand, VisibleHumanKnee};
 pub use landmarks::{Landmark, Landmarks};
