@@ -34,6 +34,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use crate::elongation::{ElementChoice, Solver};
 use crate::interrupted::Interrupted;
 use crate::knee::anatomy::export::write_anatomy;
+use crate::knee::simulation::visible_human::{VISIBLE_HUMAN, visible_human_geometry};
 use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::patella::write_tendon_csv;
 use crate::knee::simulation::peak_stress::{
@@ -87,7 +88,9 @@ pub struct KneeArgs {
     pub tolerance: Option<f64>,
     #[command(flatten)]
     pub bench_table: crate::bench::BenchTable,
-    /// Muscles from files instead of the default anatomy: DIR/muscles.msh or
+    /// `visible-human`: the Visible Human Female's segmented quadriceps (tet10, coarse or
+    /// medium), bones and landmarks, with tendon strands to the patella (shipped with the
+    /// program). Or muscles from files instead of the default anatomy: DIR/muscles.msh or
     /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
     /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
     /// DIR/femur.stl replaces the default femur if present. The bones move as in the
@@ -234,6 +237,9 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
+        Some(name) if name.as_os_str() == VISIBLE_HUMAN => {
+            visible_human_geometry(resolution, &settings.squat)?
+        }
         Some(directory) => crate::knee::simulation::files::geometry_from_directory(
             directory,
             &anatomy,
@@ -313,8 +319,14 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         },
         muscle_elements,
         geometry.mesh.element_count() - muscle_elements,
-        args.element.name(),
         match &args.anatomy {
+            Some(d) if d.as_os_str() == VISIBLE_HUMAN => "tet10",
+            _ => args.element.name(),
+        },
+        match &args.anatomy {
+            Some(d) if d.as_os_str() == VISIBLE_HUMAN => {
+                format!("Visible Human Female, {resolution:?} resolution").to_lowercase()
+            }
             Some(d) => format!("from {}", d.display()),
             None => format!("default anatomy, {resolution:?} resolution").to_lowercase(),
         },

@@ -68,6 +68,7 @@ pub mod scene_step;
 #[cfg(test)]
 mod scene_tests;
 pub mod scene_ties;
+pub mod visible_human;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
