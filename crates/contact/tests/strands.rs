@@ -12,8 +12,11 @@
 //!   corners at r = A/√2 from the axis and v = L + D + δ − λL below P, ℓ = √(r² + v²),
 //!   4 f(ℓ) v/ℓ = σ_zz(λ) A², σ_zz = μ λ^(−5/3) (2/3)(λ² − 1) + K (λ − 1) the neo-Hookean
 //!   Cauchy stress in uniaxial strain (`musclefem_materials::neo_hookean`).
+//! - A run resumed from a checkpoint records what the uninterrupted one does, bit for bit.
 
 mod common;
+
+use std::ops::ControlFlow;
 
 use nalgebra::Vector3;
 
@@ -22,8 +25,11 @@ use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_core::solver::explicit::{ExplicitSettings, run_explicit_with};
 use musclefem_core::solver::implicit::{ImplicitSettings, run_implicit_with};
-use musclefem_core::solver::observer::NoObserver;
-use musclefem_core::solver::{Interaction, Loads, RigidMotion, RigidReaction, RigidTie};
+use musclefem_core::solver::observer::{NoObserver, Observer, Record, Snapshot};
+use musclefem_core::solver::{
+    Analysis, Checkpoint, Interaction, InteractionReport, Loads, Problem, RigidMotion,
+    RigidReaction, RigidTie, SolverError, resume, run,
+};
 use musclefem_materials::Amplitude;
 
 use common::*;
@@ -252,4 +258,88 @@ fn explicit_the_ties_reaction_is_the_strands_pull_and_the_stretch_is_in_series()
         result.steps
     );
     assert!(error < 1e-4, "stretch {fe} against {exact}");
+}
+
+/// Keeps every recorded instant's strand totals and tie reaction, the last strand nodal
+/// fields, and the checkpoint taken at the `checkpoint_at`-th instant.
+struct Recorder {
+    checkpoint_at: usize,
+    instants: usize,
+    rows: Vec<(f64, InteractionReport, RigidReaction)>,
+    checkpoint: Option<Checkpoint>,
+    fields: Vec<musclefem_core::solver::NodalField>,
+}
+
+impl Recorder {
+    fn new(checkpoint_at: usize) -> Self {
+        Self {
+            checkpoint_at,
+            instants: 0,
+            rows: Vec::new(),
+            checkpoint: None,
+            fields: Vec::new(),
+        }
+    }
+}
+
+impl Observer for Recorder {
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.instants += 1;
+        let row = (
+            record.time(),
+            record.interactions()[0].clone(),
+            record.rigid_reactions()[0],
+        );
+        self.rows.push(row);
+        self.fields = snapshot.nodal_fields();
+        ControlFlow::Continue(())
+    }
+    fn wants_checkpoint(&mut self) -> bool {
+        self.instants == self.checkpoint_at
+    }
+    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
+        self.checkpoint = Some(checkpoint.unwrap());
+        ControlFlow::Continue(())
+    }
+}
+
+/// A run resumed from a checkpoint, with strands built afresh, records the same strand
+/// totals, tie reactions and strand fields as the uninterrupted run, bit for bit.
+#[test]
+fn implicit_a_run_with_strands_resumes_bit_for_bit() {
+    let (mesh, strands) = column();
+    let loads = loads(&mesh, Amplitude::ramp(1.0, DELTA).unwrap());
+    let parts = parts(&mesh);
+    let analysis = Analysis::Implicit(ImplicitSettings::new(1.0, 8));
+    let mut whole = Recorder::new(4);
+    let mut fresh = interactions(&mesh, strands.clone());
+    let problem = Problem {
+        mesh: &mesh,
+        parts: &parts,
+        loads: &loads,
+        interactions: &mut fresh,
+    };
+    let uninterrupted = run(problem, &analysis, &mut whole).unwrap();
+    let mut resumed = Recorder::new(usize::MAX);
+    let mut rebuilt = interactions(&mesh, strands);
+    let problem = Problem {
+        mesh: &mesh,
+        parts: &parts,
+        loads: &loads,
+        interactions: &mut rebuilt,
+    };
+    let checkpoint = whole
+        .checkpoint
+        .as_ref()
+        .expect("a checkpoint at instant 4");
+    let outcome = resume(problem, &analysis, checkpoint, &mut resumed).unwrap();
+    assert_eq!(
+        resumed.rows[..],
+        whole.rows[whole.rows.len() - resumed.rows.len()..]
+    );
+    assert!(resumed.rows.len() >= 4 && resumed.rows.last().unwrap().1.active_points == 4);
+    assert_eq!(resumed.fields, whole.fields);
+    let field = |name: &str| whole.fields.iter().any(|f| f.name.ends_with(name));
+    assert!(field("strand_tension") && field("strand_force"));
+    assert_eq!(outcome.displacement(), uninterrupted.displacement());
 }
