@@ -14,7 +14,10 @@
 //!   closest point or along the smooth normal field of the main surface
 //!   ([`PenaltyContact::with_smooth_normals`]; the field itself: `normal_field.rs`);
 //! - [`cohesive`]: [`CohesiveInterface`], surfaces bonded by a traction–separation law with
-//!   damage ([`CohesiveSettings`]).
+//!   damage ([`CohesiveSettings`]);
+//! - [`strands`]: [`TendonStrands`], tension-only toe-then-linear springs between pairs of
+//!   nodes (aponeuroses and tendons as 1-D strands; the law [`ToeLinearLaw`] is the knee's
+//!   patellar tendon's).
 //!
 //! Use: build the secondary side from mesh faces, the main side from faces or a rigid
 //! shape, and hand the contact to `run_implicit_with` / `run_explicit_with`:
@@ -42,6 +45,7 @@ pub(crate) mod normal_field;
 pub mod penalty;
 pub mod projection;
 pub mod rigid_surface;
+pub mod strands;
 pub mod surface;
 #[cfg(test)]
 mod test_surfaces;
@@ -54,6 +58,7 @@ pub use error::ContactError;
 pub use penalty::{PenaltyContact, default_penalty};
 pub use projection::{Feature, Projection, closest_feature, project_on_triangle};
 pub use rigid_surface::RigidSurface;
+pub use strands::{Strand, StrandError, StrandState, TendonStrands, ToeLinearLaw};
 pub use surface::{ContactTarget, DeformableSurface};
 
 /// The README's examples, compiled and run by `cargo test --doc`.

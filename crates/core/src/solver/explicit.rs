@@ -181,10 +181,17 @@ pub(super) fn explicit_run(
         )?);
     }
     loads.validate(node_count)?;
-    if let Some(n) = mass.iter().position(|&m| m <= 0.0) {
+    // A node without mass (in no element, e.g. one end of tendon strands carried by a
+    // rigid tie) is allowed when all its components are prescribed: its motion is given.
+    let constrained = loads.constrained_components(node_count);
+    let unheld = |n: usize| constrained[3 * n..3 * n + 3].contains(&false);
+    if let Some(n) = (0..node_count).find(|&n| mass[n] <= 0.0 && unheld(n)) {
         return Err(SolverError::InvalidPart {
             block: parts.first().map_or(0, |p| p.block),
-            reason: format!("node {n} belongs to no element of any part: it has no mass"),
+            reason: format!(
+                "node {n} belongs to no element of any part and is not held in every \
+                 component: it has no mass"
+            ),
         });
     }
 
@@ -207,7 +214,7 @@ pub(super) fn explicit_run(
     let mut previous_displacement = vec![Vector3::zeros(); node_count];
     // Constrained degrees of freedom 3 node + component, their targets ū, the nodal
     // reactions R (zero on free components) and the external forces.
-    let held: Vec<usize> = (loads.constrained_components(node_count).iter())
+    let held: Vec<usize> = (constrained.iter())
         .enumerate()
         .filter_map(|(d, &h)| h.then_some(d))
         .collect();

@@ -28,8 +28,8 @@ pub(crate) fn deterministic_sum(count: usize, term: impl Fn(usize) -> f64 + Sync
 /// v^{n+½} = v^{n−½} + Δt^n (f_ext − f − f_visc − f_c)/m for every node (prescribed
 /// components are set after), keeping v^{n−½} in `old_velocity`; `forces` holds the
 /// internal force f, the bulk-viscosity force f_visc, the interaction force f_c and the
-/// external force f_ext [N], `mass` m [kg],
-/// `average_step` Δt^n [s].
+/// external force f_ext [N], `mass` m [kg] (a node of zero mass keeps v, its components
+/// being all prescribed), `average_step` Δt^n [s].
 pub(crate) fn update_velocities(
     velocity: &mut [Vector3<f64>],
     old_velocity: &mut [Vector3<f64>],
@@ -51,7 +51,11 @@ pub(crate) fn update_velocities(
             for (((((v, f), f_visc), f_c), f_ext), m) in
                 v.iter_mut().zip(f).zip(f_visc).zip(f_c).zip(f_ext).zip(m)
             {
-                *v += (f_ext - f - f_visc - f_c) * (average_step / m);
+                // A node without mass is held in every component (`explicit_run` checks):
+                // its velocity is set from its targets after.
+                if *m > 0.0 {
+                    *v += (f_ext - f - f_visc - f_c) * (average_step / m);
+                }
             }
         });
 }

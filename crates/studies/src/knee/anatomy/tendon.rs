@@ -11,7 +11,8 @@
 //!      = k (ε − ε_l)            ε > 2 ε_l  (linear)
 //! ```
 //!
-//! f and its slope are continuous at 2 ε_l.
+//! f and its slope are continuous at 2 ε_l. The law is `musclefem-contact`'s
+//! [`ToeLinearLaw`], which the tendon strands of the quadriceps evaluate too.
 //!
 //! **Stiffness source.** k = K ℓ₀ [N] with K = 1076 N/mm, the linear stiffness of men's
 //! patellar tendons measured in vivo by O'Brien, Reeves, Baltzopoulos, Jones & Maganaris
@@ -23,6 +24,8 @@
 //! 6.6 mm longer than at rest, against the 5.0 ± 0.5 mm measured: the 3 % toe region
 //! adds 1.5 mm that the in-vivo measurement (which starts from a preloaded tendon) sees
 //! only in part.
+
+use musclefem_contact::ToeLinearLaw;
 
 use super::dimensions::KneeDimensions;
 
@@ -58,9 +61,13 @@ impl TendonSpring {
         }
     }
 
-    /// k = K ℓ₀: force per unit strain in the linear region [N].
-    fn strain_stiffness(&self) -> f64 {
-        self.stiffness * self.slack_length
+    /// The toe-then-linear law, with k = K ℓ₀ the force per unit strain in the linear
+    /// region [N].
+    pub fn law(&self) -> ToeLinearLaw {
+        ToeLinearLaw {
+            strain_stiffness: self.stiffness * self.slack_length,
+            toe_strain: self.toe_strain,
+        }
     }
 
     /// Strain ε = ℓ/ℓ₀ − 1 at `length` [m].
@@ -70,49 +77,17 @@ impl TendonSpring {
 
     /// Tension f(ℓ) [N] at `length` [m].
     pub fn force(&self, length: f64) -> f64 {
-        let (strain, k, toe) = (
-            self.strain(length),
-            self.strain_stiffness(),
-            self.toe_strain,
-        );
-        if strain <= 0.0 {
-            0.0
-        } else if strain <= 2.0 * toe {
-            k * strain * strain / (4.0 * toe)
-        } else {
-            k * (strain - toe)
-        }
+        self.law().force(self.strain(length))
     }
 
     /// Stored energy E(ℓ) = ∫ f dℓ from ℓ₀ [J].
     pub fn energy(&self, length: f64) -> f64 {
-        let (strain, k, toe) = (
-            self.strain(length),
-            self.strain_stiffness(),
-            self.toe_strain,
-        );
-        let per_strain = if strain <= 0.0 {
-            0.0
-        } else if strain <= 2.0 * toe {
-            k * strain.powi(3) / (12.0 * toe)
-        } else {
-            // Toe energy k (2ε_l)³/(12 ε_l) = 2 k ε_l²/3, then the linear part.
-            2.0 * k * toe * toe / 3.0 + 0.5 * k * ((strain - toe).powi(2) - toe * toe)
-        };
-        per_strain * self.slack_length
+        self.law().energy_per_slack_length(self.strain(length)) * self.slack_length
     }
 
     /// The length [m] at which the tendon carries `force` [N] (ℓ₀ for no tension).
     pub fn length_at_force(&self, force: f64) -> f64 {
-        let (k, toe) = (self.strain_stiffness(), self.toe_strain);
-        let strain = if force <= 0.0 {
-            0.0
-        } else if force <= k * toe {
-            (4.0 * toe * force / k).sqrt()
-        } else {
-            force / k + toe
-        };
-        self.slack_length * (1.0 + strain)
+        self.slack_length * (1.0 + self.law().strain_at_force(force))
     }
 }
 
@@ -167,5 +142,36 @@ mod tests {
         // O'Brien et al.'s maximal force: 6.6 mm of stretch (5.0 ± 0.5 mm measured).
         let stretch = tendon.length_at_force(5453.0) - tendon.slack_length;
         assert!((stretch - 6.55e-3).abs() < 0.05e-3, "{stretch}");
+    }
+
+    /// The quadriceps' tendon strands evaluate the same law: a strand with the tendon's
+    /// ℓ₀, k = K ℓ₀ and ε_l pulls with the tendon's force, bit for bit.
+    #[test]
+    fn a_tendon_strand_of_the_same_parameters_pulls_with_the_same_force() {
+        use musclefem_contact::{Strand, TendonStrands};
+        use musclefem_core::solver::Interaction;
+        use nalgebra::Vector3;
+
+        let tendon = TendonSpring::default_knee();
+        let strand = Strand {
+            node_a: 0,
+            node_b: 1,
+            slack_length: tendon.slack_length,
+            strain_stiffness: tendon.stiffness * tendon.slack_length,
+            toe_strain: tendon.toe_strain,
+        };
+        let mut strands = TendonStrands::new("patellar tendon", vec![strand], Some(2)).unwrap();
+        for strain in [-0.02, 0.0, 0.01, 0.03, 0.06, 0.061, 0.1, 0.2] {
+            let length = tendon.slack_length * (1.0 + strain);
+            let positions = [Vector3::zeros(), Vector3::new(0.0, 0.0, length)];
+            let mut force = [Vector3::zeros(); 2];
+            strands.forces(0.0, &positions, false, &mut force).unwrap();
+            assert_eq!(force[1].z, tendon.force(length), "ε = {strain}");
+            assert_eq!(
+                strands.states()[0].energy,
+                tendon.energy(length),
+                "ε = {strain}"
+            );
+        }
     }
 }
