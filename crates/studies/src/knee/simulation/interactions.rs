@@ -39,7 +39,7 @@ use anyhow::{Context, Result};
 
 use musclefem_contact::{
     CohesiveError, CohesiveInterface, CohesiveSettings, DeformableSurface, PenaltyContact,
-    RigidSurface, TangentialMode, default_penalty,
+    RigidSurface, Strand, TangentialMode, TendonStrands, default_penalty,
 };
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::Interaction;
@@ -60,10 +60,10 @@ pub const MINIMUM_BONDS: usize = 3;
 #[derive(Clone, Debug, PartialEq)]
 pub struct InteractionSummary {
     pub name: String,
-    /// `cohesive` or `contact`.
+    /// `cohesive`, `contact` or `strands`.
     pub kind: &'static str,
     /// Cohesive: bonded secondary nodes and their reference area [m²]; contact: the
-    /// secondary surface's nodes and its area.
+    /// secondary surface's nodes and its area; strands: the number of strands (area 0).
     pub nodes: usize,
     pub area: f64,
 }
@@ -83,15 +83,23 @@ pub struct KneeInteractions {
     /// (secondary muscle, main muscle, index in `interactions`) of every muscle–muscle
     /// cohesive interface.
     pub muscle_interfaces: Vec<(usize, usize, usize)>,
+    /// The tendon strands from the muscles' outlets to the patella, where the geometry
+    /// has them (the Visible Human knee); the solver sums them after `interactions`.
+    pub strands: Option<TendonStrands>,
 }
 
 impl KneeInteractions {
     /// Fresh copies of the interactions for a solver.
     pub fn solver_interactions(&self) -> Vec<Box<dyn Interaction>> {
-        self.interactions
+        let mut interactions: Vec<Box<dyn Interaction>> = self
+            .interactions
             .iter()
             .map(InteractionModel::boxed)
-            .collect()
+            .collect();
+        if let Some(strands) = &self.strands {
+            interactions.push(Box::new(strands.clone()));
+        }
+        interactions
     }
 }
 
@@ -257,6 +265,7 @@ pub fn knee_interactions(
         femur_interfaces: Vec::new(),
         femur_contacts: Vec::new(),
         muscle_interfaces: Vec::new(),
+        strands: None,
     };
     let push_cohesive = |interface: CohesiveInterface, result: &mut KneeInteractions| {
         result.summaries.push(InteractionSummary {
@@ -359,6 +368,29 @@ pub fn knee_interactions(
         result
             .interactions
             .push(InteractionModel::Contact(Box::new(contact)));
+    }
+    if !geometry.strands.is_empty() {
+        let strands: Vec<Strand> = geometry
+            .strands
+            .iter()
+            .map(|s| Strand {
+                node_a: s.node,
+                node_b: s.attachment,
+                slack_length: s.slack_length,
+                strain_stiffness: s.strain_stiffness,
+                toe_strain: s.toe_strain,
+            })
+            .collect();
+        let count = strands.len();
+        let strands = TendonStrands::new("tendon-strands", strands, Some(mesh.node_count()))
+            .context("the tendon strands")?;
+        result.summaries.push(InteractionSummary {
+            name: "tendon-strands".to_string(),
+            kind: "strands",
+            nodes: count,
+            area: 0.0,
+        });
+        result.strands = Some(strands);
     }
     Ok(result)
 }
