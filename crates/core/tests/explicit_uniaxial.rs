@@ -97,6 +97,11 @@ fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_tet10() {
     uniaxial_stretch_matches(Technology::Tet10);
 }
 
+#[test]
+fn slow_uniaxial_stretch_matches_the_homogeneous_solution_with_tet10_fbar() {
+    uniaxial_stretch_matches(Technology::Tet10FBar);
+}
+
 /// 2 × 2 × 2 cells: 8 hexes, or 48 tets (Kuhn split).
 fn uniaxial_stretch_matches(technology: Technology) {
     let mesh = match technology.shape() {

@@ -278,8 +278,8 @@ fn a_step_too_large_is_cut_and_still_converges() {
 }
 
 /// The other technologies with an element stiffness (one-point hex8 with hourglass
-/// control, linear and quadratic tets) reproduce the homogeneous stretch too (1e-8), in
-/// few iterations per step.
+/// control, linear and quadratic tets, F-bar tet10 with its mixed-pressure tangent)
+/// reproduce the homogeneous stretch too (1e-8), in few iterations per step.
 #[test]
 fn other_technologies_match_the_homogeneous_solution() {
     let material = compressible();
@@ -295,6 +295,10 @@ fn other_technologies_match_the_homogeneous_solution() {
         ),
         (
             Technology::Tet10,
+            box_of_tets([SIDE; 3], [1, 1, 1], TetOrder::Quadratic),
+        ),
+        (
+            Technology::Tet10FBar,
             box_of_tets([SIDE; 3], [1, 1, 1], TetOrder::Quadratic),
         ),
     ];

@@ -1,6 +1,8 @@
-//! F-bar on the 2×2×2 hex8 with the element's mean dilatation (the F-bar construction of
-//! de Souza Neto, Perić, Dutko & Owen 1996 with the volume ratio of Nagtegaal, Parks &
-//! Rice 1974): every point's volume change is replaced by the element's,
+//! F-bar with the element's mean dilatation (the F-bar construction of de Souza Neto,
+//! Perić, Dutko & Owen 1996 with the volume ratio of Nagtegaal, Parks & Rice 1974), on
+//! the 2×2×2 hex8 ([`Technology::Hex8FBar`], 8 nodes, 8 points) and the 4-point tet10
+//! ([`Technology::Tet10FBar`], 10 nodes, 4 points): every point's volume change is
+//! replaced by the element's,
 //! F̄ = (J̄/J)^{1/3} F, J = det F, J̄ = v/V = Σ_q J_q w_q / Σ_q w_q
 //! (w_q = Gauss weight × det J₀, so v and V are the current and reference volumes).
 //! Using the volume average rather than the centre's J keeps the constant-stress patch
@@ -12,13 +14,21 @@
 //! f_a = Σ_q w_q J̄ [σ̄_q ∇_x N_a(q) + ⅓ tr σ̄_q (b̄_a − ∇_x N_a(q))],
 //! ∇_x N_a = F⁻ᵀ ∇_X N_a and σ̄ the Cauchy stress at F̄. For a homogeneous deformation
 //! F̄ = F, b̄_a is the mean of ∇_x N_a and this is ∫ P ∇_X N_a dV₀.
+//!
+//! The code is written once over the element's node count N and point count P (const
+//! generics, so the loops have fixed bounds); the entry points pick them from the
+//! kernel's technology.
 
 use nalgebra::{Matrix3, SVector, Vector3};
 
 use musclefem_materials::tensor::{first_piola_from_cauchy, symmetric_from_voigt};
 use musclefem_materials::{Tangent, VoigtStress};
 
-use super::BlockKernel;
+use super::{BlockKernel, Technology};
+use crate::mesh::MAX_NODES_PER_ELEMENT;
+
+/// Most degrees of freedom of an F-bar element (the tet10's 30).
+const MAX_DOFS: usize = 3 * MAX_NODES_PER_ELEMENT;
 
 /// Mean dilatation J̄ = Σ J_q w_q / Σ w_q of `element` from its points' plain F.
 fn mean_dilatation(kernel: &BlockKernel, element: usize, f: &[Matrix3<f64>]) -> f64 {
@@ -32,15 +42,17 @@ fn mean_dilatation(kernel: &BlockKernel, element: usize, f: &[Matrix3<f64>]) -> 
     current / reference
 }
 
-/// J̄ = v/V of the hex8 `element` at its current `positions` and its gradient
-/// ∂J̄/∂x_a = (1/V) Σ_q w_q J_q F_q⁻ᵀ ∇_X N_a(q) = J̄ b̄_a [1/m].
+/// J̄ = v/V of `element` at its current `positions` and its gradient
+/// ∂J̄/∂x_a = (1/V) Σ_q w_q J_q F_q⁻ᵀ ∇_X N_a(q) = J̄ b̄_a [1/m], one per node (the
+/// entries past the element's nodes are zero).
 pub(super) fn mean_dilatation_gradient(
     kernel: &BlockKernel,
     element: usize,
     positions: &[Vector3<f64>],
-) -> (f64, [Vector3<f64>; 8]) {
+) -> (f64, [Vector3<f64>; MAX_NODES_PER_ELEMENT]) {
+    debug_assert!(kernel.technology().uses_mean_dilatation());
     let ppe = kernel.points_per_element();
-    let mut gradient = [Vector3::zeros(); 8];
+    let mut gradient = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
     let (mut current, mut reference) = (0.0, 0.0);
     for q in 0..ppe {
         let point = element * ppe + q;
@@ -79,16 +91,31 @@ pub(super) fn add_element_forces(
     stress: &[VoigtStress],
     forces: &mut [Vector3<f64>],
 ) {
-    let ppe = kernel.points_per_element();
-    let npe = kernel.nodes_per_element();
-    debug_assert!(ppe <= 8 && npe <= 8);
-    let mut f = [Matrix3::zeros(); 8];
-    let mut spatial = [[Vector3::zeros(); 8]; 8];
-    let mut mean_gradient = [Vector3::zeros(); 8];
+    let forces_of = match kernel.technology() {
+        Technology::Hex8FBar => element_forces::<8, 8>,
+        Technology::Tet10FBar => element_forces::<4, 10>,
+        other => unreachable!("{other:?} is not an F-bar technology"),
+    };
+    forces_of(kernel, element, positions, stress, forces);
+}
+
+/// [`add_element_forces`] for elements of N nodes and P points.
+fn element_forces<const P: usize, const N: usize>(
+    kernel: &BlockKernel,
+    element: usize,
+    positions: &[Vector3<f64>],
+    stress: &[VoigtStress],
+    forces: &mut [Vector3<f64>],
+) {
+    debug_assert_eq!(kernel.points_per_element(), P);
+    debug_assert_eq!(kernel.nodes_per_element(), N);
+    let mut f = [Matrix3::zeros(); P];
+    let mut spatial = [[Vector3::zeros(); N]; P];
+    let mut mean_gradient = [Vector3::zeros(); N];
     let mut current_volume = 0.0;
     let mut reference_volume = 0.0;
-    for q in 0..ppe {
-        let point = element * ppe + q;
+    for q in 0..P {
+        let point = element * P + q;
         f[q] = kernel.deformation_gradient(point, positions);
         let jacobian = f[q].determinant();
         let inverse_transpose = f[q]
@@ -102,15 +129,15 @@ pub(super) fn add_element_forces(
         current_volume += jacobian * w;
         reference_volume += w;
     }
-    for g in &mut mean_gradient[..npe] {
+    for g in &mut mean_gradient {
         *g /= current_volume;
     }
     let mean = current_volume / reference_volume;
-    for q in 0..ppe {
+    for q in 0..P {
         let sigma = symmetric_from_voigt(&stress[q]);
         let third_trace = sigma.trace() / 3.0;
-        let scale = kernel.weight(element * ppe + q) * mean;
-        for a in 0..npe {
+        let scale = kernel.weight(element * P + q) * mean;
+        for a in 0..N {
             let g = spatial[q][a];
             forces[a] += (sigma * g + (mean_gradient[a] - g) * third_trace) * scale;
         }
@@ -118,7 +145,7 @@ pub(super) fn add_element_forces(
 }
 
 /// Add the consistent stiffness K_ai,bk = ∂f_a,i/∂x_b,k [N/m] of the F-bar element (dense,
-/// row-major 24 × 24, row 3a + i, column 3b + k) at its current `positions`, from the
+/// row-major 3N × 3N, row 3a + i, column 3b + k) at its current `positions`, from the
 /// Cauchy stresses `stress` and material tangents 𝔸 = ∂P/∂F `tangents` at F̄.
 ///
 /// The forces are f_a,i = Σ_q w_q P̄_q : A^q_ai with P̄ = P(F̄) and
@@ -147,12 +174,37 @@ pub(super) fn add_element_stiffness(
     stiffness: &mut [f64],
     upper_blocks_only: bool,
 ) {
-    const P: usize = 8;
-    const N: usize = 8;
-    const D: usize = 3 * N;
+    let stiffness_of = match kernel.technology() {
+        Technology::Hex8FBar => element_stiffness::<8, 8>,
+        Technology::Tet10FBar => element_stiffness::<4, 10>,
+        other => unreachable!("{other:?} is not an F-bar technology"),
+    };
+    stiffness_of(
+        kernel,
+        element,
+        positions,
+        stress,
+        tangents,
+        stiffness,
+        upper_blocks_only,
+    );
+}
+
+/// [`add_element_stiffness`] for elements of N nodes and P points.
+fn element_stiffness<const P: usize, const N: usize>(
+    kernel: &BlockKernel,
+    element: usize,
+    positions: &[Vector3<f64>],
+    stress: &[VoigtStress],
+    tangents: &[Tangent],
+    stiffness: &mut [f64],
+    upper_blocks_only: bool,
+) {
+    let dofs = 3 * N;
+    debug_assert!(dofs <= MAX_DOFS);
     debug_assert_eq!(kernel.points_per_element(), P);
     debug_assert_eq!(kernel.nodes_per_element(), N);
-    debug_assert_eq!(stiffness.len(), D * D);
+    debug_assert_eq!(stiffness.len(), dofs * dofs);
     let mut f = [Matrix3::zeros(); P];
     let mut jacobian = [0.0; P];
     let mut spatial = [[Vector3::zeros(); N]; P];
@@ -178,7 +230,7 @@ pub(super) fn add_element_stiffness(
     }
     let mean = current_volume / reference_volume;
     // ∂b̄_ai/∂x_b,k, row 3a + i, column 3b + k.
-    let mut mean_derivative = [[0.0; D]; D];
+    let mut mean_derivative = [[0.0; MAX_DOFS]; MAX_DOFS];
     for q in 0..P {
         let scale = kernel.weight(element * P + q) * jacobian[q] / current_volume;
         let g = &spatial[q];
@@ -225,9 +277,9 @@ pub(super) fn add_element_stiffness(
         let f_tangent = tangents[q].transpose() * vec_f;
         let f_tangent_f = vec_f.dot(&tangent_f);
         let g = &spatial[q];
-        let mut c = [0.0; D];
-        let mut x = [0.0; D];
-        let mut y = [0.0; D];
+        let mut c = [0.0; MAX_DOFS];
+        let mut x = [0.0; MAX_DOFS];
+        let mut y = [0.0; MAX_DOFS];
         for a in 0..N {
             let piola_g = piola * gradients[a];
             for i in 0..3 {
@@ -254,7 +306,7 @@ pub(super) fn add_element_stiffness(
             stiffness,
             upper_blocks_only,
         );
-        for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
+        for (row, out) in stiffness.chunks_exact_mut(dofs).enumerate() {
             let (a, i) = (row / 3, row % 3);
             let first = if upper_blocks_only { a } else { 0 };
             let (c_row, x_row) = (c[row], x[row]);
@@ -268,9 +320,12 @@ pub(super) fn add_element_stiffness(
             }
         }
     }
-    for (row, out) in stiffness.chunks_exact_mut(D).enumerate() {
+    for (row, out) in stiffness.chunks_exact_mut(dofs).enumerate() {
         let first = if upper_blocks_only { 3 * (row / 3) } else { 0 };
-        for (o, m) in out[first..].iter_mut().zip(&mean_derivative[row][first..]) {
+        for (o, m) in out[first..]
+            .iter_mut()
+            .zip(&mean_derivative[row][first..dofs])
+        {
             *o += mean_coefficient * m;
         }
     }

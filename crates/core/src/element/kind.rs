@@ -2,6 +2,7 @@
 //! files, the command line and tables use, and the technology each stands for.
 
 use super::Technology;
+use crate::mesh::ElementShape;
 
 /// The element formulations by name, without their parameters: what scene files, the
 /// command line and tables call them. The one table of names.
@@ -13,22 +14,24 @@ pub enum ElementKind {
     Tet4,
     Tet4NodalAverage,
     Tet10,
+    Tet10FBar,
 }
 
 impl ElementKind {
     /// Every kind, in the order scene files list them.
-    pub const ALL: [ElementKind; 6] = [
+    pub const ALL: [ElementKind; 7] = [
         ElementKind::Hex8Full,
         ElementKind::Hex8FBar,
         ElementKind::Hex8OnePoint,
         ElementKind::Tet4,
         ElementKind::Tet4NodalAverage,
         ElementKind::Tet10,
+        ElementKind::Tet10FBar,
     ];
 
     /// Their names, in the same order.
-    pub const NAMES: [&'static str; 6] = {
-        let mut names = [""; 6];
+    pub const NAMES: [&'static str; 7] = {
+        let mut names = [""; 7];
         let mut i = 0;
         while i < names.len() {
             names[i] = Self::ALL[i].name();
@@ -46,6 +49,7 @@ impl ElementKind {
             ElementKind::Tet4 => "tet4",
             ElementKind::Tet4NodalAverage => "tet4-nodal-average",
             ElementKind::Tet10 => "tet10",
+            ElementKind::Tet10FBar => "tet10-fbar",
         }
     }
 
@@ -56,10 +60,18 @@ impl ElementKind {
 
     /// Whether the element is a hexahedron (else a tetrahedron).
     pub fn is_hex(self) -> bool {
-        matches!(
-            self,
-            ElementKind::Hex8Full | ElementKind::Hex8FBar | ElementKind::Hex8OnePoint
-        )
+        self.shape() == ElementShape::Hex8
+    }
+
+    /// The element shape the kind works on.
+    pub fn shape(self) -> ElementShape {
+        match self {
+            ElementKind::Hex8Full | ElementKind::Hex8FBar | ElementKind::Hex8OnePoint => {
+                ElementShape::Hex8
+            }
+            ElementKind::Tet4 | ElementKind::Tet4NodalAverage => ElementShape::Tet4,
+            ElementKind::Tet10 | ElementKind::Tet10FBar => ElementShape::Tet10,
+        }
     }
 
     /// The technology, for a material of small-strain shear modulus `shear_modulus` [Pa]
@@ -76,6 +88,7 @@ impl ElementKind {
             ElementKind::Tet4 => Technology::Tet4,
             ElementKind::Tet4NodalAverage => Technology::Tet4NodalAverage,
             ElementKind::Tet10 => Technology::Tet10,
+            ElementKind::Tet10FBar => Technology::Tet10FBar,
         })
     }
 }
@@ -90,6 +103,7 @@ impl Technology {
             Technology::Tet4 => ElementKind::Tet4,
             Technology::Tet4NodalAverage => ElementKind::Tet4NodalAverage,
             Technology::Tet10 => ElementKind::Tet10,
+            Technology::Tet10FBar => ElementKind::Tet10FBar,
         }
     }
 
@@ -112,11 +126,16 @@ mod tests {
             if let Ok(technology) = kind.technology(Some(1e4)) {
                 assert_eq!(technology.kind(), kind);
                 assert_eq!(technology.name(), kind.name());
+                assert_eq!(technology.shape(), kind.shape());
             }
         }
         assert_eq!(ElementKind::NAMES[1], "hex8-fbar");
         assert_eq!(ElementKind::from_name("hex8"), None);
         assert!(ElementKind::Hex8OnePoint.technology(None).is_err());
         assert!(ElementKind::Tet10.technology(None).is_ok());
+        assert_eq!(
+            ElementKind::from_name("tet10-fbar"),
+            Some(ElementKind::Tet10FBar)
+        );
     }
 }

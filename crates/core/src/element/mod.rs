@@ -22,10 +22,14 @@
 //!   of its nodes' patch-averaged ones, which removes volumetric locking; its forces couple
 //!   neighbouring elements, so the solvers evaluate it block by block;
 //! - [`Technology::Tet10`] (`tet10.rs`): the quadratic tet with the 4-point rule of
-//!   degree 2, exact for straight-sided elements (no treatment of incompressibility).
+//!   degree 2, exact for straight-sided elements (no treatment of incompressibility: it
+//!   locks at muscle's K/μ ≈ 10⁴);
+//! - [`Technology::Tet10FBar`] (`fbar.rs` on the tet10's points): the same points with
+//!   the hex8's F-bar modification, J̄ the element's mean dilatation (no volumetric
+//!   locking).
 //!
 //! Every technology passes the patch tests (linear fields, constant stress) on distorted
-//! meshes. Not built: F-bar or mixed tet10.
+//! meshes. Not built: a mixed (u–p) tet10.
 
 mod fbar;
 mod hex8_full;
@@ -45,7 +49,7 @@ pub use stiffness::{SYMMETRY_TOLERANCE, has_major_symmetry};
 use nalgebra::{Matrix3, Vector3};
 use thiserror::Error;
 
-use crate::mesh::{ElementBlock, ElementShape, Nodes};
+use crate::mesh::{ElementBlock, ElementShape, MAX_NODES_PER_ELEMENT, Nodes};
 
 /// The element formulations a block can use. `PartialEq` only: a parameter is an `f64`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,6 +71,9 @@ pub enum Technology {
     Tet4NodalAverage,
     /// Quadratic tetrahedron, 4 points (degree 2).
     Tet10,
+    /// Quadratic tetrahedron, 4 points, F-bar: the volume change of every point replaced
+    /// by the element's mean dilatation, as [`Technology::Hex8FBar`].
+    Tet10FBar,
 }
 
 impl Technology {
@@ -86,7 +93,7 @@ impl Technology {
                 ElementShape::Hex8
             }
             Technology::Tet4 | Technology::Tet4NodalAverage => ElementShape::Tet4,
-            Technology::Tet10 => ElementShape::Tet10,
+            Technology::Tet10 | Technology::Tet10FBar => ElementShape::Tet10,
         }
     }
 
@@ -95,8 +102,14 @@ impl Technology {
         match self {
             Technology::Hex8Full | Technology::Hex8FBar => 8,
             Technology::Hex8OnePoint { .. } | Technology::Tet4 | Technology::Tet4NodalAverage => 1,
-            Technology::Tet10 => 4,
+            Technology::Tet10 | Technology::Tet10FBar => 4,
         }
+    }
+
+    /// Whether the material sees F̄ = (J̄/J)^{1/3} F with the element's mean dilatation J̄
+    /// (`fbar.rs`): [`Technology::Hex8FBar`] and [`Technology::Tet10FBar`].
+    pub fn uses_mean_dilatation(self) -> bool {
+        matches!(self, Technology::Hex8FBar | Technology::Tet10FBar)
     }
 }
 
@@ -169,7 +182,9 @@ impl BlockKernel {
             }
             Technology::Tet4 => tet4::reference_data(nodes, block),
             Technology::Tet4NodalAverage => tet4_nodal_average::reference_data(nodes, block),
-            Technology::Tet10 => tet10::reference_data(nodes, block),
+            Technology::Tet10 | Technology::Tet10FBar => {
+                tet10::reference_data(nodes, block, technology)
+            }
         }
     }
 
@@ -224,14 +239,13 @@ impl BlockKernel {
         f
     }
 
-    /// F-bar hex8 only: the element's mean dilatation J̄ = v/V at its current `positions`
-    /// and ∂J̄/∂x_a per node [1/m] (`fbar.rs`).
+    /// F-bar only: the element's mean dilatation J̄ = v/V at its current `positions` and
+    /// ∂J̄/∂x_a per node [1/m] (`fbar.rs`; zero past the element's nodes).
     pub(crate) fn mean_dilatation_gradient(
         &self,
         element: usize,
         positions: &[Vector3<f64>],
-    ) -> (f64, [Vector3<f64>; 8]) {
-        debug_assert_eq!(self.technology, Technology::Hex8FBar);
+    ) -> (f64, [Vector3<f64>; MAX_NODES_PER_ELEMENT]) {
         fbar::mean_dilatation_gradient(self, element, positions)
     }
 
@@ -248,7 +262,7 @@ impl BlockKernel {
         for (q, f) in out.iter_mut().enumerate() {
             *f = self.deformation_gradient(element * ppe + q, positions);
         }
-        if self.technology == Technology::Hex8FBar {
+        if self.technology.uses_mean_dilatation() {
             fbar::modify(self, element, out);
         }
     }
@@ -269,7 +283,7 @@ impl BlockKernel {
     ) {
         let ppe = self.points_per_element;
         match self.technology {
-            Technology::Hex8FBar => {
+            Technology::Hex8FBar | Technology::Tet10FBar => {
                 fbar::add_element_forces(self, element, positions, stress, forces);
             }
             Technology::Hex8Full
@@ -340,3 +354,5 @@ mod hourglass_tests;
 mod technology_tests;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tet10_fbar_tests;

@@ -12,7 +12,7 @@
 //! derivative of the hourglass forces f_a = k Σ_α q^α γ^α_a, q^α = Σ_b x_b γ^α_b, which is
 //! K_ab,ik = k Σ_α γ^α_a γ^α_b δ_ik.
 //!
-//! F-bar couples every point to the element's mean dilatation, so its tangent has extra
+//! F-bar (hex8 and tet10) couples every point to the element's mean dilatation, so its tangent has extra
 //! terms (through J̄ and the spatial gradients), derived and built in `fbar.rs`; it needs
 //! the element's positions and stresses besides the tangents.
 
@@ -33,7 +33,8 @@ impl BlockKernel {
             | Technology::Hex8OnePoint { .. }
             | Technology::Tet4
             | Technology::Tet10
-            | Technology::Hex8FBar => true,
+            | Technology::Hex8FBar
+            | Technology::Tet10FBar => true,
             Technology::Tet4NodalAverage => false,
         }
     }
@@ -81,7 +82,7 @@ impl BlockKernel {
         if !self.has_consistent_tangent() {
             return false;
         }
-        if self.technology == Technology::Hex8FBar {
+        if self.technology.uses_mean_dilatation() {
             super::fbar::add_element_stiffness(
                 self, element, positions, stress, tangents, stiffness, symmetric,
             );
@@ -385,6 +386,18 @@ mod tests {
     fn fbar_stiffness_of_the_active_muscle_is_the_derivative_of_the_forces() {
         let asymmetry = stiffness_is_the_derivative_of_the_forces(Technology::Hex8FBar, hill());
         println!("Hill, F-bar: asymmetry {asymmetry:.3e} of the largest entry");
+    }
+
+    #[test]
+    fn tet10_fbar_stiffness_is_the_derivative_of_the_forces() {
+        neo_hookean_stiffness_is_the_symmetric_derivative_of_the_forces(Technology::Tet10FBar);
+    }
+
+    /// The active Hill muscle on the F-bar tet10, as on the F-bar hex8.
+    #[test]
+    fn tet10_fbar_stiffness_of_the_active_muscle_is_the_derivative_of_the_forces() {
+        let asymmetry = stiffness_is_the_derivative_of_the_forces(Technology::Tet10FBar, hill());
+        println!("Hill, F-bar tet10: asymmetry {asymmetry:.3e} of the largest entry");
     }
 
     #[test]

@@ -12,7 +12,7 @@ use crate::mesh::generate::{TetOrder, box_of_hexes, box_of_tets, distort};
 
 const SIZE: [f64; 3] = [0.02, 0.01, 0.015];
 
-pub(super) const ALL: [Technology; 5] = [
+pub(super) const ALL: [Technology; 6] = [
     Technology::Hex8Full,
     Technology::Hex8FBar,
     Technology::Hex8OnePoint {
@@ -20,6 +20,7 @@ pub(super) const ALL: [Technology; 5] = [
     },
     Technology::Tet4,
     Technology::Tet10,
+    Technology::Tet10FBar,
 ];
 
 /// A box of the technology's shape with its interior nodes moved at random.

@@ -1,4 +1,6 @@
-//! Quadratic tetrahedron (C3D10 node order), 4 integration points.
+//! Quadratic tetrahedron (C3D10 node order), 4 integration points: the reference data
+//! of [`Technology::Tet10`] and of [`Technology::Tet10FBar`] (which modifies F at the same
+//! points, `fbar.rs`).
 //!
 //! Shape functions (L_i the barycentric coordinates, L₁ = 1 − ξ − η − ζ, L₂ = ξ, L₃ = η,
 //! L₄ = ζ): corners N_i = L_i (2L_i − 1), mid-edge nodes N = 4 L_a L_b
@@ -36,10 +38,12 @@ pub(super) const POINTS: [[f64; 3]; 4] = [
     [BETA, BETA, ALPHA],
 ];
 
-/// ∇_X N_a and w det J₀ at every point of every element.
+/// ∇_X N_a and w det J₀ at every point of every element, for `technology` (Tet10 or
+/// Tet10FBar).
 pub(super) fn reference_data(
     nodes: &Nodes,
     block: &ElementBlock,
+    technology: Technology,
 ) -> Result<BlockKernel, ElementError> {
     let rule: Vec<RulePoint> = POINTS
         .iter()
@@ -48,7 +52,7 @@ pub(super) fn reference_data(
             weight: WEIGHT,
         })
         .collect();
-    isoparametric(nodes, block, Technology::Tet10, &rule)
+    isoparametric(nodes, block, technology, &rule)
 }
 
 #[cfg(test)]

@@ -37,10 +37,10 @@
 //! its direction, at the converged state. Material states are committed after convergence.
 //!
 //! Element technologies: those with a consistent element stiffness
-//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8FBar (with the
-//! linearization through J̄ of `element/fbar.rs`, and by default the mixed element pressure
-//! in its tangent, `mixed_pressure.rs`, which spares nearly incompressible tissue most of
-//! its Newton iterations), Hex8OnePoint, Tet4 and Tet10. The
+//! ([`crate::element::BlockKernel::has_consistent_tangent`]): Hex8Full, Hex8FBar and
+//! Tet10FBar (with the linearization through J̄ of `element/fbar.rs`, and by default the
+//! mixed element pressure in their tangent, `mixed_pressure.rs`, which spares nearly
+//! incompressible tissue most of its Newton iterations), Hex8OnePoint, Tet4 and Tet10. The
 //! nodally averaged tet4 is refused ([`SolverError::NoConsistentTangent`]): its tangent
 //! couples the 2-ring of elements around a node, a wider sparsity pattern not built yet.
 //! Nodal forces enter the residual r = f_int − f_ext at the end of the step; nodes tied to

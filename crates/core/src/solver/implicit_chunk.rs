@@ -1,6 +1,7 @@
 //! A chunk of elements for the implicit solver: the shared [`ElementChunk`] (states,
 //! stresses, tangents, forces) plus the element stiffness matrices assembled from its
-//! tangents (for F-bar hex8, with the mixed element pressure of `mixed_pressure.rs`).
+//! tangents (for F-bar hex8 and tet10, with the mixed element pressure of
+//! `mixed_pressure.rs`).
 
 use std::ops::Range;
 
@@ -13,7 +14,7 @@ use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::ElementChunk;
 use super::element_fields::AcceptedPoints;
 use super::mixed_pressure::MixedPressure;
-use crate::element::{BlockKernel, Technology, has_major_symmetry};
+use crate::element::{BlockKernel, has_major_symmetry};
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
 /// Most integration points of an element (the 2×2×2 hex8).
@@ -26,7 +27,7 @@ pub(crate) struct ImplicitChunk {
     pub stiffness: Vec<f64>,
     /// Whether every tangent of the last update with stiffness had major symmetry.
     pub symmetric: bool,
-    /// The mixed pressure's linearization points (F-bar hex8 with
+    /// The mixed pressure's linearization points (F-bar hex8 and tet10 with
     /// [`super::implicit::ImplicitSettings::mixed_pressure_tangent`]).
     mixed: Option<MixedPressure>,
 }
@@ -40,7 +41,7 @@ impl ImplicitChunk {
         mixed_pressure_tangent: bool,
     ) -> Self {
         let dofs = kernel.element_dofs();
-        let mixed = (mixed_pressure_tangent && kernel.technology() == Technology::Hex8FBar)
+        let mixed = (mixed_pressure_tangent && kernel.technology().uses_mean_dilatation())
             .then(|| MixedPressure::new(elements.len()));
         ImplicitChunk {
             mixed,

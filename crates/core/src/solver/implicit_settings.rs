@@ -79,7 +79,7 @@ pub struct ImplicitSettings {
     /// Energy criterion (default `None`): a step also converges when the work of the
     /// last correction |δuᵀ r| is at most this fraction of that of the step's first one.
     pub energy_tolerance: Option<f64>,
-    /// Newton's tangent of F-bar hex8 with the mixed element pressure of
+    /// Newton's tangent of F-bar hex8 and tet10 with the mixed element pressure of
     /// `mixed_pressure.rs` (default true): the converged states are the same, but for a
     /// nearly incompressible material Newton needs far fewer iterations (the coarse
     /// passive knee squat: 389 against 753, and no cut against 13).

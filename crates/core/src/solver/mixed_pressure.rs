@@ -1,5 +1,6 @@
 //! The F-bar element's Newton tangent with a mixed element pressure (the Q1/P0 element of
-//! Simo, Taylor & Pister 1985, whose pressure is an element unknown, condensed).
+//! Simo, Taylor & Pister 1985, whose pressure is an element unknown, condensed; for the
+//! F-bar tet10 likewise P2/P0).
 //!
 //! **Why.** For a nearly incompressible material (the muscle: K/μ ≈ 35 000) the pressure
 //! p(J̄) = κ (J̄ − 1) amplifies by κ the second-order volume change of every Newton
@@ -32,19 +33,19 @@ use musclefem_materials::tensor::symmetric_from_voigt;
 use musclefem_materials::{Tangent, VoigtStress};
 
 use crate::element::BlockKernel;
+use crate::mesh::MAX_NODES_PER_ELEMENT;
 
-/// Nodes and integration points of the F-bar hex8 the mixed pressure is defined on.
-const NODES: usize = 8;
-const POINTS: usize = 8;
+/// Most nodes of an F-bar element (the tet10's 10).
+const NODES: usize = MAX_NODES_PER_ELEMENT;
 
 /// An element's state at a linearization point x_k.
 #[derive(Debug, Clone, Copy)]
 struct Linearization {
     /// J̄_k = v/V.
     dilatation: f64,
-    /// ∂J̄/∂x_a at x_k [1/m].
+    /// ∂J̄/∂x_a at x_k [1/m] (zero past the element's nodes).
     gradient: [Vector3<f64>; NODES],
-    /// x_k [m].
+    /// x_k [m] (zero past the element's nodes).
     positions: [Vector3<f64>; NODES],
     /// p′ = dp/dJ̄ at x_k, the mean over the element's points [Pa].
     modulus: f64,
@@ -61,7 +62,7 @@ impl Default for Linearization {
     }
 }
 
-/// The linearization points of a chunk's F-bar hex8 elements.
+/// The linearization points of a chunk's F-bar elements.
 #[derive(Debug)]
 pub(crate) struct MixedPressure {
     /// Of the stiffness last solved with.
@@ -96,7 +97,7 @@ impl MixedPressure {
         stress: &mut [VoigtStress],
         tangents: &mut [Tangent],
     ) {
-        debug_assert!(f_bar.len() <= POINTS && positions.len() == NODES);
+        debug_assert!(kernel.technology().uses_mean_dilatation() && positions.len() <= NODES);
         let (dilatation, gradient) = kernel.mean_dilatation_gradient(element, positions);
         let modulus = f_bar
             .iter()
@@ -107,7 +108,7 @@ impl MixedPressure {
         let shift = if self.has_base {
             let base = &self.base[local];
             let linear = base.dilatation
-                + (0..NODES)
+                + (0..positions.len())
                     .map(|a| base.gradient[a].dot(&(positions[a] - base.positions[a])))
                     .sum::<f64>();
             base.modulus * (linear - dilatation)
@@ -115,7 +116,7 @@ impl MixedPressure {
             0.0
         };
         let mut nodes = [Vector3::zeros(); NODES];
-        nodes.copy_from_slice(&positions[..NODES]);
+        nodes[..positions.len()].copy_from_slice(positions);
         self.candidate[local] = Linearization {
             dilatation,
             gradient,

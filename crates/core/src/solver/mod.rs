@@ -115,8 +115,8 @@ pub enum SolverError {
     },
     #[error(
         "part on block {block}: technology {technology:?} has no consistent tangent yet, so \
-         the implicit solver cannot use it (use Hex8Full, Hex8OnePoint, Tet4 or Tet10, or the \
-         explicit solver)"
+         the implicit solver cannot use it (use Hex8Full, Hex8FBar, Hex8OnePoint, Tet4, Tet10 or \
+         Tet10FBar, or the explicit solver)"
     )]
     NoConsistentTangent {
         block: usize,

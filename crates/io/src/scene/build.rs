@@ -31,7 +31,7 @@ use super::trust::PluginPolicy;
 const ACTIVATION_PARAMETERS: [&str; 5] = ["n1", "n2", "t0", "t1", "S"];
 
 /// Element technologies by scene name ([`ElementKind::NAMES`]).
-pub const ELEMENT_NAMES: [&str; 6] = ElementKind::NAMES;
+pub const ELEMENT_NAMES: [&str; ElementKind::NAMES.len()] = ElementKind::NAMES;
 
 /// The analysis of the step: the solver's own [`musclefem_core::solver::Analysis`].
 pub use musclefem_core::solver::Analysis;

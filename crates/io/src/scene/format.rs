@@ -83,7 +83,7 @@ pub struct PartEntry {
     /// Local material name.
     pub material: Spanned<String>,
     /// Element technology: "hex8-full", "hex8-fbar", "hex8-one-point", "tet4",
-    /// "tet4-nodal-average" or "tet10".
+    /// "tet4-nodal-average", "tet10" or "tet10-fbar" (`ElementKind::NAMES`).
     pub element: Spanned<String>,
     /// Reference mass density [kg/m³].
     pub density: Spanned<f64>,

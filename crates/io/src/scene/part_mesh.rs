@@ -8,6 +8,7 @@ use std::collections::{HashMap, HashSet};
 use nalgebra::Vector3;
 use toml::Spanned;
 
+use musclefem_core::element::ElementKind;
 use musclefem_core::mesh::generate::{TetOrder, box_of_hexes, box_of_tets};
 use musclefem_core::mesh::{ElementRef, ElementShape, Face, Mesh};
 
@@ -247,10 +248,10 @@ fn generate_box(
         ));
     };
     let (size_value, divisions_value) = (*size.get_ref(), *divisions.get_ref());
-    let tets = matches!(
-        entry.element.get_ref().as_str(),
-        "tet4" | "tet4-nodal-average" | "tet10"
-    );
+    // An unknown element name is reported where the part is built; the box is of hexes.
+    let shape = ElementKind::from_name(entry.element.get_ref())
+        .map_or(ElementShape::Hex8, ElementKind::shape);
+    let tets = shape != ElementShape::Hex8;
     let elements = divisions_value
         .iter()
         .fold(if tets { 6u64 } else { 1 }, |n, &d| {
@@ -262,10 +263,10 @@ fn generate_box(
             format!("divisions {divisions_value:?}: {reason}"),
         ));
     }
-    let generated = match entry.element.get_ref().as_str() {
-        "tet4" | "tet4-nodal-average" => box_of_tets(size_value, divisions_value, TetOrder::Linear),
-        "tet10" => box_of_tets(size_value, divisions_value, TetOrder::Quadratic),
-        _ => box_of_hexes(size_value, divisions_value),
+    let generated = match shape {
+        ElementShape::Tet4 => box_of_tets(size_value, divisions_value, TetOrder::Linear),
+        ElementShape::Tet10 => box_of_tets(size_value, divisions_value, TetOrder::Quadratic),
+        ElementShape::Hex8 => box_of_hexes(size_value, divisions_value),
     };
     let mut mesh = generated.map_err(|e| locator.error(size.span(), e.to_string()))?;
     if let Some(origin) = spec.origin {

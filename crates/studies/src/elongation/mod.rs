@@ -58,6 +58,10 @@ pub enum ElementChoice {
     /// Quadratic tet.
     #[value(name = "tet10")]
     Tet10,
+    /// Quadratic tet with the F-bar (mean dilatation) projection: locking-free, both
+    /// solvers.
+    #[value(name = "tet10-fbar")]
+    Tet10Fbar,
 }
 
 impl ElementChoice {
@@ -70,6 +74,7 @@ impl ElementChoice {
             ElementChoice::Tet4 => ElementKind::Tet4,
             ElementChoice::Tet4NodalAverage => ElementKind::Tet4NodalAverage,
             ElementChoice::Tet10 => ElementKind::Tet10,
+            ElementChoice::Tet10Fbar => ElementKind::Tet10FBar,
         }
     }
 

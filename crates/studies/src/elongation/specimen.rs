@@ -5,10 +5,10 @@
 
 use anyhow::{Context, Result};
 
+use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::{
     PAPER_MID_RADIUS, SpecimenShape, SpecimenSpec, fusiform_mesh,
 };
-use musclefem_core::mesh::{ElementShape, Mesh};
 
 use super::ElementChoice;
 
@@ -56,13 +56,7 @@ pub fn specimen_mesh(shape: Shape, element: ElementChoice, mesh_size: f64) -> Re
         Shape::Fusiform => SpecimenShape::paper_fusiform(),
         Shape::Cylinder => SpecimenShape::cylinder(PAPER_MID_RADIUS),
     };
-    let element_shape = match element {
-        ElementChoice::Hex8Fbar | ElementChoice::Hex8Full | ElementChoice::Hex8OnePoint => {
-            ElementShape::Hex8
-        }
-        ElementChoice::Tet4 | ElementChoice::Tet4NodalAverage => ElementShape::Tet4,
-        ElementChoice::Tet10 => ElementShape::Tet10,
-    };
+    let element_shape = element.kind().shape();
     let spec = SpecimenSpec {
         shape: solid,
         element: element_shape,
