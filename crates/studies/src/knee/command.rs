@@ -320,7 +320,7 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         muscle_elements,
         geometry.mesh.element_count() - muscle_elements,
         match &args.anatomy {
-            Some(d) if d.as_os_str() == VISIBLE_HUMAN => "tet10",
+            Some(d) if d.as_os_str() == VISIBLE_HUMAN => "tet10-fbar",
             _ => args.element.name(),
         },
         match &args.anatomy {
