@@ -89,6 +89,19 @@ pub struct KneeInteractions {
 }
 
 impl KneeInteractions {
+    /// The interactions' names in the order the solver sums them (the strands last).
+    pub fn names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self
+            .interactions
+            .iter()
+            .map(|i| i.name().to_string())
+            .collect();
+        if let Some(strands) = &self.strands {
+            names.push(strands.name().to_string());
+        }
+        names
+    }
+
     /// Fresh copies of the interactions for a solver.
     pub fn solver_interactions(&self) -> Vec<Box<dyn Interaction>> {
         let mut interactions: Vec<Box<dyn Interaction>> = self

@@ -275,11 +275,7 @@ pub fn run_squat(
             .iter()
             .map(|t| t.name.clone())
             .collect(),
-        interactions: built
-            .interactions
-            .iter()
-            .map(|i| i.name().to_string())
-            .collect(),
+        interactions: built.names(),
         solver: settings.solver,
         patella: musclefem_core::solver::RigidMotion::followed(model.patella.clone()),
     })?;
