@@ -14,7 +14,9 @@
 //!   quadriceps' pull, the patellar tendon's force and strain, the patella's pose),
 //!   `plausibility.csv` (at 30°, 45°, 60°, 90° in both phases: each muscle's pull, the
 //!   patellar tendon's force, the knee extensor moment, the fiber stretch, the forces on
-//!   the femur, the tendons' peak stress) and `run.log`;
+//!   the femur, the tendons' peak stress), `run.log`, and `scene.toml` with the files it
+//!   names (`muscles.inp`, `fibers.csv`, `patella_table.csv`, the bones' OBJ files): the
+//!   squat as a scene that `musclefem run` reruns;
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
@@ -503,6 +505,7 @@ fn run_one(
                 .map(|(_, _, time)| time)
                 .collect::<Vec<_>>(),
         ),
+        frame_interval: args.frame_interval,
         identity: format!(
             "knee {activation:?} {settings:?} frames every {} s",
             args.frame_interval

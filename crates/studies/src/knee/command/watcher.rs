@@ -53,6 +53,8 @@ pub(super) struct Outputs<'a> {
     pub(super) geometry: &'a KneeGeometry,
     /// Frames every `--frame-interval`, at the table's angles and at the end.
     pub(super) frames: FrameSchedule,
+    /// `--frame-interval` [s], for the squat's scene.
+    pub(super) frame_interval: f64,
     /// What makes a checkpoint this squat's: its settings and activation (the mesh is
     /// added).
     pub(super) identity: String,
@@ -91,6 +93,11 @@ impl SquatWatcher for Outputs<'_> {
             RunStart::Fresh(_) => anyhow::anyhow!("{e} (use --force to replace a previous run)"),
         })?;
         let writer = writer.with_rigid_bodies(bone_frames(self.geometry, start.patella.clone()));
+        // The squat as a scene that `musclefem run` reruns.
+        start.scene.write_files(&self.root)?;
+        writer
+            .directory()
+            .write_scene(&start.scene.text(self.frame_interval)?)?;
         let study = writer.resumed_study().to_vec();
         // A log from the start: a squat killed before its end leaves one that says so.
         let resumed_line = resumed.as_ref().map_or(String::new(), |checkpoint| {

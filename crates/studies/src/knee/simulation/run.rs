@@ -28,6 +28,7 @@ use super::patella_clearance::{PatellaApproach, PatellaClearance};
 use super::peak_stress::{ElementRegions, PeakStressRow, StressSample, peak_stress_rows};
 use super::plausibility::{PlausibilityRow, PlausibilitySample, plausibility_rows};
 use super::recorder::{Recorder, StallDetector, finish, reference_volumes};
+use super::scene::SquatScene;
 use crate::elongation::{ElementChoice, Solver};
 
 /// How a squat is run.
@@ -162,6 +163,8 @@ pub struct SquatStart<'a> {
     /// The patella's motion: the pose the run gives it (the femur and tibia follow the
     /// geometry's prescribed motions).
     pub patella: musclefem_core::solver::RigidMotion,
+    /// The squat as a scene, for the caller to write beside its outputs.
+    pub scene: SquatScene<'a>,
 }
 
 /// Where a squat goes on from: the solver's checkpoint and the knee's own state stored
@@ -282,6 +285,7 @@ pub fn run_squat(
             .collect(),
         solver: settings.solver,
         patella: musclefem_core::solver::RigidMotion::followed(model.patella.clone()),
+        scene: SquatScene::new(geometry, &model.mesh, &built, activation, settings)?,
     })?;
     let mut recorder = Recorder {
         mesh: &model.mesh,

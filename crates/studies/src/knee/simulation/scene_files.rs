@@ -10,9 +10,8 @@
 //! faces as the Abaqus reader does).
 //!
 //! Parts take the file's blocks with `shared_nodes = true`, so that a belly and its
-//! tendon stay joined (`super::scene_tests` builds the whole model from these files).
-//! Not yet: `musclefem knee` writing them with its `scene.toml` (see `docs/design.md`,
-//! "One run, one observer").
+//! tendon stay joined (`super::scene_tests` builds the whole model from these files;
+//! `musclefem knee` writes them with its `scene.toml`, [`super::scene`]).
 
 use std::path::Path;
 
