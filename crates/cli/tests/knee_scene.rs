@@ -1,12 +1,18 @@
 //! The knee as a scene (issue 30, step 4): `musclefem knee` writes `scene.toml` with the
-//! files it names into each squat's directory, and `musclefem run` on it runs the same
-//! squat.
+//! files it names into each squat's directory and runs it through the directory runner
+//! of `musclefem run`, which reruns it to the same files.
 
 mod support;
 
 use std::path::Path;
 
 use support::run::{musclefem, test_dir, text};
+
+use musclefem_studies::knee::simulation::peak_stress::{
+    peak_stress_from_history, stage_peak_stress_csv,
+};
+use musclefem_studies::knee::simulation::{Activation, KneeGeometry};
+use musclefem_studies::knee::{Anatomy, Resolution, Squat};
 
 /// A CSV file's header names and its rows of fields, as text.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -25,10 +31,12 @@ fn number(field: &str) -> f64 {
 
 /// The shallow passive squat (10° in 0.2 s, coarse, a frame every 0.05 s; about a
 /// minute in release on 2 cores) writes its scene into `OUT/passive`; `musclefem run` on
-/// that scene computes the squat's history bit for bit (every column the knee writes:
-/// time, Newton counts, energies, every tie's and interaction's force) and, in the
-/// columns `[output] von_mises_percentile = 95` adds, each muscle's vm95 of `vm95.csv`
-/// at every recorded instant.
+/// that scene writes the squat's `history.csv` byte for byte (time, Newton counts,
+/// energies, every tie's and interaction's force, and each part's vm95, the columns
+/// `[output] von_mises_percentile = 95` adds), and `peak_stress.csv` built from the
+/// rerun's history is the knee's, byte for byte (the shallow squat stays below the
+/// table's first angle, 30°: its header alone). The muscles' vm95 columns are
+/// `vm95.csv`'s at every recorded instant.
 #[test]
 fn the_knees_scene_reruns_its_squat_bit_for_bit() {
     let dir = test_dir("musclefem-knee-scene", "shallow");
@@ -68,24 +76,49 @@ fn the_knees_scene_reruns_its_squat_bit_for_bit() {
     let rerun = musclefem(&dir, &["run", "knee/passive/scene.toml", "--out", "rerun"]);
     assert!(rerun.status.success(), "{}", text(&rerun.stderr));
 
-    // The knee's columns, then one vm95 column per part (bellies first).
-    let (knee_header, knee_rows) = read_csv(&squat.join("history.csv"));
-    let (scene_header, scene_rows) = read_csv(&dir.join("rerun/history.csv"));
-    let columns = knee_header.len();
-    assert_eq!(scene_header[..columns], knee_header[..]);
-    let stresses = &scene_header[columns..];
+    let history = std::fs::read(squat.join("history.csv")).unwrap();
     assert!(
-        !stresses.is_empty()
-            && stresses
-                .iter()
-                .all(|c| c.starts_with("von_mises_p95_") && c.ends_with("_pa")),
-        "{stresses:?}"
+        history == std::fs::read(dir.join("rerun/history.csv")).unwrap(),
+        "the rerun's history.csv differs"
     );
-    assert!(knee_rows.len() > 10, "{} rows", knee_rows.len());
-    assert_eq!(scene_rows.len(), knee_rows.len());
-    for (scene_row, knee_row) in scene_rows.iter().zip(&knee_rows) {
-        assert_eq!(scene_row[..columns], knee_row[..], "t = {} s", knee_row[0]);
-    }
+    let squat_motion = Squat {
+        duration: 0.2,
+        peak_flexion: 10f64.to_radians(),
+    };
+    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+    let geometry = KneeGeometry::default_knee(&anatomy, &squat_motion).unwrap();
+    let bellies: Vec<&str> = (0..geometry.muscles.len())
+        .map(|m| geometry.block_name(m))
+        .collect();
+    let rows = peak_stress_from_history(
+        &dir.join("rerun/history.csv"),
+        &bellies,
+        &geometry.muscles,
+        &squat_motion,
+        Activation::Passive,
+    )
+    .unwrap();
+    stage_peak_stress_csv(&dir.join("rerun/peak_stress.csv"), &rows)
+        .unwrap()
+        .commit()
+        .unwrap();
+    assert_eq!(
+        std::fs::read_to_string(dir.join("rerun/peak_stress.csv")).unwrap(),
+        std::fs::read_to_string(dir.join("knee/peak_stress.csv")).unwrap()
+    );
+
+    // The knee's columns, then one vm95 column per part (bellies first).
+    let (scene_header, scene_rows) = read_csv(&dir.join("rerun/history.csv"));
+    let stresses: Vec<&String> = (scene_header.iter())
+        .filter(|c| c.starts_with("von_mises_p95_"))
+        .collect();
+    let columns = scene_header.len() - stresses.len();
+    assert!(
+        stresses.iter().all(|c| c.ends_with("_pa"))
+            && scene_header[columns..].iter().eq(stresses.iter().copied()),
+        "{scene_header:?}"
+    );
+    assert!(scene_rows.len() > 10, "{} rows", scene_rows.len());
 
     // vm95.csv: time, angle, a vm95 per muscle, the smallest Jacobian ratio; a row at
     // t = 0 and at every increment.
@@ -112,6 +145,6 @@ fn the_knees_scene_reruns_its_squat_bit_for_bit() {
         }
         compared += 1;
     }
-    assert_eq!(compared, knee_rows.len());
+    assert_eq!(compared, scene_rows.len());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -20,8 +20,8 @@ use musclefem_io::csv::format_number;
 use super::interactions::{InterfaceLaw, KneeInteractions};
 use super::model::{Activation, KneeGeometry, MUSCLE_DENSITY, TENDON_DENSITY};
 use super::run::SquatSettings;
-use super::scene_bones::{FEMUR_BODY, knee_bone_entries, write_bone_files};
-use super::scene_files::{FIBERS_CSV, MUSCLES_INP, write_model_files};
+use super::scene_bones::{FEMUR_BODY, bone_files, knee_bone_entries};
+use super::scene_files::{FIBERS_CSV, MUSCLES_INP, model_files};
 use super::scene_interactions::knee_interaction_entries;
 use super::scene_materials::knee_material_entries;
 use super::scene_step::squat_step_entry;
@@ -65,13 +65,22 @@ impl<'a> SquatScene<'a> {
         })
     }
 
-    /// Write the files the scene names into `directory`: `muscles.inp`, `fibers.csv`,
+    /// The files the scene names, (file name, text) each: `muscles.inp`, `fibers.csv`,
     /// `patella_table.csv`, `femur.obj`, `tibia.obj` and `patella.obj`.
+    pub fn files(&self) -> Vec<(&'static str, String)> {
+        let mut files = model_files(self.mesh, &self.geometry.patella_table);
+        files.extend(bone_files(self.geometry));
+        files
+    }
+
+    /// Write the [`Self::files`] into `directory` (atomically, each).
     pub fn write_files(&self, directory: &Path) -> Result<()> {
-        write_model_files(directory, self.mesh, &self.geometry.patella_table).with_context(
-            || format!("writing the squat's scene files in {}", directory.display()),
-        )?;
-        write_bone_files(directory, self.geometry)
+        for (name, text) in self.files() {
+            let path = directory.join(name);
+            musclefem_io::atomic::write_atomically(&path, text.as_bytes())
+                .with_context(|| format!("writing {}", path.display()))?;
+        }
+        Ok(())
     }
 
     /// `scene.toml`, with frames every `frame_interval` [s] (none for 0).
