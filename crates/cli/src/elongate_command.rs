@@ -243,6 +243,7 @@ fn run_one(
                 scene.specimen.mesh.node_count()
             ),
             setup_time: started.elapsed(),
+            keep_checkpoint: false,
             interrupted,
             bar: None,
             companion: None,

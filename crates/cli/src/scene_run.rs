@@ -95,6 +95,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
             frame_instants: &[],
             log_header: String::new(),
             setup_time: started.elapsed(),
+            keep_checkpoint: false,
             interrupted: &interrupt_flag(),
             bar: None,
             companion: None,

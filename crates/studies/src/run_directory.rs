@@ -47,6 +47,10 @@ pub struct DirectoryRun<'a> {
     pub log_header: String,
     /// Time spent reading and building the model (logged).
     pub setup_time: Duration,
+    /// Whether a completed run keeps its last checkpoint, for the caller to remove (the
+    /// knee keeps each squat's until the study is complete, so that `--resume` after a
+    /// stop of the other squat finds both); otherwise it is removed.
+    pub keep_checkpoint: bool,
     /// Set by Ctrl-C (or, for one of the knee's squats, by the other failing): the run
     /// stops after its last complete frame.
     pub interrupted: &'a AtomicBool,
@@ -120,7 +124,8 @@ impl DirectoryReport {
 }
 
 /// Run `model` into `job.out`. Writing errors (frames, history, log) are errors; how the
-/// solver ended is in the report. A completed run's checkpoint is removed.
+/// solver ended is in the report. A completed run's checkpoint is removed (unless
+/// `job.keep_checkpoint`).
 pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<DirectoryReport> {
     let duration = model.analysis.end_time();
     let mut progress = Progress {
@@ -238,7 +243,7 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
             job.out.display()
         );
     }
-    if outcome.is_ok() {
+    if outcome.is_ok() && !job.keep_checkpoint {
         directory.remove_checkpoint()?;
     }
     Ok(DirectoryReport {

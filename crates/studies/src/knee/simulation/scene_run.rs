@@ -56,7 +56,8 @@ pub struct SceneSquat {
 
 /// Run the squat of `activation` with `settings` on `geometry` with `fibers` as its
 /// scene, into `job.out`. Errors are those before the run and in writing its outputs;
-/// how the run went is in the result.
+/// how the run went is in the result. A completed squat keeps its last checkpoint: the
+/// study removes it once complete.
 pub fn run_squat_scene(
     geometry: &KneeGeometry,
     fibers: &FiberField,
@@ -110,6 +111,7 @@ pub fn run_squat_scene(
             frame_instants: &instants,
             log_header: job.log_header,
             setup_time: started.elapsed(),
+            keep_checkpoint: true,
             interrupted: job.interrupted,
             bar: job.bar,
             companion: Some(&mut recorder),
