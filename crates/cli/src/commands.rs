@@ -268,7 +268,7 @@ pub fn demo(args: &DemoArgs) -> Result<()> {
 /// `musclefem knee`, which Ctrl-C stops cleanly at each squat's next recorded instant
 /// (exit 130; `--resume` goes on from the last frames).
 pub fn knee(args: &musclefem_studies::knee::command::KneeArgs) -> Result<()> {
-    let interrupted = crate::scene_run::directory::interrupt_flag();
+    let interrupted = crate::scene_run::interrupt_flag();
     musclefem_studies::knee::command::knee(args, &interrupted)
 }
 

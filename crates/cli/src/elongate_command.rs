@@ -31,7 +31,8 @@ use musclefem_studies::elongation::{
 };
 
 use crate::commands::Interrupted;
-use crate::scene_run::directory::{DirectoryRun, interrupt_flag, run_into_directory};
+use crate::scene_run::interrupt_flag;
+use musclefem_studies::run_directory::{DirectoryRun, run_into_directory};
 
 /// Which tests to run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -235,13 +236,17 @@ fn run_one(
             beside: &[(SPECIMEN_MESH_FILE, &scene.mesh)],
             out: directory,
             start,
+            frame_instants: &[],
             log_header: format!(
                 "test = {label}\nelements = {}\nnodes = {}\n",
                 scene.specimen.mesh.element_count(),
                 scene.specimen.mesh.node_count()
             ),
             setup_time: started.elapsed(),
-            interrupted: interrupted.clone(),
+            keep_checkpoint: false,
+            interrupted,
+            bar: None,
+            companion: None,
         },
     )?;
     if let Some(time) = report.resumed_from {

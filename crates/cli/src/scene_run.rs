@@ -2,6 +2,8 @@
 //! a progress bar, and write the run directory (frames, PVD, history, scene copy, log).
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -20,10 +22,9 @@ use musclefem_studies::scene_check::{check_report, refuse_free_body};
 use musclefem_studies::solver::Solver;
 use musclefem_studies::threads::worker_threads;
 
-pub mod directory;
 mod tolerance;
 
-use directory::{DirectoryRun, interrupt_flag, run_into_directory};
+use musclefem_studies::run_directory::{DirectoryRun, run_into_directory};
 
 /// Print what the scene holds, or fail naming the file, line and key.
 pub fn check(args: &CheckArgs) -> Result<()> {
@@ -91,9 +92,13 @@ pub fn run(args: &RunArgs) -> Result<()> {
             beside: &[],
             out: &out,
             start,
+            frame_instants: &[],
             log_header: String::new(),
             setup_time: started.elapsed(),
-            interrupted: interrupt_flag(),
+            keep_checkpoint: false,
+            interrupted: &interrupt_flag(),
+            bar: None,
+            companion: None,
         },
     )?;
     let steps = report.steps();
@@ -145,4 +150,18 @@ fn switch_solver(model: &Model, choice: Solver) -> Analysis {
             Analysis::Implicit(ImplicitSettings::new(duration, increments).with_cutting())
         }
     }
+}
+
+/// A flag that Ctrl-C sets (the run then stops after its last complete frame); a second
+/// Ctrl-C while the first is being honoured kills the process as usual. Install once per
+/// process.
+pub fn interrupt_flag() -> Arc<AtomicBool> {
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    interrupted
 }

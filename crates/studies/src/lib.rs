@@ -30,6 +30,7 @@ pub mod interrupted;
 pub mod knee;
 pub mod material_point;
 pub mod progress;
+pub mod run_directory;
 pub mod scene_check;
 pub mod scene_study;
 pub mod solver;

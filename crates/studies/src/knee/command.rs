@@ -8,13 +8,15 @@
 //! - per run, `passive/` and `active/`: VTU frames and `result.pvd` (stress, von Mises,
 //!   fibers, activation), the bones at their pose in every frame (`rigid.pvd`: femur,
 //!   tibia, patella as body_id 0, 1, 2), `history.csv` (the solver's convergence and energies, forces
-//!   on every tie and interaction), `vm95.csv` (each muscle's vm95 at every recorded
+//!   on every tie and interaction, each part's vm95), `vm95.csv` (each muscle's vm95 at every recorded
 //!   instant), `newton.csv` (implicit: every increment's Newton residuals), `cuts.csv`
 //!   (implicit: every failed attempt that was cut, and why), `tendon.csv` (the
 //!   quadriceps' pull, the patellar tendon's force and strain, the patella's pose),
 //!   `plausibility.csv` (at 30°, 45°, 60°, 90° in both phases: each muscle's pull, the
 //!   patellar tendon's force, the knee extensor moment, the fiber stretch, the forces on
-//!   the femur, the tendons' peak stress) and `run.log`;
+//!   the femur, the tendons' peak stress), `run.log`, and `scene.toml` with the files it
+//!   names (`muscles.inp`, `fibers.csv`, `patella_table.csv`, the bones' OBJ files): the
+//!   squat as a scene that `musclefem run` reruns;
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
 //! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
@@ -38,15 +40,16 @@ use crate::knee::simulation::visible_human::{VISIBLE_HUMAN, visible_human_geomet
 use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::patella::write_tendon_csv;
 use crate::knee::simulation::peak_stress::{
-    TABLE_ANGLES_DEGREES, stage_peak_stress_csv, table_instants,
+    TABLE_ANGLES_DEGREES, peak_stress_from_history, stage_peak_stress_csv,
 };
 use crate::knee::simulation::plausibility::write_plausibility_csv;
 use crate::knee::simulation::resolution::resolution_rationale;
 use crate::knee::simulation::{
-    Activation, KneeGeometry, PeakStressRow, SquatRun, SquatSettings, run_squat,
+    Activation, KneeGeometry, PeakStressRow, SquatDirectory, SquatRun, SquatSettings,
+    run_squat_scene,
 };
 use crate::knee::{Anatomy, Quadriceps, Resolution};
-use musclefem_io::output::{CHECKPOINT_FILE, ExistingResults, FrameSchedule, RunLog, RunStart};
+use musclefem_io::output::{CHECKPOINT_FILE, ExistingResults, RunLog, RunStart};
 use musclefem_io::plot::stage_bar_png;
 
 #[derive(Debug, Args)]
@@ -297,7 +300,6 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     )
     .context("writing kinematics.csv")?;
     let fibers = geometry.fibers()?;
-    let mesh = geometry.fibered_mesh(&fibers)?;
     let muscle_elements: usize = (0..geometry.muscles.len())
         .map(|b| geometry.mesh.blocks[b].len())
         .sum();
@@ -358,12 +360,11 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             .iter()
             .map(|&activation| {
                 let bar = bars.add(progress_bar(settings.squat.duration, activation));
-                let (geometry, fibers, mesh, settings) = (&geometry, &fibers, &mesh, &settings);
+                let (geometry, fibers, settings) = (&geometry, &fibers, &settings);
                 scope.spawn(move || {
                     let squat = OneSquat {
                         geometry,
                         fibers,
-                        mesh,
                         activation,
                         settings,
                     };
@@ -464,8 +465,8 @@ use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, wr
 mod tables;
 use tables::{peak_stress_chart, table_text};
 
-mod watcher;
-use watcher::{Outputs, SquatProgress, progress_bar};
+mod bar;
+use bar::progress_bar;
 
 /// The message of a run stopped on request: Ctrl-C, or the other squat failed.
 const STOPPED_ON_REQUEST: &str = "stopped on request (Ctrl-C, or the other squat failed)";
@@ -474,13 +475,13 @@ const STOPPED_ON_REQUEST: &str = "stopped on request (Ctrl-C, or the other squat
 struct OneSquat<'a> {
     geometry: &'a KneeGeometry,
     fibers: &'a musclefem_fibers::FiberField,
-    /// The muscles' mesh with fibers.
-    mesh: &'a musclefem_core::mesh::Mesh,
     activation: Activation,
     settings: &'a SquatSettings,
 }
 
-/// One squat with its outputs under `--out DIR/<activation>`, its summary printed.
+/// One squat with its outputs under `--out DIR/<activation>`: its scene written there
+/// and run through the directory runner of `musclefem run`, the knee's tables beside;
+/// its summary printed.
 fn run_one(
     args: &KneeArgs,
     squat: &OneSquat<'_>,
@@ -492,67 +493,46 @@ fn run_one(
     let OneSquat {
         geometry,
         fibers,
-        mesh,
         activation,
         settings,
     } = *squat;
     let directory = args.out.join(activation.name());
-    let mut progress = SquatProgress {
-        bar,
-        stop,
-        stopped: false,
-    };
-    let mut watcher = Outputs {
-        root: directory.clone(),
-        start,
-        mesh,
+    let squat = run_squat_scene(
         geometry,
-        frames: FrameSchedule::new(
-            args.frame_interval,
-            settings.squat.duration,
-            &table_instants(&settings.squat)
-                .into_iter()
-                .map(|(_, _, time)| time)
-                .collect::<Vec<_>>(),
-        ),
-        identity: format!(
-            "knee {activation:?} {settings:?} frames every {} s",
-            args.frame_interval
-        ),
-        log_head: format!(
-            "activation = {}\nsolver = {}\nduration_s = {}\npeak_flexion_deg = {}\n",
-            activation.name(),
-            settings.solver.name(),
-            settings.squat.duration,
-            args.peak_flexion
-        ),
-        progress: Some(&mut progress),
-        writer: None,
-    };
-    let result = run_squat(geometry, fibers, activation, settings, &mut watcher);
-    let written = watcher.writer.take().map(|w| w.finish()).transpose()?;
-    let Some(written) = written else {
-        // The run failed before its outputs were opened.
-        return result.and_then(|_| bail!("the squat ended before it started"));
-    };
-    let output = written.directory;
+        fibers,
+        activation,
+        settings,
+        SquatDirectory {
+            out: &directory,
+            start,
+            frame_interval: args.frame_interval,
+            log_header: format!(
+                "activation = {}
+solver = {}
+duration_s = {}
+peak_flexion_deg = {}
+",
+                activation.name(),
+                settings.solver.name(),
+                settings.squat.duration,
+                args.peak_flexion
+            ),
+            interrupted: stop,
+            bar: Some(bar.clone()),
+        },
+    )?;
+    let output = squat.directory;
     let ended = |end: &str| {
         output.write_run_log(&RunLog::new(format!(
             "activation = {}\nend = {end}\n",
             activation.name()
         )))
     };
-    if progress.stopped {
+    if squat.stopped {
         ended("stopped on request (Ctrl-C, or the other squat failed); --resume goes on")?;
         bail!(STOPPED_ON_REQUEST);
     }
-    if let Some(error) = written.write_error {
-        return Err(error).context("writing the outputs failed");
-    }
-    if let Some(error) = written.fields_error {
-        return Err(error).context("evaluating a frame's element fields failed");
-    }
-    let run = match result {
+    let mut run = match squat.run {
         Ok(run) => run,
         Err(error) => {
             ended(&format!(
@@ -562,6 +542,21 @@ fn run_one(
             return Err(error);
         }
     };
+    // The table's vm95 from the history's columns (which `musclefem run` of the scene
+    // writes too); the recorder's rows keep where the peaks lie.
+    let bellies: Vec<&str> = (0..geometry.muscles.len())
+        .map(|m| geometry.block_name(m))
+        .collect();
+    let from_history = peak_stress_from_history(
+        &directory.join(musclefem_io::output::HISTORY_FILE),
+        &bellies,
+        &geometry.muscles,
+        &settings.squat,
+        activation,
+    )?;
+    for (row, history_row) in run.rows.iter_mut().zip(from_history) {
+        row.vm95 = history_row.vm95;
+    }
     write_vm95(&directory.join("vm95.csv"), &geometry.muscles, &run.samples)?;
     if !run.newton_steps.is_empty() {
         write_newton_steps(&directory.join("newton.csv"), &run.newton_steps)?;

@@ -7,6 +7,11 @@
 //! (`PoseFollower::save_state`): the run then computes what the uninterrupted one
 //! computes, bit for bit (`musclefem_core::solver::checkpoint`).
 //!
+//! The patella's reports are stored too: beside a scene's run the recorder's patella is
+//! its own copy of the scene's (see `Recorder::observes_patella`), which the solver's
+//! checkpoint does not hold; reading them into the solver's own patella, which the solver
+//! then restores too, changes nothing.
+//!
 //! Not stored: the solver's per-increment reports (`newton.csv`, `cuts.csv`), which a
 //! resumed run has only from the checkpoint on.
 
@@ -50,6 +55,7 @@ pub(super) fn save_study(recorder: &Recorder) -> Vec<u8> {
             out.u64(approach.node as u64);
         }
     }
+    recorder.patella.save_reports(&mut out);
     out.into_bytes()
 }
 
@@ -86,6 +92,7 @@ pub(super) fn restore_study(recorder: &mut Recorder, bytes: &[u8]) -> Result<(),
             node: input.index()?,
         }),
     };
+    recorder.patella.restore_reports(&mut input)?;
     input.finish()
 }
 

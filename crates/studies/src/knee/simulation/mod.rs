@@ -60,10 +60,12 @@ pub mod plausibility;
 mod recorder;
 pub mod resolution;
 pub mod run;
+pub mod scene;
 pub mod scene_bones;
 pub mod scene_files;
 pub mod scene_interactions;
 pub mod scene_materials;
+pub mod scene_run;
 pub mod scene_step;
 #[cfg(test)]
 mod scene_tests;
@@ -73,3 +75,5 @@ pub mod visible_human;
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
 pub use run::{SquatResume, SquatRun, SquatSettings, SquatStart, SquatWatcher, run_squat};
+pub use scene::SquatScene;
+pub use scene_run::{SceneSquat, SquatDirectory, run_squat_scene};

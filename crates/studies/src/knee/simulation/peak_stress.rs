@@ -220,6 +220,46 @@ pub fn peak_stress_rows(
     Ok(rows)
 }
 
+/// The vm95 column of block `name` in a scene run's `history.csv`
+/// (`[output] von_mises_percentile = 95`).
+pub fn vm95_column(name: &str) -> String {
+    format!("von_mises_p95_{name}_pa")
+}
+
+/// The rows of [`peak_stress_rows`] from a scene run's `history.csv` at `path`: each
+/// muscle's vm95 interpolated from its belly's column [`vm95_column`] (`bellies`: the
+/// muscles' block names, in the order of `muscles`). The history holds no peak
+/// locations: the rows' are empty.
+pub fn peak_stress_from_history(
+    path: &Path,
+    bellies: &[&str],
+    muscles: &[Quadriceps],
+    squat: &Squat,
+    activation: Activation,
+) -> Result<Vec<PeakStressRow>> {
+    let (names, columns) = musclefem_io::csv::read_columns(path)?;
+    let column = |name: &str| -> Result<&Vec<f64>> {
+        match names.iter().position(|n| n == name) {
+            Some(i) => Ok(&columns[i]),
+            None => bail!("{} has no column '{name}'", path.display()),
+        }
+    };
+    let time = column("time_s")?;
+    let vm95 = (bellies.iter())
+        .map(|belly| column(&vm95_column(belly)))
+        .collect::<Result<Vec<_>>>()?;
+    let samples: Vec<StressSample> = (0..time.len())
+        .map(|i| StressSample {
+            time: time[i],
+            flexion: squat.flexion_at(time[i]),
+            vm95: vm95.iter().map(|column| column[i]).collect(),
+            location: vec![PeakLocation::default(); bellies.len()],
+            min_jacobian_ratio: f64::NAN,
+        })
+        .collect();
+    peak_stress_rows(&samples, muscles, squat, activation)
+}
+
 /// `peak_stress.csv` of `rows`, staged for `path`.
 pub fn stage_peak_stress_csv(path: &Path, rows: &[PeakStressRow]) -> Result<PendingFile> {
     let mut text = format!("{PEAK_STRESS_CSV_HEADER}\n");

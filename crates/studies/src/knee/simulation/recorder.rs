@@ -21,8 +21,11 @@ use super::patella_clearance::PatellaClearance;
 use super::peak_stress::{ElementRegions, StressSample, percentile};
 use super::plausibility::{PlausibilitySample, extensor_moment};
 
-use super::checkpoint::save_study;
+use super::checkpoint::{restore_study, save_study};
+use super::interactions::KneeInteractions;
+use super::model::{KneeGeometry, KneeModel};
 use super::run::SquatWatcher;
+use crate::run_directory::RunCompanion;
 
 /// The solver's result, unless the recorder stopped it with an error of its own.
 pub(super) fn finish<T>(result: Result<T>, recorder: &mut Recorder) -> Result<T> {
@@ -50,7 +53,11 @@ pub(super) struct Recorder<'a> {
     /// The patella, told the quadriceps' pull at every report.
     pub(super) patella: &'a TendonPatella,
     /// The knee's landmarks (the patellar tendon's attachments).
-    pub(super) dimensions: &'a KneeDimensions,
+    pub(super) dimensions: KneeDimensions,
+    /// Whether the recorder tells `patella` the pull itself: beside a scene's run, whose
+    /// solver tells the scene's own patella (the same follower on the same table, so both
+    /// take the same poses), rather than the run of the knee's model.
+    pub(super) observes_patella: bool,
     pub(super) insertion_ties: &'a [usize],
     pub(super) tendon: Vec<TendonRow>,
     /// The muscles' nodes against the patella (which has no contact surface).
@@ -99,6 +106,45 @@ pub(super) fn element_map(
                 .collect::<Vec<_>>()
         })
         .collect()
+}
+
+impl<'a> Recorder<'a> {
+    /// The recorder of `geometry`'s squat on `model` with the interactions `built`, whose
+    /// muscles' elements lie in `regions`, telling `watcher`; `observes_patella`: see the
+    /// field.
+    pub(super) fn new(
+        geometry: &KneeGeometry,
+        model: &'a KneeModel,
+        built: &KneeInteractions,
+        regions: &'a [ElementRegions],
+        squat: &'a Squat,
+        watcher: &'a mut dyn SquatWatcher,
+        observes_patella: bool,
+    ) -> Result<Self> {
+        Ok(Recorder {
+            mesh: &model.mesh,
+            reference_volumes: reference_volumes(&model.mesh),
+            regions,
+            squat,
+            samples: Vec::new(),
+            watcher,
+            error: None,
+            largest_energy: 0.0,
+            energy_error: 0.0,
+            stall: StallDetector::default(),
+            patella: &model.patella,
+            dimensions: geometry.dimensions,
+            observes_patella,
+            insertion_ties: &model.insertion_ties,
+            tendon: Vec::new(),
+            patella_clearance: PatellaClearance::new(geometry)?,
+            muscle_count: geometry.muscles.len(),
+            tendon_blocks: geometry.tendon_blocks().collect(),
+            femur_interfaces: built.femur_interfaces.clone(),
+            femur_contacts: built.femur_contacts.clone(),
+            plausibility: Vec::new(),
+        })
+    }
 }
 
 impl Recorder<'_> {
@@ -160,7 +206,7 @@ impl Recorder<'_> {
             flexion: self.squat.flexion_at(time),
             insertion_pull,
             tendon_force: applied.tendon_force,
-            extensor_moment: extensor_moment(self.dimensions, &applied),
+            extensor_moment: extensor_moment(&self.dimensions, &applied),
             fiber_stretch_median: 1.0,
             fiber_stretch_p95: 1.0,
             femur_interface_force: per_muscle(&self.femur_interfaces),
@@ -306,6 +352,10 @@ impl Observer for Recorder<'_> {
         if let Some(writer) = self.watcher.run_writer() {
             writer.record(record, snapshot)?;
         }
+        if self.observes_patella {
+            self.patella
+                .observe(record.time(), record.rigid_reactions());
+        }
         self.report_pull(
             record.time(),
             record.rigid_reactions(),
@@ -349,6 +399,19 @@ impl Observer for Recorder<'_> {
         } else {
             ControlFlow::Continue(())
         }
+    }
+}
+
+/// Beside a scene's run ([`crate::run_directory`]): its state (and the patella's) goes
+/// into the run's checkpoints.
+impl RunCompanion for Recorder<'_> {
+    fn save_state(&mut self) -> Vec<u8> {
+        save_study(self)
+    }
+
+    fn restore_state(&mut self, state: &[u8]) -> Result<()> {
+        restore_study(self, state)
+            .map_err(|e| anyhow::anyhow!("the knee's state in the checkpoint: {e}"))
     }
 }
 

@@ -21,14 +21,15 @@ use musclefem_io::scene::dissipative_newmark;
 
 use super::super::anatomy::Squat;
 use super::checkpoint::restore_study;
-use super::interactions::{InteractionSummary, InterfaceLaw, knee_interactions};
+use super::interactions::{InteractionSummary, InterfaceLaw, KneeInteractions, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::TendonRow;
-use super::patella_clearance::{PatellaApproach, PatellaClearance};
+use super::patella_clearance::PatellaApproach;
 use super::peak_stress::{ElementRegions, PeakStressRow, StressSample, peak_stress_rows};
 use super::plausibility::{PlausibilityRow, PlausibilitySample, plausibility_rows};
-use super::recorder::{Recorder, StallDetector, finish, reference_volumes};
+use super::recorder::{Recorder, finish};
 use crate::elongation::{ElementChoice, Solver};
+use crate::knee::Quadriceps;
 
 /// How a squat is run.
 #[derive(Clone, Debug, PartialEq)]
@@ -255,18 +256,7 @@ pub fn run_squat(
         model.material.as_ref(),
         settings.interfaces,
     )?;
-    let regions: Vec<ElementRegions> = (0..geometry.muscles.len())
-        .map(|b| {
-            let block = &model.mesh.blocks[b];
-            let offset = fibers.block_offsets[b];
-            ElementRegions::new(
-                fibers.potential[offset..offset + block.len()].to_vec(),
-                &block.connectivity,
-                block.shape.nodes_per_element(),
-                &built.interface_nodes,
-            )
-        })
-        .collect();
+    let regions = element_regions(geometry, &model.mesh, fibers, &built);
     let resume_from = watcher.start(&SquatStart {
         mesh: &model.mesh,
         rigid_ties: model
@@ -279,28 +269,15 @@ pub fn run_squat(
         solver: settings.solver,
         patella: musclefem_core::solver::RigidMotion::followed(model.patella.clone()),
     })?;
-    let mut recorder = Recorder {
-        mesh: &model.mesh,
-        reference_volumes: reference_volumes(&model.mesh),
-        regions: &regions,
-        squat: &settings.squat,
-        samples: Vec::new(),
+    let mut recorder = Recorder::new(
+        geometry,
+        &model,
+        &built,
+        &regions,
+        &settings.squat,
         watcher,
-        error: None,
-        largest_energy: 0.0,
-        energy_error: 0.0,
-        stall: StallDetector::default(),
-        patella: &model.patella,
-        dimensions: &geometry.dimensions,
-        insertion_ties: &model.insertion_ties,
-        tendon: Vec::new(),
-        patella_clearance: PatellaClearance::new(geometry)?,
-        muscle_count: geometry.muscles.len(),
-        tendon_blocks: geometry.tendon_blocks().collect(),
-        femur_interfaces: built.femur_interfaces.clone(),
-        femur_contacts: built.femur_contacts.clone(),
-        plausibility: Vec::new(),
-    };
+        false,
+    )?;
     let context = || {
         format!(
             "{} {} squat ({} elements)",
@@ -315,7 +292,6 @@ pub fn run_squat(
             .context("the knee's state in the checkpoint")
             .with_context(context)?;
     }
-    let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
     let analysis = squat_analysis(settings, &geometry.motions.femur);
     let mut interactions = built.solver_interactions();
     let problem = Problem {
@@ -330,6 +306,49 @@ pub fn run_squat(
     };
     let outcome =
         finish(outcome.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
+    squat_result(
+        &mut recorder,
+        outcome,
+        (activation, settings, &geometry.muscles),
+        built.summaries,
+        started.elapsed(),
+        resume_from.map(|point| point.solver.time),
+    )
+}
+
+/// The regions (origin, insertion, interface, belly) of every muscle's elements of
+/// `mesh`, from the fibers' flow potential and the interfaces' nodes of `built`.
+pub(super) fn element_regions(
+    geometry: &KneeGeometry,
+    mesh: &musclefem_core::mesh::Mesh,
+    fibers: &FiberField,
+    built: &KneeInteractions,
+) -> Vec<ElementRegions> {
+    (0..geometry.muscles.len())
+        .map(|b| {
+            let block = &mesh.blocks[b];
+            let offset = fibers.block_offsets[b];
+            ElementRegions::new(
+                fibers.potential[offset..offset + block.len()].to_vec(),
+                &block.connectivity,
+                block.shape.nodes_per_element(),
+                &built.interface_nodes,
+            )
+        })
+        .collect()
+}
+
+/// The squat's result from what `recorder` gathered and the solver's `outcome`, after
+/// `solve_time` (from the checkpoint at `resumed_from` [s], if it went on from one).
+pub(super) fn squat_result(
+    recorder: &mut Recorder,
+    outcome: Outcome,
+    (activation, settings, muscles): (Activation, &SquatSettings, &[Quadriceps]),
+    interactions: Vec<InteractionSummary>,
+    solve_time: Duration,
+    resumed_from: Option<f64>,
+) -> Result<SquatRun> {
+    let (mut newton_steps, mut cut_attempts) = (Vec::new(), Vec::new());
     let (steps, newton_iterations, cuts, implicit_times, added_mass_fraction) = match outcome {
         Outcome::Implicit(result) => {
             let iterations = result.steps.iter().map(|s| s.iterations).sum();
@@ -351,8 +370,6 @@ pub fn run_squat(
             Some(result.added_mass_fraction),
         ),
     };
-    let solve_time = started.elapsed();
-    let muscles = &geometry.muscles;
     let rows = peak_stress_rows(&recorder.samples, muscles, &settings.squat, activation)?;
     let plausibility_table = plausibility_rows(&recorder.plausibility, &settings.squat)?;
     let energy_error = added_mass_fraction
@@ -361,9 +378,9 @@ pub fn run_squat(
         activation,
         samples: std::mem::take(&mut recorder.samples),
         rows,
-        interactions: built.summaries,
-        elements: model.mesh.element_count(),
-        nodes: model.mesh.node_count(),
+        interactions,
+        elements: recorder.mesh.element_count(),
+        nodes: recorder.mesh.node_count(),
         solve_time,
         steps,
         newton_iterations,
@@ -377,7 +394,7 @@ pub fn run_squat(
         patella_approach: recorder.patella_clearance.closest,
         plausibility: std::mem::take(&mut recorder.plausibility),
         plausibility_rows: plausibility_table,
-        resumed_from: resume_from.map(|point| point.solver.time),
+        resumed_from,
     })
 }
 

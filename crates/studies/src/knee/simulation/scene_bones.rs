@@ -35,34 +35,48 @@ pub const TIBIA_OBJ: &str = "tibia.obj";
 /// The patella's surface file (in the patella's own frame, placed by its follower).
 pub const PATELLA_OBJ: &str = "patella.obj";
 
-/// Write `femur.obj` (with `geometry.femur_normals` when it has them), `tibia.obj` and
-/// `patella.obj` of `geometry`'s bones into `directory` (atomically, each), coordinates
-/// in metres.
-pub fn write_bone_files(directory: &Path, geometry: &KneeGeometry) -> Result<()> {
-    let write = |name: &str, comment: &str, bone: &TriangleSurface, normals| {
-        let path = directory.join(name);
-        let text = obj_text(comment, &bone.vertices, &bone.triangles, normals);
-        musclefem_io::atomic::write_atomically(&path, text.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))
+/// `femur.obj` (with `geometry.femur_normals` when it has them), `tibia.obj` and
+/// `patella.obj` of `geometry`'s bones, coordinates in metres: (file name, text) each.
+pub fn bone_files(geometry: &KneeGeometry) -> Vec<(&'static str, String)> {
+    let obj = |comment: &str, bone: &TriangleSurface, normals| {
+        obj_text(comment, &bone.vertices, &bone.triangles, normals)
     };
-    write(
-        FEMUR_OBJ,
-        "musclefem knee: the femur at 0° of flexion [m], normals from its implicit shape",
-        &geometry.femur,
-        geometry.femur_normals.as_deref(),
-    )?;
-    write(
-        TIBIA_OBJ,
-        "musclefem knee: the tibia at 0° of flexion [m]",
-        &geometry.tibia,
-        None,
-    )?;
-    write(
-        PATELLA_OBJ,
-        "musclefem knee: the patella in its own frame [m]",
-        &geometry.patella,
-        None,
-    )
+    vec![
+        (
+            FEMUR_OBJ,
+            obj(
+                "musclefem knee: the femur at 0° of flexion [m], normals from its implicit shape",
+                &geometry.femur,
+                geometry.femur_normals.as_deref(),
+            ),
+        ),
+        (
+            TIBIA_OBJ,
+            obj(
+                "musclefem knee: the tibia at 0° of flexion [m]",
+                &geometry.tibia,
+                None,
+            ),
+        ),
+        (
+            PATELLA_OBJ,
+            obj(
+                "musclefem knee: the patella in its own frame [m]",
+                &geometry.patella,
+                None,
+            ),
+        ),
+    ]
+}
+
+/// Write the [`bone_files`] into `directory` (atomically, each).
+pub fn write_bone_files(directory: &Path, geometry: &KneeGeometry) -> Result<()> {
+    for (name, text) in bone_files(geometry) {
+        let path = directory.join(name);
+        musclefem_io::atomic::write_atomically(&path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
 }
 
 /// The `[[rigid_bodies]]` entries of `geometry`'s bones, femur, tibia and patella, on

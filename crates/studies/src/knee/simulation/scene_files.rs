@@ -10,9 +10,8 @@
 //! faces as the Abaqus reader does).
 //!
 //! Parts take the file's blocks with `shared_nodes = true`, so that a belly and its
-//! tendon stay joined (`super::scene_tests` builds the whole model from these files).
-//! Not yet: `musclefem knee` writing them with its `scene.toml` (see `docs/design.md`,
-//! "One run, one observer").
+//! tendon stay joined (`super::scene_tests` builds the whole model from these files;
+//! `musclefem knee` writes them with its `scene.toml`, [`super::scene`]).
 
 use std::path::Path;
 
@@ -54,20 +53,27 @@ pub fn fiber_rows(mesh: &Mesh) -> Vec<FiberRow> {
     rows
 }
 
-/// Write `muscles.inp` and `fibers.csv` of the fibered muscle mesh `mesh`, and
-/// `patella_table.csv` of `table`, into `directory` (atomically, each).
+/// `muscles.inp` and `fibers.csv` of the fibered muscle mesh `mesh`, and
+/// `patella_table.csv` of `table`: (file name, text) each.
+pub fn model_files(mesh: &Mesh, table: &PatellaTable) -> Vec<(&'static str, String)> {
+    vec![
+        (
+            MUSCLES_INP,
+            abaqus_text(mesh, "musclefem knee: the quadriceps, bellies and tendons"),
+        ),
+        (FIBERS_CSV, format_fibers_csv(&fiber_rows(mesh))),
+        (PATELLA_TABLE_CSV, table.csv_text()),
+    ]
+}
+
+/// Write the [`model_files`] into `directory` (atomically, each).
 pub fn write_model_files(directory: &Path, mesh: &Mesh, table: &PatellaTable) -> Result<()> {
-    let write = |name: &str, text: String| {
+    for (name, text) in model_files(mesh, table) {
         let path = directory.join(name);
         musclefem_io::atomic::write_atomically(&path, text.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))
-    };
-    write(
-        MUSCLES_INP,
-        abaqus_text(mesh, "musclefem knee: the quadriceps, bellies and tendons"),
-    )?;
-    write(FIBERS_CSV, format_fibers_csv(&fiber_rows(mesh)))?;
-    table.write_csv(&directory.join(PATELLA_TABLE_CSV))
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

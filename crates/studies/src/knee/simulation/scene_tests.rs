@@ -7,7 +7,6 @@
 //! nodes) — and its interactions, each as the knee builds it (bonds, penalties,
 //! surfaces), for both interface laws.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -15,21 +14,16 @@ use nalgebra::Vector3;
 
 use musclefem_contact::{ContactTarget, DeformableSurface, PenaltyContact};
 use musclefem_core::solver::{PoseFollower, RigidMotion, RigidReaction};
-use musclefem_io::csv::format_number;
 use musclefem_io::scene::{InteractionModel, load_scene};
 use musclefem_materials::MaterialLibrary;
 
 use super::interactions::{InterfaceLaw, knee_interactions};
-use super::model::{Activation, KneeGeometry, KneeModel, MUSCLE_DENSITY, TENDON_DENSITY};
+use super::model::{Activation, KneeGeometry, KneeModel};
 use super::run::{SquatSettings, squat_analysis};
-use super::scene_bones::{FEMUR_BODY, knee_bone_entries, write_bone_files};
-use super::scene_files::{FIBERS_CSV, MUSCLES_INP, write_model_files};
+use super::scene::SquatScene;
 use super::scene_interactions::knee_interaction_entries;
-use super::scene_materials::knee_material_entries;
-use super::scene_step::squat_step_entry;
-use super::scene_ties::knee_tie_entries;
 use crate::elongation::{ElementChoice, Solver};
-use crate::knee::anatomy::{Anatomy, Resolution, Squat, Tissue};
+use crate::knee::anatomy::{Anatomy, Resolution, Squat};
 
 /// The coarse knee of a 10° squat for the scene tests: its geometry, its model (active),
 /// the squat's settings (implicit).
@@ -54,8 +48,8 @@ fn coarse_knee() -> (KneeGeometry, KneeModel, SquatSettings) {
     (geometry, knee, settings)
 }
 
-/// Write the knee's scene into `directory`: its files, materials, parts, ties, bones,
-/// `interactions` (entries, or nothing) and step; returns the scene file's path.
+/// Write the knee's scene into `directory`: its files and `scene.toml` with
+/// `interactions` (entries, or nothing); returns the scene file's path.
 fn write_knee_scene(
     directory: &Path,
     geometry: &KneeGeometry,
@@ -64,44 +58,16 @@ fn write_knee_scene(
     interactions: &str,
 ) -> PathBuf {
     std::fs::create_dir_all(directory).unwrap();
-    write_model_files(directory, &knee.mesh, &geometry.patella_table).unwrap();
-    let muscles: Vec<(&str, f64)> = (0..geometry.muscles.len())
-        .map(|m| (geometry.block_name(m), geometry.passive_slack[m]))
-        .collect();
-    let mut text = format!(
-        "schema_version = 1\n\n{}\n",
-        knee_material_entries(&muscles, Activation::Active, &settings.squat)
-    );
-    for (b, role) in geometry.roles.iter().enumerate() {
-        let muscle = geometry
-            .muscles
-            .iter()
-            .position(|&m| m == role.muscle)
-            .unwrap();
-        let (material, density) = match role.tissue {
-            Tissue::Muscle => (
-                format!("{}_muscle", geometry.block_name(muscle)),
-                MUSCLE_DENSITY,
-            ),
-            Tissue::Tendon => ("tendon".to_string(), TENDON_DENSITY),
-        };
-        let _ = writeln!(
-            text,
-            "[[parts]]\nname = {name:?}\nmaterial = {material:?}\nelement = \"hex8-fbar\"\n\
-             density = {}\nmesh = {{ file = {MUSCLES_INP:?}, block = {name:?}, shared_nodes = true \
-             }}\n\
-             fibers = {{ file = {FIBERS_CSV:?} }}\n",
-            format_number(density),
-            name = geometry.block_name(b),
-        );
-    }
-    text.push_str(&knee_tie_entries(geometry).unwrap());
-    write_bone_files(directory, geometry).unwrap();
-    text.push_str(&knee_bone_entries(geometry));
-    text.push_str(interactions);
-    text.push_str(&squat_step_entry(settings, FEMUR_BODY));
+    let scene = SquatScene {
+        geometry,
+        mesh: &knee.mesh,
+        activation: Activation::Active,
+        settings,
+        interactions: interactions.to_string(),
+    };
+    scene.write_files(directory).unwrap();
     let path = directory.join("scene.toml");
-    std::fs::write(&path, &text).unwrap();
+    std::fs::write(&path, scene.text(0.05).unwrap()).unwrap();
     path
 }
 

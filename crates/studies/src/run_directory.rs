@@ -1,14 +1,15 @@
-//! A scene's model run into a run directory: the one loop behind `musclefem run` and
-//! `musclefem elongate` (which writes its test as a scene and runs it here). Frames,
-//! `result.pvd` (and the rigid bodies' `rigid.pvd`), `history.csv`, checkpoints, the scene copy (with the files it names
-//! beside it) and `run.log` are written by `musclefem_io::output::RunWriter`; a progress
-//! bar (or, without a terminal, a log line every tenth of the run) follows the
-//! simulated time, and Ctrl-C stops the run after its last complete frame.
+//! A scene's model run into a run directory: the one loop behind `musclefem run`,
+//! `musclefem elongate` and `musclefem knee` (which write their tests and squats as
+//! scenes and run them here, the knee with its own observer beside the writer). Frames,
+//! `result.pvd` (and the rigid bodies' `rigid.pvd`), `history.csv`, checkpoints, the
+//! scene copy (with the files it names beside it) and `run.log` are written by
+//! `musclefem_io::output::RunWriter`; a progress bar (or, without a terminal, a log line
+//! every tenth of the run) follows the simulated time, and Ctrl-C stops the run after
+//! its last complete frame.
 
 use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::Path;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -16,16 +17,17 @@ use anyhow::Result;
 use indicatif::ProgressBar;
 
 use musclefem_core::solver::amg_cg::amg_cg_summary;
-use musclefem_core::solver::{Outcome, Record, SolverError};
+use musclefem_core::solver::{Checkpoint, Observer, Outcome, Record, Snapshot, SolverError};
 use musclefem_io::OutputError;
 use musclefem_io::output::run_directory::HISTORY_FILE;
 use musclefem_io::output::{
     CHECKPOINT_FILE, FrameSchedule, HistoryWriter, RunDirectory, RunLog, RunProgress, RunStart,
-    RunWriter,
+    RunWriter, StudyRunWriter,
 };
 use musclefem_io::scene::Model;
 use musclefem_io::write_atomically;
-use musclefem_studies::progress::{LINE_EVERY, progress_line, show_time, simulated_time_bar};
+
+use crate::progress::{LINE_EVERY, progress_line, show_time, simulated_time_bar};
 
 /// What a run into a directory needs besides the model.
 pub struct DirectoryRun<'a> {
@@ -38,12 +40,68 @@ pub struct DirectoryRun<'a> {
     pub beside: &'a [(&'a str, &'a str)],
     pub out: &'a Path,
     pub start: RunStart,
+    /// Frame instants [s] besides those of the scene's `frame_interval` (the knee's
+    /// table angles).
+    pub frame_instants: &'a [f64],
     /// Lines at the top of `run.log` (each ending in a newline).
     pub log_header: String,
     /// Time spent reading and building the model (logged).
     pub setup_time: Duration,
-    /// Set by Ctrl-C: the run stops after its last complete frame.
-    pub interrupted: Arc<AtomicBool>,
+    /// Whether a completed run keeps its last checkpoint, for the caller to remove (the
+    /// knee keeps each squat's until the study is complete, so that `--resume` after a
+    /// stop of the other squat finds both); otherwise it is removed.
+    pub keep_checkpoint: bool,
+    /// Set by Ctrl-C (or, for one of the knee's squats, by the other failing): the run
+    /// stops after its last complete frame.
+    pub interrupted: &'a AtomicBool,
+    /// The bar to draw the run's progress on (one of several side by side); `None`: a
+    /// bar of its own on a terminal, else a plain line every tenth of the run.
+    pub bar: Option<ProgressBar>,
+    /// An observer beside the writer (the knee's tables), its state in every checkpoint.
+    pub companion: Option<&'a mut dyn RunCompanion>,
+}
+
+/// An observer that runs beside the run's writer: it sees every recorded instant after
+/// the writer, and its state is stored with each checkpoint (and read back before a
+/// resumed run goes on), so that a resumed run's companion has what it had.
+pub trait RunCompanion: Observer {
+    /// Its state at a checkpoint.
+    fn save_state(&mut self) -> Vec<u8>;
+    /// Go on from `state`, which [`Self::save_state`] wrote.
+    fn restore_state(&mut self, state: &[u8]) -> Result<()>;
+}
+
+/// The writer and the companion as the solver's one observer: the writer decides when a
+/// checkpoint is due and writes it with the companion's state.
+struct Beside<'w, 'a> {
+    writer: &'w mut RunWriter<'a>,
+    companion: &'w mut dyn RunCompanion,
+}
+
+impl Observer for Beside<'_, '_> {
+    fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.writer.start(snapshot)?;
+        self.companion.start(snapshot)
+    }
+
+    fn record(&mut self, record: &Record, snapshot: &Snapshot) -> ControlFlow<()> {
+        self.writer.record(record, snapshot)?;
+        self.companion.record(record, snapshot)
+    }
+
+    fn wants_checkpoint(&mut self) -> bool {
+        self.writer.wants_checkpoint()
+    }
+
+    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
+        let state = self.companion.save_state();
+        self.writer.checkpoint_with_study(checkpoint, state)
+    }
+
+    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
+        self.writer.progress(time, steps)?;
+        self.companion.progress(time, steps)
+    }
 }
 
 /// How a run into a directory went.
@@ -66,13 +124,14 @@ impl DirectoryReport {
 }
 
 /// Run `model` into `job.out`. Writing errors (frames, history, log) are errors; how the
-/// solver ended is in the report. A completed run's checkpoint is removed.
+/// solver ended is in the report. A completed run's checkpoint is removed (unless
+/// `job.keep_checkpoint`).
 pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<DirectoryReport> {
     let duration = model.analysis.end_time();
     let mut progress = Progress {
         model,
-        bar: progress_bar(duration),
-        log_lines: !std::io::stderr().is_terminal(),
+        log_lines: job.bar.is_none() && !std::io::stderr().is_terminal(),
+        bar: job.bar.unwrap_or_else(|| progress_bar(duration)),
         next_log: 0.0,
         started: Instant::now(),
         interrupted: job.interrupted,
@@ -83,7 +142,7 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
         &model.history_columns(),
         &model.analysis,
     )?;
-    let frames = FrameSchedule::new(model.frame_interval, duration, &[]);
+    let frames = FrameSchedule::new(model.frame_interval, duration, job.frame_instants);
     let fingerprint = model.fingerprint(job.scene_text, &model.analysis);
     let (writer, resumed) = RunWriter::open(
         job.out,
@@ -103,6 +162,10 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
         write_atomically(&job.out.join(name), text.as_bytes())?;
     }
     writer.directory().write_scene(job.scene_text)?;
+    let mut companion = job.companion;
+    if let (Some(_), Some(companion)) = (&resumed, companion.as_deref_mut()) {
+        companion.restore_state(writer.resumed_study())?;
+    }
     let resumed_from = resumed.as_ref().map(|c| c.time);
     let resumed_line = resumed_from.map_or(String::new(), |time| {
         format!("resumed = from the checkpoint at t = {time:e} s\n")
@@ -119,9 +182,22 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
          without being able to)\n"
     )))?;
     let solve_started = Instant::now();
-    let outcome = match &resumed {
-        Some(checkpoint) => model.resume_with(&model.analysis, checkpoint, &mut writer),
-        None => model.run(&mut writer),
+    let outcome = {
+        let mut beside;
+        let observer: &mut dyn Observer = match companion {
+            Some(companion) => {
+                beside = Beside {
+                    writer: &mut writer,
+                    companion,
+                };
+                &mut beside
+            }
+            None => &mut writer,
+        };
+        match &resumed {
+            Some(checkpoint) => model.resume_with(&model.analysis, checkpoint, observer),
+            None => model.run(observer),
+        }
     };
     let solve_time = solve_started.elapsed();
     let written = writer.finish()?;
@@ -167,7 +243,7 @@ pub fn run_into_directory(model: &Model, job: DirectoryRun<'_>) -> Result<Direct
             job.out.display()
         );
     }
-    if outcome.is_ok() {
+    if outcome.is_ok() && !job.keep_checkpoint {
         directory.remove_checkpoint()?;
     }
     Ok(DirectoryReport {
@@ -198,7 +274,7 @@ struct Progress<'a> {
     log_lines: bool,
     next_log: f64,
     started: Instant,
-    interrupted: Arc<AtomicBool>,
+    interrupted: &'a AtomicBool,
     last_row: String,
 }
 
@@ -217,6 +293,7 @@ impl RunProgress for Progress<'_> {
             record.time(),
             reactions.join(", ")
         );
+        show_time(&self.bar, record.time(), self.model.analysis.end_time());
         ControlFlow::Continue(())
     }
 
@@ -234,18 +311,4 @@ impl RunProgress for Progress<'_> {
             ControlFlow::Continue(())
         }
     }
-}
-
-/// A flag that Ctrl-C sets (the run then stops after its last complete frame); a second
-/// Ctrl-C while the first is being honoured kills the process as usual. Install once per
-/// process.
-pub fn interrupt_flag() -> Arc<AtomicBool> {
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-    });
-    interrupted
 }
