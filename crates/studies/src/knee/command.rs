@@ -36,7 +36,6 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 use crate::elongation::{ElementChoice, Solver};
 use crate::interrupted::Interrupted;
 use crate::knee::anatomy::export::write_anatomy;
-use crate::knee::simulation::visible_human::{VISIBLE_HUMAN, visible_human_geometry};
 use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::patella::write_tendon_csv;
 use crate::knee::simulation::peak_stress::{
@@ -44,6 +43,7 @@ use crate::knee::simulation::peak_stress::{
 };
 use crate::knee::simulation::plausibility::write_plausibility_csv;
 use crate::knee::simulation::resolution::resolution_rationale;
+use crate::knee::simulation::visible_human::{VISIBLE_HUMAN, visible_human_geometry};
 use crate::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, SquatDirectory, SquatRun, SquatSettings,
     run_squat_scene,

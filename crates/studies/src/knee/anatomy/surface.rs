@@ -47,14 +47,12 @@ impl TriangleSurface {
     /// Centroid of the enclosed volume [m]: Σ V_t (a + b + c)/4 / Σ V_t over the
     /// tetrahedra (0, a, b, c) of the triangles, V_t = a·(b × c)/6.
     pub fn volume_centroid(&self) -> Vector3<f64> {
-        let (moment, volume) = (0..self.triangles.len()).fold(
-            (Vector3::zeros(), 0.0),
-            |(moment, volume), t| {
+        let (moment, volume) =
+            (0..self.triangles.len()).fold((Vector3::zeros(), 0.0), |(moment, volume), t| {
                 let [a, b, c] = self.corners(t);
                 let v = a.dot(&b.cross(&c)) / 6.0;
                 (moment + v * (a + b + c) / 4.0, volume + v)
-            },
-        );
+            });
         moment / volume
     }
 

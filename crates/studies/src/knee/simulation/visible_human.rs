@@ -29,8 +29,8 @@ pub fn mesh_resolution(resolution: Resolution) -> Result<MeshResolution> {
 
 /// The squat's geometry on the Visible Human knee at `resolution`, squatting `squat`.
 pub fn visible_human_geometry(resolution: Resolution, squat: &Squat) -> Result<KneeGeometry> {
-    let knee = VisibleHumanKnee::load(mesh_resolution(resolution)?)
-        .context("the Visible Human knee")?;
+    let knee =
+        VisibleHumanKnee::load(mesh_resolution(resolution)?).context("the Visible Human knee")?;
     let kinematics = mechanism::kinematics(&knee)?;
     let motions = squat
         .motions(&mechanism::closed_chain(&knee)?)
@@ -62,10 +62,7 @@ pub fn visible_human_geometry(resolution: Resolution, squat: &Squat) -> Result<K
                 knee.mesh.nodes.clone(),
                 vec![knee.mesh.blocks[b].clone()],
             );
-            super::super::anatomy::visible_human::mean_pennation(
-                &block,
-                fibers.block_directions(b),
-            )
+            super::super::anatomy::visible_human::mean_pennation(&block, fibers.block_directions(b))
         })
         .collect::<Result<Vec<_>>>()?;
     geometry.passive_slack =

@@ -85,9 +85,8 @@ impl VisibleHumanKnee {
     pub fn load(resolution: MeshResolution) -> Result<VisibleHumanKnee> {
         let landmarks = Landmarks::load()?;
         let frame = landmarks.knee_frame();
-        let surface = |name: &str| -> Result<TriangleSurface> {
-            Ok(load_surface(name)?.transformed(&frame))
-        };
+        let surface =
+            |name: &str| -> Result<TriangleSurface> { Ok(load_surface(name)?.transformed(&frame)) };
         let mut femur = surface("femur_shaft")?;
         let cartilage = surface("femur_cartilage_distal")?;
         let offset = femur.vertices.len() as u32;
@@ -146,14 +145,13 @@ impl VisibleHumanKnee {
     /// outlets' tributary areas) [m]: the point the muscle's pull on the patella comes
     /// from, the release point of its line of action in the knee's mechanism.
     pub fn outlet_centroid(&self, muscle: Quadriceps) -> Vector3<f64> {
-        let (sum, weight) = self
-            .strands
-            .iter()
-            .filter(|s| s.muscle == muscle)
-            .fold((Vector3::zeros(), 0.0), |(sum, weight), s| {
+        let (sum, weight) = self.strands.iter().filter(|s| s.muscle == muscle).fold(
+            (Vector3::zeros(), 0.0),
+            |(sum, weight), s| {
                 let x = self.mesh.nodes.position(s.node as usize);
                 (sum + s.strain_stiffness * x, weight + s.strain_stiffness)
-            });
+            },
+        );
         sum / weight
     }
 
@@ -199,7 +197,9 @@ fn combine(muscles: &[Quadriceps], meshes: &[Mesh]) -> Result<(Mesh, Vec<BlockRo
         let name = muscle.name();
         combined.element_sets.insert(
             name.to_string(),
-            (0..elements).map(|e| ElementRef::new(b as u32, e)).collect(),
+            (0..elements)
+                .map(|e| ElementRef::new(b as u32, e))
+                .collect(),
         );
         for (surface, faces) in &mesh.surfaces {
             let mut faces: Vec<Face> = faces
@@ -346,8 +346,14 @@ mod tests {
     fn the_attachments_lie_on_the_patellas_base_around_its_middle() {
         let knee = VisibleHumanKnee::load(MeshResolution::Coarse).unwrap();
         let at = |m| attachment(m, &knee.patella).unwrap();
-        let (rf, vi) = (at(Quadriceps::RectusFemoris), at(Quadriceps::VastusIntermedius));
-        let (vl, vm) = (at(Quadriceps::VastusLateralis), at(Quadriceps::VastusMedialis));
+        let (rf, vi) = (
+            at(Quadriceps::RectusFemoris),
+            at(Quadriceps::VastusIntermedius),
+        );
+        let (vl, vm) = (
+            at(Quadriceps::VastusLateralis),
+            at(Quadriceps::VastusMedialis),
+        );
         assert!(rf.x > vi.x + 0.01, "the rectus in front of the intermedius");
         assert!(vl.z > vm.z + 0.02, "the lateralis lateral of the medialis");
     }

@@ -53,8 +53,8 @@ impl Landmarks {
     /// The committed `landmarks.csv`.
     pub fn load() -> Result<Landmarks> {
         let path = data_dir().join("landmarks.csv");
-        let text =
-            std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("reading {}", path.display()))?;
         Self::parse(&text).with_context(|| format!("in {}", path.display()))
     }
 
@@ -73,12 +73,16 @@ impl Landmarks {
         for (index, line) in lines {
             let fields: Vec<&str> = line.split(',').collect();
             if fields.len() != 5 {
-                bail!("line {}: expected 5 fields, found {}", index + 1, fields.len());
+                bail!(
+                    "line {}: expected 5 fields, found {}",
+                    index + 1,
+                    fields.len()
+                );
             }
             let number = |k: usize| -> Result<f64> {
-                fields[k].parse::<f64>().with_context(|| {
-                    format!("line {}: '{}' is not a number", index + 1, fields[k])
-                })
+                fields[k]
+                    .parse::<f64>()
+                    .with_context(|| format!("line {}: '{}' is not a number", index + 1, fields[k]))
             };
             let point = Vector3::new(number(1)?, number(2)?, number(3)?) * MM;
             let radius = if fields[4].is_empty() {
@@ -135,7 +139,9 @@ impl Landmarks {
 
     /// A landmark's point in the knee frame [m].
     pub fn in_knee_frame(&self, landmark: &Landmark) -> Vector3<f64> {
-        self.knee_frame().transform_point(&landmark.point.into()).coords
+        self.knee_frame()
+            .transform_point(&landmark.point.into())
+            .coords
     }
 }
 

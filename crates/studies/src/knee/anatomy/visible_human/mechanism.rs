@@ -96,8 +96,8 @@ pub fn dimensions(knee: &VisibleHumanKnee) -> Result<KneeDimensions> {
         let (low, high) = knee.patella.bounds();
         high.z - low.z
     };
-    let condyle_radius = 0.5
-        * (radius(&landmarks.medial_condyle)? + radius(&landmarks.lateral_condyle)?);
+    let condyle_radius =
+        0.5 * (radius(&landmarks.medial_condyle)? + radius(&landmarks.lateral_condyle)?);
     Ok(KneeDimensions {
         condyle_radius,
         joint_line: -(condyle_radius + JOINT_GAP),
@@ -138,7 +138,10 @@ pub fn pulls(knee: &VisibleHumanKnee) -> Result<Vec<QuadricepsPull>> {
 
 /// The mechanism of the Visible Human knee.
 pub fn kinematics(knee: &VisibleHumanKnee) -> Result<KneeKinematics> {
-    Ok(KneeKinematics::from_dimensions(dimensions(knee)?, pulls(knee)?))
+    Ok(KneeKinematics::from_dimensions(
+        dimensions(knee)?,
+        pulls(knee)?,
+    ))
 }
 
 /// The closed chain of the squat on the Visible Human's hip and ankle.
@@ -166,8 +169,14 @@ pub fn lengths(kinematics: &KneeKinematics, patella: &PatellaPose) -> Vec<f64> {
 
 /// The knee-extensor moment arms r = dL/dθ [m] of the pulls at knee flexion `angle` [rad].
 pub fn moment_arms_at(kinematics: &KneeKinematics, angle: f64) -> Result<Vec<f64>> {
-    let ahead = lengths(kinematics, &kinematics.patella_pose(angle + DIFFERENCE_STEP)?);
-    let behind = lengths(kinematics, &kinematics.patella_pose(angle - DIFFERENCE_STEP)?);
+    let ahead = lengths(
+        kinematics,
+        &kinematics.patella_pose(angle + DIFFERENCE_STEP)?,
+    );
+    let behind = lengths(
+        kinematics,
+        &kinematics.patella_pose(angle - DIFFERENCE_STEP)?,
+    );
     Ok(ahead
         .iter()
         .zip(&behind)
@@ -178,7 +187,12 @@ pub fn moment_arms_at(kinematics: &KneeKinematics, angle: f64) -> Result<Vec<f64
 /// How much the hip's flexion `hip` [rad] lengthens the rectus femoris [m]: its origin
 /// (the centre of its origin nodes) turns with the pelvis about the hip centre, and the
 /// line from it to the release point changes length. Zero for the vasti.
-fn hip_length_change(knee: &VisibleHumanKnee, muscle: Quadriceps, hip_centre: &Vector3<f64>, hip: f64) -> Result<f64> {
+fn hip_length_change(
+    knee: &VisibleHumanKnee,
+    muscle: Quadriceps,
+    hip_centre: &Vector3<f64>,
+    hip: f64,
+) -> Result<f64> {
     if muscle != Quadriceps::RectusFemoris {
         return Ok(0.0);
     }
