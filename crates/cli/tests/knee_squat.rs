@@ -483,6 +483,19 @@ fn bad_knee_arguments_are_refused_before_any_output() {
         "{}",
         text(&output.stderr)
     );
+    // The Visible Human knee is built but cannot run as a scene yet: refused, nothing
+    // written.
+    let output = musclefem(
+        &dir,
+        &["knee", "--anatomy", "visible-human", "--out", "out5"],
+    );
+    assert!(!output.status.success());
+    assert!(
+        text(&output.stderr).contains("not runnable yet"),
+        "{}",
+        text(&output.stderr)
+    );
+    assert!(!dir.join("out5").exists());
     let output = musclefem(&dir, &["knee", "--passive", "--active"]);
     assert!(!output.status.success());
     assert!(text(&output.stderr).contains("cannot be used with"));
