@@ -25,18 +25,15 @@
 //! the caller's hands and its tables returned (the Python module's `musclefem.knee`).
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use clap::Args;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
 
-use crate::elongation::{ElementChoice, Solver};
+use crate::elongation::Solver;
 use crate::interrupted::Interrupted;
 use crate::knee::anatomy::export::write_anatomy;
-use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::patella::write_tendon_csv;
 use crate::knee::simulation::peak_stress::{
     TABLE_ANGLES_DEGREES, peak_stress_from_history, stage_peak_stress_csv,
@@ -48,128 +45,9 @@ use crate::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, SquatDirectory, SquatRun, SquatSettings,
     run_squat_scene,
 };
-use crate::knee::{Anatomy, Quadriceps, Resolution};
+use crate::knee::{Anatomy, Quadriceps};
 use musclefem_io::output::{CHECKPOINT_FILE, ExistingResults, RunLog, RunStart};
 use musclefem_io::plot::stage_bar_png;
-
-#[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
-pub struct KneeArgs {
-    /// Only the passive squat.
-    #[arg(long)]
-    pub passive: bool,
-    /// Only the active squat (50 % activation from 35° of flexion on, held to the end).
-    #[arg(long)]
-    pub active: bool,
-    /// Both, side by side on two threads (the default).
-    #[arg(long)]
-    pub both: bool,
-    /// Solver: implicit (Newton with step cutting and the muscles' inertia, Newmark's
-    /// trapezoidal rule; the default) or explicit (central differences with mass
-    /// scaling, the paper's method). On the coarse knee both give the same vm95 within
-    /// 2 %, and the implicit one is faster (see the README).
-    #[arg(long, value_enum, default_value = "implicit")]
-    pub solver: Solver,
-    /// The muscles' hexahedra: hex8-fbar (2×2×2 points, mean dilatation) or
-    /// hex8-one-point (one point, hourglass control).
-    #[arg(long, value_enum, default_value = "hex8-fbar")]
-    pub element: ElementChoice,
-    /// Mesh resolution of the default anatomy (coarse, the default: 384 hex8 per muscle
-    /// belly, both squats in about 14 minutes on 2 cores; medium: 2352, hours, not yet run
-    /// to the end on the closed-chain model; fine: 8960).
-    #[arg(long, value_enum, default_value = "coarse")]
-    pub resolution: Resolution,
-    /// Choose solver, element, resolution and step as the cheapest whose measured vm95
-    /// error (passive squat, against the medium mesh) is at most this [%]: from the knee
-    /// rows of --bench-table when it has some, else from the chart measured with the
-    /// program; medium (the reference) when none is within it.
-    #[arg(
-        long,
-        value_name = "PERCENT",
-        conflicts_with_all = ["resolution", "anatomy", "solver", "element", "time_step"]
-    )]
-    pub tolerance: Option<f64>,
-    #[command(flatten)]
-    pub bench_table: crate::bench::BenchTable,
-    /// `visible-human`: the Visible Human Female's segmented quadriceps (tet10, coarse or
-    /// medium), bones and landmarks, with tendon strands to the patella (shipped with the
-    /// program). Or muscles from files instead of the default anatomy: DIR/muscles.msh or
-    /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
-    /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
-    /// DIR/femur.stl replaces the default femur if present. The bones move as in the
-    /// default knee.
-    #[arg(long, value_name = "DIR")]
-    pub anatomy: Option<PathBuf>,
-    /// How the bonded muscle–muscle and muscle–femur interfaces resist a slide: sliding
-    /// (the default: they resist opening and interpenetration, not a slide) or
-    /// elastic-shear (the paper's K_ss = 0.05 N/mm³; the README compares the two).
-    #[arg(long, value_enum, default_value = "sliding")]
-    pub interfaces: InterfaceLaw,
-    /// Peak knee flexion of the squat [°], from 5 to 90; the table's angles (30°, 45°,
-    /// 60°, 90°) beyond it are left out: a shallow squat for a first look.
-    #[arg(long, value_name = "DEGREES", default_value_t = 90.0)]
-    pub peak_flexion: f64,
-    /// Duration of the squat 0° → peak → 0° [s].
-    #[arg(long, value_name = "SECONDS", default_value_t = crate::knee::simulation::run::DEFAULT_SQUAT_DURATION)]
-    pub duration: f64,
-    /// Implicit increment, or explicit mass-scaling target step [s] (defaults: 0.02 s
-    /// implicit, 2e-5 s explicit).
-    #[arg(long, value_name = "SECONDS")]
-    pub time_step: Option<f64>,
-    /// Time between frames [s] (0: no frames; a negative value is refused).
-    #[arg(
-        long,
-        value_name = "SECONDS",
-        default_value_t = 0.1,
-        allow_negative_numbers = true
-    )]
-    pub frame_interval: f64,
-    /// Output directory.
-    #[arg(long, value_name = "DIR", default_value = "out/knee")]
-    pub out: PathBuf,
-    /// Replace the results of a previous run in the output directory.
-    #[arg(long, conflicts_with = "resume")]
-    pub force: bool,
-    /// Go on with a stopped study in the output directory (Ctrl-C, a kill, a time
-    /// limit) from each squat's last frame, with the same options: the results are
-    /// those of an uninterrupted run, bit for bit (docs/checkpoint-restart.md).
-    #[arg(long)]
-    pub resume: bool,
-}
-
-impl KneeArgs {
-    /// The settings of the runs and the resolution: those `--tolerance` chose (with its
-    /// reason, printed), or the recommended ones of the solver with the element,
-    /// resolution and time step given; the duration given.
-    fn settings(&self) -> Result<(SquatSettings, Resolution, Option<String>)> {
-        let (mut settings, resolution, why) = match self.tolerance {
-            Some(percent) => {
-                let (settings, resolution, why) = setting_within(percent, &self.bench_table.path)?;
-                (settings, resolution, Some(why))
-            }
-            None => {
-                let mut settings = SquatSettings::recommended(self.solver);
-                settings.element = self.element;
-                if let Some(step) = self.time_step {
-                    settings.time_step = step;
-                }
-                (settings, self.resolution, None)
-            }
-        };
-        settings.squat.duration = self.duration;
-        settings.squat.peak_flexion = self.peak_flexion.to_radians();
-        settings.interfaces = self.interfaces;
-        Ok((settings, resolution, why))
-    }
-
-    fn activations(&self) -> Vec<Activation> {
-        match (self.passive, self.active) {
-            (true, _) => vec![Activation::Passive],
-            (_, true) => vec![Activation::Active],
-            _ => vec![Activation::Passive, Activation::Active],
-        }
-    }
-}
 
 /// What a caller sees of the knee study as it goes.
 pub struct KneeView<'a> {
@@ -467,7 +345,9 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
 }
 
 mod tolerance;
-use tolerance::setting_within;
+
+mod args;
+pub use args::KneeArgs;
 
 mod run_files;
 use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};
@@ -584,33 +464,4 @@ peak_flexion_deg = {}
     let summary = run_summary(&run, &geometry.muscles);
     bar.suspend(|| say(&summary));
     Ok(run)
-}
-
-#[cfg(test)]
-mod tests {
-    use clap::Parser;
-
-    use super::*;
-
-    #[derive(Parser)]
-    struct Command {
-        #[command(flatten)]
-        knee: KneeArgs,
-    }
-
-    /// `musclefem knee` without options runs both squats with the implicit solver on the
-    /// coarse mesh: the closed-chain model's medium mesh takes hours on 2 cores (see the
-    /// README), too long for the program's first command.
-    #[test]
-    fn the_default_run_is_both_squats_implicit_on_the_coarse_mesh() {
-        let args = Command::try_parse_from(["knee"]).unwrap().knee;
-        let (settings, resolution, why) = args.settings().unwrap();
-        assert_eq!(why, None);
-        assert_eq!(resolution, Resolution::Coarse);
-        assert_eq!(settings.solver, Solver::Implicit);
-        assert_eq!(
-            args.activations(),
-            vec![Activation::Passive, Activation::Active]
-        );
-    }
 }

@@ -235,14 +235,14 @@ pub struct SquatRun {
     pub resumed_from: Option<f64>,
 }
 
-/// Run the squat of `activation` on `geometry` with `fibers`.
-pub fn run_squat(
+/// The model and the interactions of the squat of `activation` on `geometry` with
+/// `fibers`: what both the in-code run and the scene's are built from.
+pub(super) fn squat_model(
     geometry: &KneeGeometry,
     fibers: &FiberField,
     activation: Activation,
     settings: &SquatSettings,
-    watcher: &mut dyn SquatWatcher,
-) -> Result<SquatRun> {
+) -> Result<(KneeModel, KneeInteractions)> {
     let model = KneeModel::new(
         geometry,
         fibers,
@@ -256,6 +256,18 @@ pub fn run_squat(
         model.material.as_ref(),
         settings.interfaces,
     )?;
+    Ok((model, built))
+}
+
+/// Run the squat of `activation` on `geometry` with `fibers`.
+pub fn run_squat(
+    geometry: &KneeGeometry,
+    fibers: &FiberField,
+    activation: Activation,
+    settings: &SquatSettings,
+    watcher: &mut dyn SquatWatcher,
+) -> Result<SquatRun> {
+    let (model, built) = squat_model(geometry, fibers, activation, settings)?;
     let regions = element_regions(geometry, &model.mesh, fibers, &built);
     let resume_from = watcher.start(&SquatStart {
         mesh: &model.mesh,

@@ -22,11 +22,12 @@ use musclefem_io::output::{RunDirectory, RunStart};
 use musclefem_io::scene::{Model, load_scene};
 use musclefem_materials::MaterialLibrary;
 
-use super::interactions::knee_interactions;
-use super::model::{Activation, KneeGeometry, KneeModel};
+use super::model::{Activation, KneeGeometry};
 use super::peak_stress::{StressSample, table_instants};
 use super::recorder::{Recorder, finish};
-use super::run::{SquatRun, SquatSettings, SquatWatcher, element_regions, squat_result};
+use super::run::{
+    SquatRun, SquatSettings, SquatWatcher, element_regions, squat_model, squat_result,
+};
 use super::scene::SquatScene;
 use crate::run_directory::{DirectoryRun, run_into_directory};
 
@@ -66,19 +67,7 @@ pub fn run_squat_scene(
     job: SquatDirectory<'_>,
 ) -> Result<SceneSquat> {
     let started = Instant::now();
-    let knee = KneeModel::new(
-        geometry,
-        fibers,
-        activation,
-        &settings.squat,
-        settings.element,
-    )?;
-    let built = knee_interactions(
-        geometry,
-        &knee.mesh,
-        knee.material.as_ref(),
-        settings.interfaces,
-    )?;
+    let (knee, built) = squat_model(geometry, fibers, activation, settings)?;
     let scene = SquatScene::new(geometry, &knee.mesh, &built, activation, settings)?;
     let text = scene.text(job.frame_interval)?;
     let files = scene.files();
