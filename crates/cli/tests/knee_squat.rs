@@ -483,15 +483,22 @@ fn bad_knee_arguments_are_refused_before_any_output() {
         "{}",
         text(&output.stderr)
     );
-    // The Visible Human knee is built but cannot run as a scene yet: refused, nothing
-    // written.
+    // The Visible Human knee has no fine meshes: refused, nothing written.
     let output = musclefem(
         &dir,
-        &["knee", "--anatomy", "visible-human", "--out", "out5"],
+        &[
+            "knee",
+            "--anatomy",
+            "visible-human",
+            "--resolution",
+            "fine",
+            "--out",
+            "out5",
+        ],
     );
     assert!(!output.status.success());
     assert!(
-        text(&output.stderr).contains("not runnable yet"),
+        text(&output.stderr).contains("has coarse and medium meshes"),
         "{}",
         text(&output.stderr)
     );

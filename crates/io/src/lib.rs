@@ -7,6 +7,7 @@
 //! - [`csv`]: CSV tables at full `f64` precision, among them the material-point driver's
 //!   history ([`csv::write_uniaxial_csv`]);
 //! - [`fiber_csv`]: fiber fields as CSV (element id, centroid, unit direction);
+//! - [`strand_csv`]: tendon strands as CSV (end nodes' labels, slack length, law);
 //! - [`output`]: VTU frames and a PVD time series for ParaView, CSV histories, the scene
 //!   copy and the run log, laid out in a run directory;
 //! - [`plot`]: PNG charts (several named series per panel, panels side by side, axis
@@ -41,6 +42,7 @@ pub mod paths;
 pub mod plot;
 #[cfg(feature = "scene")]
 pub mod scene;
+pub mod strand_csv;
 
 pub use atomic::{PendingFile, write_atomically};
 pub use error::OutputError;

@@ -58,3 +58,17 @@ pub enum StrandError {
         node_count: usize,
     },
 }
+
+impl StrandError {
+    /// The index of the strand at fault (none when the list is empty).
+    pub fn strand(&self) -> Option<usize> {
+        match self {
+            StrandError::Empty { .. } => None,
+            StrandError::SlackLength { strand, .. }
+            | StrandError::StrainStiffness { strand, .. }
+            | StrandError::ToeStrain { strand, .. }
+            | StrandError::SameNode { strand, .. }
+            | StrandError::NodeOutOfRange { strand, .. } => Some(*strand),
+        }
+    }
+}

@@ -23,8 +23,9 @@ use super::followers::{Followers, PrescribedMotion, followed_alone};
 use super::format::{PartEntry, SceneFile};
 use super::interactions::{InteractionModel, build_interactions, rigid_body};
 use super::locking::small_strain_shear_modulus;
-use super::part_mesh::{append_part, part_mesh};
+use super::part_mesh::{SharedFile, append_part, part_mesh};
 use super::step::step_settings;
+use super::strands::tendon_strands;
 use super::trust::PluginPolicy;
 
 /// The Hill muscle's activation parameters, which a part's recorded activation replaces.
@@ -160,6 +161,8 @@ pub fn build_model(
     let mut part_notes: Vec<Vec<String>> = Vec::new();
     let mut material_names: Vec<String> = Vec::new();
     let mut shared_offsets = std::collections::HashMap::new();
+    // Per part with `shared_nodes`: where its file's nodes start, and their labels.
+    let mut shared_files: Vec<Option<(u32, SharedFile)>> = Vec::new();
     for entry in &scene.parts {
         let name = entry.name.get_ref();
         if part_names.contains(name) {
@@ -190,7 +193,14 @@ pub fn build_model(
             ));
         }
         let (part_mesh, notes, shared) = part_mesh(entry, technology.shape(), locator)?;
-        append_part(&mut mesh, part_mesh, name, shared, &mut shared_offsets);
+        let offset = append_part(
+            &mut mesh,
+            part_mesh,
+            name,
+            shared.as_ref(),
+            &mut shared_offsets,
+        );
+        shared_files.push(shared.map(|file| (offset, file)));
         part_notes.push(notes);
         parts.push(Part {
             block: parts.len(),
@@ -376,7 +386,7 @@ pub fn build_model(
         };
         rigid_bodies.push(rigid_body(entry, motion, locator)?);
     }
-    let interactions = build_interactions(
+    let mut interactions = build_interactions(
         &scene.interactions,
         &rigid_bodies,
         &mesh,
@@ -384,6 +394,23 @@ pub fn build_model(
         &part_names,
         locator,
     )?;
+    for entry in &scene.strands {
+        let strands = tendon_strands(entry, &part_names, &shared_files, &mesh, locator)?;
+        if interactions
+            .iter()
+            .any(|i| i.name() == entry.name.get_ref())
+        {
+            return Err(at(
+                entry.name.span(),
+                format!(
+                    "'{}' names an interaction already: strands and interactions need \
+                     different names",
+                    entry.name.get_ref()
+                ),
+            ));
+        }
+        interactions.push(InteractionModel::Strands(Box::new(strands)));
+    }
 
     // Step.
     let step = step_settings(

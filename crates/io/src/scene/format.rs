@@ -44,6 +44,9 @@ pub struct SceneFile {
     /// Contact and cohesion between surfaces.
     #[serde(default)]
     pub interactions: Vec<InteractionEntry>,
+    /// Tension-only springs between pairs of nodes (tendons, aponeuroses).
+    #[serde(default)]
+    pub strands: Vec<StrandsEntry>,
     pub step: StepEntry,
     #[serde(default)]
     pub output: OutputEntry,
@@ -346,6 +349,20 @@ pub struct InteractionEntry {
     pub bond_band: Option<Spanned<BondBandEntry>>,
     /// Cohesive: the fewest bonds the interface may have; fewer is an error. Default 1.
     pub minimum_bonds: Option<Spanned<usize>>,
+}
+
+/// `[[strands]]`: tendon strands, tension-only toe-then-linear springs between pairs of
+/// nodes of a mesh file that parts share (`shared_nodes = true`), read from a CSV file
+/// (`musclefem_io::strand_csv`). Their forces are summed after the `[[interactions]]`'.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrandsEntry {
+    pub name: Spanned<String>,
+    /// A part whose mesh file (read with `shared_nodes = true`) holds the strands' nodes;
+    /// the file's node labels name them, nodes in no element included.
+    pub part: Spanned<String>,
+    /// The strands, relative to the scene file.
+    pub file: Spanned<String>,
 }
 
 /// `bond_band = { axis, heights }` of a cohesive interaction: a band of heights along

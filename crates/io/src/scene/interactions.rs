@@ -1,13 +1,14 @@
 //! `[[rigid_bodies]]` and `[[interactions]]` of a scene: rigid triangle surfaces with a
 //! prescribed motion, and contact or cohesion of a part's surface against a rigid body or
-//! another part's surface (built by `musclefem-contact`).
+//! another part's surface (built by `musclefem-contact`). The scene's `[[strands]]`
+//! (`strands.rs`) join them as [`InteractionModel::Strands`].
 
 use nalgebra::Vector3;
 use toml::Spanned;
 
 use musclefem_contact::{
     CohesiveInterface, CohesiveSettings, ContactTarget, PenaltyContact, RigidSurface,
-    TangentialMode,
+    TangentialMode, TendonStrands,
 };
 use musclefem_core::mesh::Mesh;
 use musclefem_core::solver::{Interaction, Part, RigidMotion};
@@ -28,6 +29,8 @@ pub enum InteractionModel {
     Contact(Box<PenaltyContact>),
     /// Cohesive traction–separation with damage.
     Cohesive(Box<CohesiveInterface>),
+    /// Tendon strands between pairs of nodes (a scene's `[[strands]]`).
+    Strands(Box<TendonStrands>),
 }
 
 impl InteractionModel {
@@ -36,6 +39,7 @@ impl InteractionModel {
         match self {
             InteractionModel::Contact(c) => c.clone(),
             InteractionModel::Cohesive(c) => c.clone(),
+            InteractionModel::Strands(s) => s.clone(),
         }
     }
 
@@ -64,6 +68,19 @@ impl InteractionModel {
                     c.bonded_reference_area()
                 )
             }
+            InteractionModel::Strands(s) => {
+                let strands = s.strands();
+                let stiffness: f64 = strands.iter().map(|s| s.strain_stiffness).sum();
+                let (shortest, longest) = strands.iter().fold((f64::INFINITY, 0.0), |(a, b), s| {
+                    (a.min(s.slack_length), f64::max(b, s.slack_length))
+                });
+                format!(
+                    "'{}': {} tendon strands, E A = {stiffness:.3e} N in all, slack lengths \
+                     {shortest:.3e}–{longest:.3e} m",
+                    s.name(),
+                    strands.len()
+                )
+            }
         }
     }
 
@@ -72,6 +89,7 @@ impl InteractionModel {
         match self {
             InteractionModel::Contact(c) => c.name(),
             InteractionModel::Cohesive(c) => c.name(),
+            InteractionModel::Strands(s) => s.name(),
         }
     }
 }

@@ -19,6 +19,7 @@ mod parse;
 mod part_mesh;
 mod solver_choice;
 mod step;
+mod strands;
 mod trust;
 
 use std::path::Path;

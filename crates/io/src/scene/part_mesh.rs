@@ -35,12 +35,12 @@ pub(super) struct FileNotes {
 /// orientations when it has them; otherwise e_x.
 ///
 /// A part with `shared_nodes` keeps every node of its file, by the file's ids, and
-/// comes with the key of its file (path and length unit) for [`append_part`].
+/// comes with its [`SharedFile`] for [`append_part`].
 pub(super) fn part_mesh(
     entry: &PartEntry,
     shape: ElementShape,
     locator: &Locator,
-) -> Result<(Mesh, Vec<String>, Option<String>), SceneError> {
+) -> Result<(Mesh, Vec<String>, Option<SharedFile>), SceneError> {
     let spec = &entry.mesh;
     let mut notes = FileNotes::default();
     let mut shared_file = None;
@@ -65,11 +65,14 @@ pub(super) fn part_mesh(
             (generate_box(entry, generator, locator)?, None)
         }
         (None, Some(file)) => {
-            let (mesh, labels) = read_block(entry, file, locator, &mut notes)?;
+            let (mesh, mut labels) = read_block(entry, file, locator, &mut notes)?;
             if spec.shared_nodes {
                 let path = locator.resolve(file.span(), file.get_ref())?;
                 let units = spec.units.as_ref().map_or("m", |u| u.get_ref().as_str());
-                shared_file = Some(format!("{} ({units})", path.display()));
+                shared_file = Some(SharedFile {
+                    key: format!("{} ({units})", path.display()),
+                    node_labels: std::mem::take(&mut labels.nodes),
+                });
             }
             (mesh, Some(labels))
         }
@@ -280,10 +283,21 @@ fn generate_box(
 }
 
 /// The element labels of a block read from a mesh file: its own (by element index) and
-/// those of the file's other blocks (rows of a fibers file for them are skipped).
+/// those of the file's other blocks (rows of a fibers file for them are skipped); and,
+/// for a part with `shared_nodes`, the file's node labels (by node index).
 pub(super) struct BlockLabels {
     own: Vec<i64>,
     others: HashSet<i64>,
+    nodes: Vec<i64>,
+}
+
+/// The mesh file that parts with `shared_nodes` share: its key (path and length unit;
+/// parts with the same key share one copy of its nodes) and the label of each of its
+/// nodes, in the file's order (the order the parts keep).
+#[derive(Debug, Clone)]
+pub(super) struct SharedFile {
+    pub key: String,
+    pub node_labels: Vec<i64>,
 }
 
 /// One block of a mesh file, with only its nodes (renumbered in the file's order), the node sets, element sets
@@ -359,12 +373,21 @@ fn read_block(
     for id in block.connectivity.iter_mut() {
         *id = new_id[*id as usize];
     }
+    // With `shared_nodes`, the nodes in no element of the file (e.g. the ends of tendon
+    // strands) belong to no block: every part sharing the file may name them.
+    let mut in_an_element = vec![false; mesh.nodes.len()];
+    for other in &mesh.blocks {
+        for &id in &other.connectivity {
+            in_an_element[id as usize] = true;
+        }
+    }
+    let kept_in_set = |n: usize| used[n] || (shared && !in_an_element[n]);
     let mut part = Mesh::new(nodes, vec![block]);
     for (name, set) in &mesh.node_sets {
-        // The set's nodes on this block.
+        // The set's nodes on this block (and the file's free nodes, shared).
         let kept: Vec<u32> = set
             .iter()
-            .filter(|&&n| used[n as usize])
+            .filter(|&&n| kept_in_set(n as usize))
             .map(|&n| new_id[n as usize])
             .collect();
         if !kept.is_empty() {
@@ -400,25 +423,30 @@ fn read_block(
     }
     let own = std::mem::take(&mut element_labels[index]);
     let others = element_labels.into_iter().flatten().collect();
-    Ok((part, BlockLabels { own, others }))
+    let nodes = if shared {
+        imported.node_labels
+    } else {
+        Vec::new()
+    };
+    Ok((part, BlockLabels { own, others, nodes }))
 }
 
 /// Append `part` (one block) to `mesh`: nodes renumbered after the existing ones, the
 /// block named after the part, node sets, element sets and surfaces renamed `PART.SET`.
-/// A part of a shared file (`shared`: its key, see [`part_mesh`]) whose file an earlier
-/// part brought in (`offsets`: where each shared file's nodes start) adds no nodes: its
-/// block refers to that file's.
+/// A part of a shared file (`shared`, see [`part_mesh`]) whose file an earlier part
+/// brought in (`offsets`: where each shared file's nodes start) adds no nodes: its block
+/// refers to that file's. Returns where the part's nodes start in `mesh`.
 pub(super) fn append_part(
     mesh: &mut Mesh,
     part: Mesh,
     name: &str,
-    shared: Option<String>,
+    shared: Option<&SharedFile>,
     offsets: &mut HashMap<String, u32>,
-) {
-    let present = shared.as_ref().and_then(|key| offsets.get(key)).copied();
+) -> u32 {
+    let present = shared.and_then(|file| offsets.get(&file.key)).copied();
     let offset = present.unwrap_or(mesh.nodes.len() as u32);
-    if let (Some(key), None) = (shared, present) {
-        offsets.insert(key, offset);
+    if let (Some(file), None) = (shared, present) {
+        offsets.insert(file.key.clone(), offset);
     }
     let first_block = mesh.blocks.len() as u32;
     let moved = |e: ElementRef| ElementRef {
@@ -459,4 +487,5 @@ pub(super) fn append_part(
             nodes.into_iter().map(|n| n + offset).collect(),
         );
     }
+    offset
 }

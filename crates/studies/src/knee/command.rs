@@ -115,16 +115,6 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     if let Some(why) = why {
         say(&format!("{why}\n"));
     }
-    if args.anatomy.as_deref() == Some(std::path::Path::new(VISIBLE_HUMAN)) {
-        // Built and tested (`knee::simulation::visible_human`), not yet runnable: every
-        // squat runs as its scene, and a scene cannot say the tendon strands.
-        bail!(
-            "--anatomy {VISIBLE_HUMAN}: not runnable yet. Every squat runs as its scene, and \
-             scene files have no interaction kind for the Visible Human knee's tendon strands \
-             (its muscles would pull nothing); docs/knee-model.md, \"The Visible Human knee \
-             assembled\", gives what is built and what is missing"
-        );
-    }
     let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
     let geometry = match &args.anatomy {
         None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,

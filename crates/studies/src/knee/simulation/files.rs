@@ -108,6 +108,7 @@ pub fn geometry_from_directory(
         };
         geometry.femur_normals = None;
     }
+    geometry.name_outer_surfaces()?;
     Ok(geometry)
 }
 

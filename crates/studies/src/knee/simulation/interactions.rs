@@ -47,7 +47,7 @@ use musclefem_io::scene::{InteractionModel, small_strain_shear_modulus};
 use musclefem_materials::Material;
 
 use super::super::anatomy::Tissue;
-use super::model::{KneeGeometry, tendon_material};
+use super::model::{KneeGeometry, muscle_surface_name, tendon_material};
 
 /// Secondary nodes within this distance of another surface at 0° bond to it [m].
 pub const BOND_TOLERANCE: f64 = 0.004;
@@ -55,6 +55,9 @@ pub const BOND_TOLERANCE: f64 = 0.004;
 /// Bonds fewer than this between two muscles are not an interface (a few corner nodes
 /// that happen to come close).
 pub const MINIMUM_BONDS: usize = 3;
+
+/// The name of the knee's tendon strands (the Visible Human's), an interaction's name.
+pub const STRANDS_NAME: &str = "tendon-strands";
 
 /// What one interaction is, for the log.
 #[derive(Clone, Debug, PartialEq)]
@@ -116,16 +119,12 @@ impl KneeInteractions {
     }
 }
 
-/// The muscle surface of block `b`: its named `<block>_lateral` surface if the mesh has
-/// one (the default anatomy's: the sides without the end faces), else its outer surface.
+/// The muscle surface of block `block`: its `<block>_lateral` or `<block>_outer` surface
+/// ([`muscle_surface_name`]).
 fn muscle_surface(mesh: &Mesh, block: &str) -> Result<DeformableSurface> {
-    let lateral = format!("{block}_lateral");
-    let surface = if mesh.surfaces.contains_key(&lateral) {
-        DeformableSurface::from_mesh_surface(mesh, &lateral)
-    } else {
-        DeformableSurface::outer_surface(mesh, &[block])
-    };
-    surface.with_context(|| format!("the surface of muscle '{block}'"))
+    let name = muscle_surface_name(mesh, block)?;
+    DeformableSurface::from_mesh_surface(mesh, &name)
+        .with_context(|| format!("the surface of muscle '{block}'"))
 }
 
 /// Where the muscles bond to the femur: its round shaft between these heights [m] (in its
@@ -395,10 +394,10 @@ pub fn knee_interactions(
             })
             .collect();
         let count = strands.len();
-        let strands = TendonStrands::new("tendon-strands", strands, Some(mesh.node_count()))
+        let strands = TendonStrands::new(STRANDS_NAME, strands, Some(mesh.node_count()))
             .context("the tendon strands")?;
         result.summaries.push(InteractionSummary {
-            name: "tendon-strands".to_string(),
+            name: STRANDS_NAME.to_string(),
             kind: "strands",
             nodes: count,
             area: 0.0,

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result, bail};
 
 use musclefem_core::element::Technology;
-use musclefem_core::mesh::{ElementShape, Mesh};
+use musclefem_core::mesh::{ElementRef, ElementShape, Face, Mesh};
 use musclefem_core::solver::{Loads, Part, RigidMotion, RigidTie};
 use musclefem_fibers::{FiberField, FlowBoundary, FlowSettings, compute_fibers};
 use musclefem_materials::hill::{HillMuscle, HillParameters};
@@ -120,6 +120,28 @@ impl KneeGeometry {
             patella_table: Arc::new(patella_table),
             strands: Vec::new(),
         })
+    }
+
+    /// Name the outer surface of every block without a `<block>_lateral` surface (muscles
+    /// read from files, the Visible Human's) `<block>_outer`: the faces of its elements
+    /// that no other element of the block shares, in (element, face) order. The
+    /// interactions take a muscle's `_lateral` surface, else this one
+    /// ([`muscle_surface_name`]), in the knee and in its scene alike.
+    pub fn name_outer_surfaces(&mut self) -> Result<()> {
+        for b in 0..self.mesh.blocks.len() {
+            let name = self.block_name(b).to_string();
+            if self.mesh.surfaces.contains_key(&format!("{name}_lateral")) {
+                continue;
+            }
+            let alone = Mesh::new(self.mesh.nodes.clone(), vec![self.mesh.blocks[b].clone()]);
+            let faces: Vec<Face> = (alone.boundary_faces())
+                .with_context(|| format!("the outer surface of block '{name}'"))?
+                .into_iter()
+                .map(|f| Face::new(ElementRef::new(b as u32, f.element.element), f.face))
+                .collect();
+            self.mesh.surfaces.insert(format!("{name}_outer"), faces);
+        }
+        Ok(())
     }
 
     /// The block name of muscle block `b`.
@@ -265,25 +287,42 @@ pub fn muscle_parameters(activation: Activation, squat: &Squat, slack: f64) -> H
     parameters
 }
 
-/// The element technology of a block of `shape`: `element` (a hexahedron) for the hex8
-/// blocks of the default anatomy, the quadratic tetrahedron with the element's mean
-/// dilatation (F-bar: muscle is nearly incompressible, K/μ ≈ 10⁴, where the plain tet10's
-/// pressure oscillates) for the Visible Human's tet10 meshes.
-pub fn block_technology(
-    element: ElementChoice,
-    shape: ElementShape,
-    material: &dyn Material,
-) -> Result<Technology> {
+/// The name of the surface of block `block` that the knee's interactions act on: its
+/// `<block>_lateral` surface (the default anatomy's: the sides without the end faces)
+/// when `mesh` has one, else `<block>_outer` ([`KneeGeometry::name_outer_surfaces`]).
+pub fn muscle_surface_name(mesh: &Mesh, block: &str) -> Result<String> {
+    for name in [format!("{block}_lateral"), format!("{block}_outer")] {
+        if mesh.surfaces.contains_key(&name) {
+            return Ok(name);
+        }
+    }
+    bail!("the knee's mesh has neither '{block}_lateral' nor '{block}_outer'")
+}
+
+/// The element of a block of `shape`: `element` (a hexahedron) for the hex8 blocks of
+/// the default anatomy, the quadratic tetrahedron with the element's mean dilatation
+/// (F-bar: muscle is nearly incompressible, K/μ ≈ 10⁴, where the plain tet10's pressure
+/// oscillates) for the Visible Human's tet10 meshes.
+pub fn block_element(element: ElementChoice, shape: ElementShape) -> Result<ElementChoice> {
     match shape {
-        ElementShape::Hex8 if element.is_hex() => element.technology(material),
+        ElementShape::Hex8 if element.is_hex() => Ok(element),
         ElementShape::Hex8 => bail!(
             "the knee's hex8 blocks need a hexahedron: element {} is not one (use hex8-fbar \
              or hex8-one-point)",
             element.name()
         ),
-        ElementShape::Tet10 => ElementChoice::Tet10Fbar.technology(material),
+        ElementShape::Tet10 => Ok(ElementChoice::Tet10Fbar),
         ElementShape::Tet4 => bail!("the knee takes hex8 or tet10 meshes, not tet4"),
     }
+}
+
+/// The element technology of a block of `shape` ([`block_element`]) for `material`.
+pub fn block_technology(
+    element: ElementChoice,
+    shape: ElementShape,
+    material: &dyn Material,
+) -> Result<Technology> {
+    block_element(element, shape)?.technology(material)
 }
 
 /// The tendon material: [`musclefem_materials::tendon`] with its defaults (fibers of

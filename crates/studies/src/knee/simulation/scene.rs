@@ -16,9 +16,10 @@ use anyhow::{Context, Result};
 
 use musclefem_core::mesh::Mesh;
 use musclefem_io::csv::format_number;
+use musclefem_io::strand_csv::{StrandRow, format_strands_csv};
 
-use super::interactions::{InterfaceLaw, KneeInteractions};
-use super::model::{Activation, KneeGeometry, MUSCLE_DENSITY, TENDON_DENSITY};
+use super::interactions::{InterfaceLaw, KneeInteractions, STRANDS_NAME};
+use super::model::{Activation, KneeGeometry, MUSCLE_DENSITY, TENDON_DENSITY, block_element};
 use super::run::SquatSettings;
 use super::scene_bones::{FEMUR_BODY, bone_files, knee_bone_entries};
 use super::scene_files::{FIBERS_CSV, MUSCLES_INP, model_files};
@@ -31,6 +32,24 @@ use crate::knee::anatomy::Tissue;
 /// The percentile P of the von Mises stress in the scene's `history.csv`
 /// (`von_mises_p95_<part>_pa`): the paper's peak stress of a muscle, vm95.
 pub const SCENE_VON_MISES_PERCENTILE: f64 = 95.0;
+
+/// The strands' file.
+pub const STRANDS_CSV: &str = "strands.csv";
+
+/// `strands.csv` of `geometry`'s tendon strands, their nodes labelled as `muscles.inp`
+/// labels them (node n is label n + 1).
+pub fn strands_csv(geometry: &KneeGeometry) -> String {
+    let rows: Vec<StrandRow> = (geometry.strands.iter())
+        .map(|s| StrandRow {
+            node_a: i64::from(s.node) + 1,
+            node_b: i64::from(s.attachment) + 1,
+            slack_length: s.slack_length,
+            strain_stiffness: s.strain_stiffness,
+            toe_strain: s.toe_strain,
+        })
+        .collect();
+    format_strands_csv(&rows)
+}
 
 /// One squat as a scene: what [`SquatScene::text`] and [`SquatScene::write_files`] write.
 pub struct SquatScene<'a> {
@@ -66,10 +85,14 @@ impl<'a> SquatScene<'a> {
     }
 
     /// The files the scene names, (file name, text) each: `muscles.inp`, `fibers.csv`,
-    /// `patella_table.csv`, `femur.obj`, `tibia.obj` and `patella.obj`.
+    /// `patella_table.csv`, `femur.obj`, `tibia.obj` and `patella.obj`, and
+    /// `strands.csv` when the knee has tendon strands.
     pub fn files(&self) -> Vec<(&'static str, String)> {
         let mut files = model_files(self.mesh, &self.geometry.patella_table);
         files.extend(bone_files(self.geometry));
+        if !self.geometry.strands.is_empty() {
+            files.push((STRANDS_CSV, strands_csv(self.geometry)));
+        }
         files
     }
 
@@ -118,12 +141,20 @@ impl<'a> SquatScene<'a> {
                  shared_nodes = true }}\nfibers = {{ file = {FIBERS_CSV:?} }}\n",
                 format_number(density),
                 name = geometry.block_name(b),
-                element = settings.element.name(),
+                element = block_element(settings.element, geometry.mesh.blocks[b].shape)?.name(),
             );
         }
         text.push_str(&knee_tie_entries(geometry)?);
         text.push_str(&knee_bone_entries(geometry));
         text.push_str(&self.interactions);
+        if !geometry.strands.is_empty() {
+            // The strands' nodes are labelled by `muscles.inp`, which every part shares.
+            let _ = writeln!(
+                text,
+                "[[strands]]\nname = {STRANDS_NAME:?}\npart = {:?}\nfile = {STRANDS_CSV:?}\n",
+                geometry.block_name(0)
+            );
+        }
         text.push_str(&squat_step_entry(settings, FEMUR_BODY));
         let _ = write!(
             text,

@@ -30,18 +30,19 @@ use super::interactions::{
     BOND_TOLERANCE, FEMUR_BOND_HEIGHTS, InterfaceLaw, KneeInteractions, MINIMUM_BONDS,
     MUSCLE_BOND_HEIGHTS,
 };
-use super::model::KneeGeometry;
+use super::model::{KneeGeometry, muscle_surface_name};
 use super::scene_bones::FEMUR_BODY;
 
 /// The axis the bond heights are measured along: the femur's y at 0° [1].
 const HEIGHT_AXIS: &str = "[0.0, 1.0, 0.0]";
 
 /// The surface of muscle `m` (its belly is block `m`) as a scene writes it: its
-/// `<belly>_lateral` surface on every part (block) that has faces of it, in block order.
+/// `<belly>_lateral` (or `<belly>_outer`, [`muscle_surface_name`]) surface on every part
+/// (block) that has faces of it, in block order.
 fn muscle_surface(geometry: &KneeGeometry, m: usize) -> Result<String> {
-    let lateral = format!("{}_lateral", geometry.block_name(m));
+    let lateral = muscle_surface_name(&geometry.mesh, geometry.block_name(m))?;
     let Some(faces) = geometry.mesh.surfaces.get(&lateral) else {
-        bail!("the knee's mesh has no surface '{lateral}' (a scene has no outer surface)");
+        bail!("the knee's mesh has no surface '{lateral}'");
     };
     let parts: Vec<String> = (0..geometry.mesh.blocks.len())
         .filter(|&b| faces.iter().any(|f| f.element.block as usize == b))

@@ -22,6 +22,7 @@ use super::model::{Activation, KneeGeometry, KneeModel};
 use super::run::{SquatSettings, squat_analysis};
 use super::scene::SquatScene;
 use super::scene_interactions::knee_interaction_entries;
+use super::visible_human::visible_human_geometry;
 use crate::elongation::{ElementChoice, Solver};
 use crate::knee::anatomy::{Anatomy, Resolution, Squat};
 
@@ -307,4 +308,82 @@ fn the_knees_interactions_read_back_as_scene_interactions() {
         assert!(highest > 10.0 * lowest, "{lowest} {highest}");
         std::fs::remove_dir_all(&directory).unwrap();
     }
+}
+
+/// The Visible Human knee's scene (a 10° passive squat): its tet10 blocks as tet10-fbar
+/// parts on the knee's nodes, the strands' attachments (nodes in no element) tied to the
+/// patella through the first part, its interactions on the muscles' `_outer` surfaces,
+/// and the strands as the knee builds them, bit for bit.
+#[test]
+fn the_visible_human_scene_carries_its_strands_and_their_attachments() {
+    let squat = Squat {
+        duration: 0.2,
+        peak_flexion: 10f64.to_radians(),
+    };
+    let geometry = visible_human_geometry(Resolution::Coarse, &squat).unwrap();
+    let fibers = geometry.fibers().unwrap();
+    let knee = KneeModel::new(
+        &geometry,
+        &fibers,
+        Activation::Passive,
+        &squat,
+        ElementChoice::Hex8Fbar,
+    )
+    .unwrap();
+    let mut settings = SquatSettings::recommended(Solver::Implicit);
+    settings.squat = squat;
+    let law = InterfaceLaw::Sliding;
+    let built = knee_interactions(&geometry, &knee.mesh, knee.material.as_ref(), law).unwrap();
+    let entries = knee_interaction_entries(&geometry, &built, law).unwrap();
+    let directory =
+        std::env::temp_dir().join(format!("musclefem-knee-vh-scene-{}", std::process::id()));
+    let scene_file = SquatScene {
+        geometry: &geometry,
+        mesh: &knee.mesh,
+        activation: Activation::Passive,
+        settings: &settings,
+        interactions: entries,
+    };
+    std::fs::create_dir_all(&directory).unwrap();
+    scene_file.write_files(&directory).unwrap();
+    let path = directory.join("scene.toml");
+    std::fs::write(&path, scene_file.text(0.05).unwrap()).unwrap();
+    let scene =
+        load_scene(&path, &mut MaterialLibrary::with_builtins()).unwrap_or_else(|e| panic!("{e}"));
+
+    // Parts: tet10-fbar, on the knee's nodes (the attachments included).
+    assert_eq!(scene.parts.len(), knee.parts.len());
+    for (a, b) in scene.parts.iter().zip(&knee.parts) {
+        assert_eq!(format!("{:?}", a.technology), format!("{:?}", b.technology));
+        assert!(format!("{:?}", a.technology).contains("Tet10"));
+    }
+    assert_eq!(scene.mesh.node_count(), knee.mesh.node_count());
+    // Ties: the insertions hold the attachment nodes, which no element holds.
+    for (a, b) in scene.loads.rigid_ties.iter().zip(&knee.loads.rigid_ties) {
+        assert_eq!((&a.name, &a.nodes), (&b.name, &b.nodes));
+    }
+    let attachments: Vec<u32> = geometry.strands.iter().map(|s| s.attachment).collect();
+    for tie in scene
+        .loads
+        .rigid_ties
+        .iter()
+        .filter(|t| t.name.ends_with("_insertion"))
+    {
+        assert_eq!(tie.nodes.len(), 1, "{}", tie.name);
+        assert!(attachments.contains(&tie.nodes[0]), "{}", tie.name);
+    }
+    // Interactions: the knee's, in its order, the strands last and the same.
+    let names: Vec<String> = scene
+        .interactions
+        .iter()
+        .map(|i| i.name().to_string())
+        .collect();
+    assert_eq!(names, built.names());
+    let Some(InteractionModel::Strands(strands)) = scene.interactions.last() else {
+        panic!("the strands come last");
+    };
+    let knee_strands = built.strands.as_ref().unwrap();
+    assert_eq!(strands.strands(), knee_strands.strands());
+    assert_eq!(strands.strands().len(), geometry.strands.len());
+    std::fs::remove_dir_all(&directory).unwrap();
 }

@@ -18,17 +18,23 @@ use crate::knee::anatomy::Quadriceps;
 use crate::knee::anatomy::squat::Bone;
 
 /// The block of `geometry`'s mesh that holds every node of node set `set` (the first,
-/// in block order).
+/// in block order). A set of nodes in no element (a strands' attachment) comes with
+/// every part sharing `muscles.inp`: the first block.
 fn block_holding(geometry: &KneeGeometry, set: &str) -> Result<String> {
     let nodes = geometry.mesh.node_set(set)?;
+    let mut in_an_element = vec![false; geometry.mesh.node_count()];
     for block in &geometry.mesh.blocks {
         let mut held = vec![false; geometry.mesh.node_count()];
         for &n in &block.connectivity {
             held[n as usize] = true;
+            in_an_element[n as usize] = true;
         }
         if nodes.iter().all(|&n| held[n as usize]) {
             return Ok(block.name.clone());
         }
+    }
+    if nodes.iter().all(|&n| !in_an_element[n as usize]) {
+        return Ok(geometry.block_name(0).to_string());
     }
     bail!("no block of the knee's mesh holds every node of '{set}'")
 }

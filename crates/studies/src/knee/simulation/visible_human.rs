@@ -55,6 +55,7 @@ pub fn visible_human_geometry(resolution: Resolution, squat: &Squat) -> Result<K
         strands: knee.strands.clone(),
         dimensions: kinematics.dimensions,
     };
+    geometry.name_outer_surfaces()?;
     let fibers = geometry.fibers()?;
     let pennation = (0..knee.muscles.len())
         .map(|b| {
