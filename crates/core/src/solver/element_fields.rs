@@ -111,7 +111,7 @@ pub(crate) fn part_fields(
             time,
             block: mesh.blocks[block].name.clone(),
             element,
-            source,
+            cause: source,
         })?;
     let mut fields = empty_fields(block, material, time);
     for piece in pieces {

@@ -82,7 +82,7 @@ impl<'a> PartRun<'a> {
         }
         let element_error = |source| SolverError::Element {
             block: part.block,
-            source,
+            cause: source,
         };
         let material = part.material.as_ref();
         let mut lump = |volumes: &mut dyn Iterator<Item = f64>| {
@@ -373,7 +373,7 @@ pub(super) fn internal_forces<'a>(
             time,
             block: block.name.clone(),
             element,
-            source,
+            cause: source,
         };
         match &mut run.elements {
             PartElements::General { kernel, chunks } => {
@@ -429,7 +429,7 @@ pub(super) fn internal_forces<'a>(
                     time,
                     block: block.name.clone(),
                     element,
-                    source,
+                    cause: source,
                 })?;
         }
         if refresh {

@@ -60,7 +60,7 @@ pub(super) fn lumped_mass(mesh: &Mesh, parts: &[Part]) -> Result<Vec<f64>, Solve
         let kernel = BlockKernel::new(&mesh.nodes, block, part.technology).map_err(|source| {
             SolverError::Element {
                 block: part.block,
-                source,
+                cause: source,
             }
         })?;
         for (element, ids) in block.elements().enumerate() {

@@ -178,7 +178,7 @@ impl<'a> Model<'a> {
                 BlockKernel::new(&mesh.nodes, block, part.technology).map_err(|source| {
                     SolverError::Element {
                         block: part.block,
-                        source,
+                        cause: source,
                     }
                 })?;
             if !kernel.has_consistent_tangent() {
@@ -323,7 +323,7 @@ impl<'a> Model<'a> {
                     time,
                     block: block.name.clone(),
                     element,
-                    source,
+                    cause: source,
                 })?;
             element_seconds += update_start.elapsed().as_secs_f64();
             let npe = kernel.nodes_per_element();

@@ -60,17 +60,19 @@ use musclefem_materials::MaterialError;
 /// Why a solve stopped.
 #[derive(Debug, Error)]
 pub enum SolverError {
-    #[error("part on block {block}: {source}")]
+    // The causes are in the messages and not `source`s, so that a report of the whole
+    // chain (`{:#}`) says them once.
+    #[error("part on block {block}: {cause}")]
     Element {
         block: usize,
-        source: crate::element::ElementError,
+        cause: crate::element::ElementError,
     },
-    #[error("at t = {time:.6e} s, block '{block}', element {element}: {source}")]
+    #[error("at t = {time:.6e} s, block '{block}', element {element}: {cause}")]
     Material {
         time: f64,
         block: String,
         element: usize,
-        source: MaterialError,
+        cause: MaterialError,
     },
     #[error("part on block {block}: {reason}")]
     InvalidPart { block: usize, reason: String },

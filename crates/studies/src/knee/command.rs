@@ -216,7 +216,7 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     say(&format!(
         "  {} solver: {}\n",
         settings.solver.name(),
-        crate::knee::simulation::run::solver_rationale(settings.solver)
+        crate::knee::simulation::run::solver_rationale(settings.solver, args.is_visible_human())
     ));
     if args.anatomy.is_none() {
         say(&format!(

@@ -9,6 +9,7 @@ use super::tolerance::setting_within;
 use crate::elongation::{ElementChoice, Solver};
 use crate::knee::Resolution;
 use crate::knee::simulation::interactions::InterfaceLaw;
+use crate::knee::simulation::visible_human::VISIBLE_HUMAN;
 use crate::knee::simulation::{Activation, SquatSettings};
 
 #[derive(Debug, Args)]
@@ -24,11 +25,13 @@ pub struct KneeArgs {
     #[arg(long)]
     pub both: bool,
     /// Solver: implicit (Newton with step cutting and the muscles' inertia, Newmark's
-    /// trapezoidal rule; the default) or explicit (central differences with mass
-    /// scaling, the paper's method). On the coarse knee both give the same vm95 within
+    /// trapezoidal rule; the default knee's default) or explicit (central differences
+    /// with mass scaling, the paper's method; the default with `--anatomy
+    /// visible-human`, whose 78 k unknowns make each Newton iteration take about a
+    /// minute on 2 cores). On the coarse default knee both give the same vm95 within
     /// 2 %, and the implicit one is faster (see the README).
-    #[arg(long, value_enum, default_value = "implicit")]
-    pub solver: Solver,
+    #[arg(long, value_enum)]
+    pub solver: Option<Solver>,
     /// The muscles' hexahedra: hex8-fbar (2×2×2 points, mean dilatation) or
     /// hex8-one-point (one point, hourglass control).
     #[arg(long, value_enum, default_value = "hex8-fbar")]
@@ -107,7 +110,7 @@ impl KneeArgs {
                 (settings, resolution, Some(why))
             }
             None => {
-                let mut settings = SquatSettings::recommended(self.solver);
+                let mut settings = SquatSettings::recommended(self.solver());
                 settings.element = self.element;
                 if let Some(step) = self.time_step {
                     settings.time_step = step;
@@ -119,6 +122,21 @@ impl KneeArgs {
         settings.squat.peak_flexion = self.peak_flexion.to_radians();
         settings.interfaces = self.interfaces;
         Ok((settings, resolution, why))
+    }
+
+    /// Whether the squat runs on the Visible Human knee.
+    pub(super) fn is_visible_human(&self) -> bool {
+        self.anatomy.as_deref() == Some(std::path::Path::new(VISIBLE_HUMAN))
+    }
+
+    /// The solver given, or the anatomy's default: explicit on the Visible Human knee,
+    /// implicit on the others ([`crate::knee::simulation::run::solver_rationale`] says why).
+    pub(super) fn solver(&self) -> Solver {
+        match self.solver {
+            Some(solver) => solver,
+            None if self.is_visible_human() => Solver::Explicit,
+            None => Solver::Implicit,
+        }
     }
 
     pub(super) fn activations(&self) -> Vec<Activation> {
@@ -156,5 +174,20 @@ mod tests {
             args.activations(),
             vec![Activation::Passive, Activation::Active]
         );
+    }
+
+    /// On the Visible Human knee the default solver is the explicit one, and a solver
+    /// given is kept.
+    #[test]
+    fn the_visible_human_knee_runs_explicitly_unless_told_otherwise() {
+        let args = Command::try_parse_from(["knee", "--anatomy", "visible-human"])
+            .unwrap()
+            .knee;
+        assert_eq!(args.settings().unwrap().0.solver, Solver::Explicit);
+        let args =
+            Command::try_parse_from(["knee", "--anatomy", "visible-human", "--solver", "implicit"])
+                .unwrap()
+                .knee;
+        assert_eq!(args.settings().unwrap().0.solver, Solver::Implicit);
     }
 }

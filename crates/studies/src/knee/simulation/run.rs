@@ -115,15 +115,28 @@ pub const KNEE_NEWMARK_DISSIPATION: f64 = 0.1;
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
 
 /// Why a solver is the one to use on the knee, from the runs measured on the coarse knee
-/// (README, "The knee").
-pub fn solver_rationale(solver: Solver) -> &'static str {
-    match solver {
-        Solver::Implicit => {
+/// (README, "The knee") and on the Visible Human's (`visible_human`,
+/// docs/knee-model.md).
+pub fn solver_rationale(solver: Solver, visible_human: bool) -> &'static str {
+    match (solver, visible_human) {
+        (Solver::Explicit, true) => {
+            "the default on the Visible Human knee (the paper's method): central \
+             differences, mass scaling to a 2e-5 s step; the coarse mesh's 10° squat \
+             (0.2 s) took 286 s alone on 2 cores, and the 90° squat's two runs side by \
+             side reached t = 0.43 s of 2 s in 17 minutes (2026-11-27): expect over an \
+             hour for both"
+        }
+        (Solver::Implicit, true) => {
+            "chosen: on the Visible Human knee (78 k unknowns, coarse) one Newton \
+             iteration took about a minute on 2 cores (2026-11-27: the first 10 ms \
+             increment, 11 iterations, in 10 minutes), so the 90° squat takes many hours"
+        }
+        (Solver::Implicit, false) => {
             "the default: on the coarse closed-chain knee (2026-11-26) passive and active \
              ran side by side to the end in 14 minutes on a 2-core machine (511 and 312 \
              increments), the active vm95 at 90° within 10 % of the explicit solver's"
         }
-        Solver::Explicit => {
+        (Solver::Explicit, false) => {
             "the paper's method: central differences, mass scaling to a 2e-5 s step \
              (145 069 steps; 1653 s for the active coarse knee beside another run; the \
              medium mesh has 6 times the elements, so expect hours there: add \
