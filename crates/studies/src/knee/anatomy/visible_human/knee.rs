@@ -27,6 +27,18 @@
 //! superficial layer of the quadriceps tendon), proximal + posterior for the vastus
 //! intermedius (the deep layer), proximal + lateral for the vastus lateralis and
 //! proximal + medial for the vastus medialis (each direction at 45° between the two).
+//!
+//! **The rectus femoris's origin** is a pin at the anterior inferior iliac spine, joined
+//! to the muscle by strands too. Its segmented origin band is 58 mm tall (y 329–387 mm in
+//! the knee frame); held by the pelvis without turning, the whole band could not turn
+//! with the thigh, and the first passive squat (explicit, 2026-11-27) bent the muscle
+//! below it to a von Mises stress of 2.4 MPa (median, 20–40 mm below the band's centre)
+//! at 71° of flexion. The pin is one node [`ORIGIN_PIN_OFFSET`] beyond the band's
+//! proximal end, along the muscle's axis (from its outlets' centroid to the band's); a
+//! strand runs to it from every mid-edge node of the origin faces, slack at its length
+//! in the data's pose, the strands together as stiff as the muscle's distal ones. The
+//! node set `rectus_femoris_origin` is the pin (the pelvis carries it without turning);
+//! `rectus_femoris_belly_start` stays the band (the fiber flow's inlet).
 
 use std::collections::BTreeMap;
 
@@ -40,14 +52,30 @@ use super::super::{BlockRole, Quadriceps, Tissue, TriangleSurface};
 use super::landmarks::Landmarks;
 use super::{FIBER_INLETS, FIBER_OUTLETS, MeshResolution, load_muscle, load_surface};
 
+/// Which end of a muscle a strand joins to a bone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MuscleEnd {
+    /// The origin (the rectus femoris's pin at the anterior inferior iliac spine).
+    Origin,
+    /// The insertion on the patella.
+    Insertion,
+}
+
+/// How far beyond the proximal end of the rectus femoris's origin band its pin lies,
+/// along the muscle's axis [m]: the length of its shortest origin strand, about that of
+/// its direct head's tendon.
+pub const ORIGIN_PIN_OFFSET: f64 = 0.02;
+
 /// One tendon strand: from a node of a muscle's fiber outlets to the muscle's attachment
-/// node on the patella.
+/// node on the patella, or from a node of its origin faces to its pin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TendonStrand {
     pub muscle: Quadriceps,
-    /// The node on the muscle's outlet faces.
+    /// The end of the muscle it joins.
+    pub end: MuscleEnd,
+    /// The node on the muscle's outlet (or origin) faces.
     pub node: u32,
-    /// The attachment node (carried by the patella).
+    /// The attachment node (carried by the patella, or the pelvis for an origin).
     pub attachment: u32,
     /// Length at which the strand is slack [m]: its length in the data's pose.
     pub slack_length: f64,
@@ -118,13 +146,24 @@ impl VisibleHumanKnee {
             mesh.node_sets
                 .insert(format!("{}_insertion", muscle.name()), vec![attachment]);
             let share = own.total_volume()? / total_volume;
-            strands.extend(muscle_strands(
-                &mesh,
-                b as u32,
-                muscle,
-                attachment,
-                share * stiffness,
-            )?);
+            let end = MuscleEnd::Insertion;
+            let outlets =
+                muscle_strands(&mesh, b as u32, muscle, end, attachment, share * stiffness)?;
+            strands.extend(outlets);
+            if muscle == Quadriceps::RectusFemoris {
+                let pin = mesh.nodes.push(origin_pin(&mesh, muscle, &strands)?);
+                mesh.node_sets
+                    .insert(format!("{}_origin", muscle.name()), vec![pin]);
+                let end = MuscleEnd::Origin;
+                strands.extend(muscle_strands(
+                    &mesh,
+                    b as u32,
+                    muscle,
+                    end,
+                    pin,
+                    share * stiffness,
+                )?);
+            }
         }
         Ok(VisibleHumanKnee {
             tibia: surface("tibia")?,
@@ -145,14 +184,7 @@ impl VisibleHumanKnee {
     /// outlets' tributary areas) [m]: the point the muscle's pull on the patella comes
     /// from, the release point of its line of action in the knee's mechanism.
     pub fn outlet_centroid(&self, muscle: Quadriceps) -> Vector3<f64> {
-        let (sum, weight) = self.strands.iter().filter(|s| s.muscle == muscle).fold(
-            (Vector3::zeros(), 0.0),
-            |(sum, weight), s| {
-                let x = self.mesh.nodes.position(s.node as usize);
-                (sum + s.strain_stiffness * x, weight + s.strain_stiffness)
-            },
-        );
-        sum / weight
+        outlet_centroid(&self.mesh, &self.strands, muscle)
     }
 
     /// The attachment of `muscle`'s strands on the patella [m] (knee frame, at 0°).
@@ -161,6 +193,38 @@ impl VisibleHumanKnee {
         let node = self.mesh.node_set(&set)?[0];
         Ok(self.mesh.nodes.position(node as usize))
     }
+}
+
+/// Where `muscle`'s insertion strands among `strands` start on average, weighted by
+/// their stiffness [m] (nodes of `mesh`).
+fn outlet_centroid(mesh: &Mesh, strands: &[TendonStrand], muscle: Quadriceps) -> Vector3<f64> {
+    let (sum, weight) = (strands.iter())
+        .filter(|s| s.muscle == muscle && s.end == MuscleEnd::Insertion)
+        .fold((Vector3::zeros(), 0.0), |(sum, weight), s| {
+            let x = mesh.nodes.position(s.node as usize);
+            (sum + s.strain_stiffness * x, weight + s.strain_stiffness)
+        });
+    sum / weight
+}
+
+/// The pin of `muscle`'s origin (module documentation): [`ORIGIN_PIN_OFFSET`] beyond the
+/// proximal end of its origin nodes (`<m>_origin` in `mesh`), along the axis from its
+/// outlets' centroid (its insertion strands among `strands`) to their centroid [m].
+fn origin_pin(mesh: &Mesh, muscle: Quadriceps, strands: &[TendonStrand]) -> Result<Vector3<f64>> {
+    let band = mesh.node_set(&format!("{}_origin", muscle.name()))?;
+    let points: Vec<Vector3<f64>> = band
+        .iter()
+        .map(|&n| mesh.nodes.position(n as usize))
+        .collect();
+    let centre = points.iter().sum::<Vector3<f64>>() / points.len() as f64;
+    let axis = (centre - outlet_centroid(mesh, strands, muscle))
+        .try_normalize(1e-9)
+        .context("the muscle's origin and outlets coincide")?;
+    let reach = points
+        .iter()
+        .map(|x| (x - centre).dot(&axis))
+        .fold(f64::NEG_INFINITY, f64::max);
+    Ok(centre + (reach + ORIGIN_PIN_OFFSET) * axis)
 }
 
 /// Length of the patellar tendon in the data's pose, apex to tuberosity [m].
@@ -249,18 +313,24 @@ pub fn attachment(muscle: Quadriceps, patella: &TriangleSurface) -> Result<Vecto
         .context("the patella has no vertices")
 }
 
-/// The strands of `muscle` (block `block` of `mesh`): one from each mid-edge node of its
-/// outlet faces to `attachment`, sharing `strain_stiffness` [N] by tributary area.
+/// The strands of `muscle`'s `end` (block `block` of `mesh`): one from each mid-edge node
+/// of its outlet faces (insertion) or inlet faces (origin) to `attachment`, sharing
+/// `strain_stiffness` [N] by tributary area.
 fn muscle_strands(
     mesh: &Mesh,
     block: u32,
     muscle: Quadriceps,
+    end: MuscleEnd,
     attachment: u32,
     strain_stiffness: f64,
 ) -> Result<Vec<TendonStrand>> {
     let name = muscle.name();
+    let faces: &[&str] = match end {
+        MuscleEnd::Insertion => &FIBER_OUTLETS,
+        MuscleEnd::Origin => &FIBER_INLETS,
+    };
     let mut tributary: BTreeMap<u32, f64> = BTreeMap::new();
-    for outlet in FIBER_OUTLETS {
+    for outlet in faces {
         for &face in mesh.surface(&format!("{name}_{outlet}"))? {
             if face.element.block != block {
                 bail!("surface {name}_{outlet} has a face on another block");
@@ -278,16 +348,17 @@ fn muscle_strands(
     }
     let total: f64 = tributary.values().sum();
     if total <= 0.0 {
-        bail!("{name} has no outlet faces for its tendon strands");
+        bail!("{name} has no {end:?} faces for its tendon strands");
     }
-    let end = mesh.nodes.position(attachment as usize);
+    let anchor = mesh.nodes.position(attachment as usize);
     Ok(tributary
         .into_iter()
         .map(|(node, area)| TendonStrand {
             muscle,
+            end,
             node,
             attachment,
-            slack_length: (end - mesh.nodes.position(node as usize)).norm(),
+            slack_length: (anchor - mesh.nodes.position(node as usize)).norm(),
             strain_stiffness: strain_stiffness * area / total,
             toe_strain: PATELLAR_TENDON_TOE_STRAIN,
         })
@@ -306,7 +377,10 @@ mod tests {
         // The muscles lie above the flexion axis and around the femur.
         let (low, high) = knee.femur.bounds();
         assert!(low.y < 0.0 && high.y > 0.3, "{low} {high}");
-        let strength: f64 = knee.strands.iter().map(|s| s.strain_stiffness).sum();
+        let inserting = |s: &&TendonStrand| s.end == MuscleEnd::Insertion;
+        let strength: f64 = (knee.strands.iter().filter(inserting))
+            .map(|s| s.strain_stiffness)
+            .sum();
         let expected = PATELLAR_TENDON_STIFFNESS * patellar_tendon_length(&knee.landmarks);
         assert!((strength - expected).abs() < 1e-9 * expected);
         for &muscle in &knee.muscles {
@@ -314,7 +388,9 @@ mod tests {
                 .mesh
                 .node_set(&format!("{}_insertion", muscle.name()))
                 .unwrap()[0];
-            let mine: Vec<_> = knee.strands.iter().filter(|s| s.muscle == muscle).collect();
+            let mine: Vec<_> = (knee.strands.iter().filter(inserting))
+                .filter(|s| s.muscle == muscle)
+                .collect();
             let stiffness: f64 = mine.iter().map(|s| s.strain_stiffness).sum();
             let (shortest, longest) = mine.iter().fold((f64::MAX, 0.0_f64), |(a, b), s| {
                 (a.min(s.slack_length), b.max(s.slack_length))
@@ -340,6 +416,60 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The rectus femoris's origin is one pin node, 2 cm beyond its origin band, joined
+    /// to the band's mid-edge nodes by strands as stiff in all as its distal ones.
+    #[test]
+    fn the_rectus_femoris_hangs_from_a_pin_by_strands() {
+        let knee = VisibleHumanKnee::load(MeshResolution::Coarse).unwrap();
+        let rf = Quadriceps::RectusFemoris;
+        let origin = knee.mesh.node_set("rectus_femoris_origin").unwrap();
+        assert_eq!(origin.len(), 1);
+        let pin = knee.mesh.nodes.position(origin[0] as usize);
+        let band = knee.mesh.node_set("rectus_femoris_belly_start").unwrap();
+        let top = band
+            .iter()
+            .map(|&n| knee.mesh.nodes.position(n as usize).y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let of = |end| -> Vec<&TendonStrand> {
+            (knee.strands.iter())
+                .filter(|s| s.muscle == rf && s.end == end)
+                .collect()
+        };
+        let (origins, insertions) = (of(MuscleEnd::Origin), of(MuscleEnd::Insertion));
+        let stiffness =
+            |list: &[&TendonStrand]| list.iter().map(|s| s.strain_stiffness).sum::<f64>();
+        let shortest = origins
+            .iter()
+            .map(|s| s.slack_length)
+            .fold(f64::MAX, f64::min);
+        println!(
+            "RF origin pin at {:.1?} mm (band top y {:.1} mm): {} strands, E A {:.1} kN, \
+             shortest {:.1} mm",
+            pin * 1e3,
+            top * 1e3,
+            origins.len(),
+            stiffness(&origins) * 1e-3,
+            shortest * 1e3
+        );
+        assert!(origins.len() > 20);
+        assert!(
+            origins
+                .iter()
+                .all(|s| s.attachment == origin[0] && band.contains(&s.node))
+        );
+        assert!(
+            (stiffness(&origins) - stiffness(&insertions)).abs() < 1e-9 * stiffness(&insertions)
+        );
+        assert!(pin.y > top, "the pin lies above the band");
+        assert!((shortest - ORIGIN_PIN_OFFSET).abs() < 0.01, "{shortest}");
+        // No other muscle hangs from a pin.
+        assert!(
+            knee.strands
+                .iter()
+                .all(|s| s.end == MuscleEnd::Insertion || s.muscle == rf)
+        );
     }
 
     #[test]
