@@ -8,7 +8,7 @@ use musclefem_core::mesh::Mesh;
 use musclefem_core::mesh::generate::box_of_hexes;
 use musclefem_io::plot::mesh_picture::{
     MeshPicture, NamedView, PictureSummary, RIGID_GREY, RigidSurface, TITLE_HEIGHT, ValueLabel,
-    View, shaded, stage_mesh_png, value_colour,
+    View, default_range, shaded, stage_mesh_png, value_colour,
 };
 use musclefem_io::plot::viridis;
 use nalgebra::Vector3;
@@ -265,6 +265,25 @@ fn rigid_surfaces_and_displacements() {
     let before = summary.projection.pixel(&Vector3::new(1.0, 0.5, 0.5));
     let after = moved.projection.pixel(&Vector3::new(1.0, 0.5, -1.5));
     assert!((before - after).norm() < 1e-9);
+}
+
+/// The default range: 0 to the 99th percentile (interpolated between order statistics),
+/// from the 1st percentile when a value is negative; an empty range widens.
+#[test]
+fn default_ranges() {
+    let close = |a: Range<f64>, b: Range<f64>| {
+        assert!(
+            (a.start - b.start).abs() < 1e-12 && (a.end - b.end).abs() < 1e-12,
+            "{a:?} ≠ {b:?}"
+        );
+    };
+    let hundred: Vec<f64> = (1..=100).map(f64::from).collect();
+    close(default_range(&hundred), 0.0..99.01);
+    close(default_range(&[-10.0, 0.0, 10.0, f64::NAN]), -9.8..9.8);
+    close(default_range(&[5.0, 5.0]), 0.0..5.0);
+    close(default_range(&[0.0, 0.0]), -0.5..0.5);
+    close(default_range(&[-4.0]), -6.0..-2.0);
+    close(default_range(&[f64::NAN]), 0.0..1.0);
 }
 
 #[test]

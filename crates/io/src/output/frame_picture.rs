@@ -60,18 +60,16 @@ pub struct FramePictureSummary {
     pub rigid_vertices: usize,
 }
 
-/// The colour bar's name and unit of a frame's cell array: `von_mises` and contact
-/// pressures in kPa (the files hold Pa), anything else by its name, without a unit.
+/// The colour bar's name and unit of a frame's cell array: `von_mises` as "von Mises
+/// stress [kPa]" (the file holds Pa), anything else by its name, without a unit.
 pub fn default_label(field: &str) -> ValueLabel {
     let (name, unit, factor) = if field == "von_mises" {
-        ("von Mises stress".to_string(), "kPa", 1e-3)
-    } else if field.ends_with("contact_pressure") {
-        (field.to_string(), "kPa", 1e-3)
+        ("von Mises stress", "kPa", 1e-3)
     } else {
-        (field.to_string(), "", 1.0)
+        (field, "", 1.0)
     };
     ValueLabel {
-        name,
+        name: name.to_string(),
         unit: unit.to_string(),
         factor,
     }

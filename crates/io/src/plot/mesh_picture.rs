@@ -10,11 +10,14 @@
 //! s = a + (1 − a)·|n·l|,  a = 0.6,
 //!
 //! n the face's unit normal and l a light from just above and left of the viewer, so
-//! that the shape reads while a face's colour stays near its value's (within 40 %). Values beyond the colour range are drawn in the end colour and counted
-//! in a note over the colour bar ("≥ 450 kPa: 37 cells"). The default range runs from
-//! 0 (or the 1st percentile, if a value is negative) to the 99th percentile of the
-//! drawn cells' values, so that a few extreme cells do not wash out the rest.
-//! The picture is scaled to fit the solid; rigid surfaces outside it are cut off.
+//! that the shape reads while a face's colour stays near its value's (within 40 %).
+//! Values beyond the colour range are drawn in the end colour and counted in a note over
+//! the colour bar ("≥ 450 kPa: 37 cells"); a cell without a finite value is magenta.
+//! The default range runs from 0 (or the 1st percentile, if a value is negative) to the
+//! 99th percentile of the drawn cells' values, so that a few extreme cells do not wash
+//! out the rest. The picture is scaled to fit the solid; rigid surfaces beyond it are
+//! cut off. Faces hide each other by a depth buffer, not by sorting them (the painter's
+//! algorithm), so a bone that cuts through a muscle's faces is drawn as it lies.
 
 pub mod raster;
 pub mod surface;
