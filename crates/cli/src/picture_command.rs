@@ -63,7 +63,7 @@ pub struct PictureArgs {
     /// Picture size WIDTHxHEIGHT [px].
     #[arg(long, value_name = "WxH", default_value = "1200x900", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Darker edges around the faces: auto draws them when faces are at least 14 px wide.
+    /// Darker edges around the faces: auto draws them when faces are at least 20 px wide.
     #[arg(long, value_enum, default_value_t = Outlines::Auto)]
     pub outlines: Outlines,
     /// The PNG file to write.

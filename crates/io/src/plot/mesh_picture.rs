@@ -57,7 +57,7 @@ pub const RIGID_GREY: RGBColor = RGBColor(208, 208, 208);
 pub const NO_VALUE: RGBColor = RGBColor(255, 0, 255);
 /// Outlines are drawn (unless asked otherwise) when the median outlined edge is at least
 /// this long on the picture [px].
-const OUTLINE_MEDIAN_EDGE: f64 = 14.0;
+const OUTLINE_MEDIAN_EDGE: f64 = 20.0;
 
 /// The scalar a picture shows: name and unit on the colour bar, and the factor from the
 /// values' unit to the shown one (1e-3 for Pa shown in kPa).
