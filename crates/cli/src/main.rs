@@ -12,6 +12,8 @@
 //! - `musclefem mesh`: a closed surface (STL/OBJ) to a tet4/tet10 Gmsh mesh with origin
 //!   and insertion surfaces, through Gmsh's Python package (`scripts/musclefem_mesh.py`);
 //! - `musclefem fibers`: fiber directions from a flow through a mesh file;
+//! - `musclefem picture`: a PNG of a run's frame, deformed and coloured by von Mises
+//!   stress (or another cell array), bones in grey;
 //! - `musclefem elongate`: the paper's passive and active elongation tests of the
 //!   fusiform muscle (see the library's `elongation` module);
 //! - `musclefem vumat build`, `musclefem umat build`: an Abaqus/Explicit VUMAT or an
@@ -26,6 +28,7 @@ mod commands;
 mod elongate_command;
 mod fibers_command;
 mod mesh_command;
+mod picture_command;
 mod scene_run;
 mod summary;
 mod vumat_command;
@@ -74,6 +77,11 @@ enum Command {
     /// and fibers.png (arrows in the plane of the centroids' two principal axes); prints
     /// the flux through each inlet and outlet.
     Fibers(fibers_command::FibersArgs),
+    /// A PNG of one frame of a run: its parts deformed, coloured by a cell array (von
+    /// Mises stress by default), seen along a view (lateral, anterior, ... or a
+    /// direction), with the rigid bodies of the same instant in grey; `--run DIR --time T`
+    /// picks the frame nearest T.
+    Picture(picture_command::PictureArgs),
     /// Run a scene file: VTU frames + PVD series (ParaView), history.csv, a copy of the
     /// scene and run.log in the output directory. Ctrl-C stops cleanly after the last
     /// complete frame.
@@ -215,6 +223,7 @@ fn main() -> ExitCode {
         Some(Command::Elongate(args)) => elongate_command::elongate(&args),
         Some(Command::Mesh(args)) => mesh_command::mesh(&args),
         Some(Command::Fibers(args)) => fibers_command::fibers(&args),
+        Some(Command::Picture(args)) => picture_command::picture(&args),
         Some(Command::Knee(args)) => commands::knee(&args),
         Some(Command::Sweep(args)) => musclefem_studies::sweep::sweep(&args),
         Some(Command::Fit(args)) => musclefem_studies::fit::fit(&args),

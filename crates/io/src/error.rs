@@ -34,6 +34,9 @@ pub enum OutputError {
     /// A stopped run cannot be resumed from the checkpoint `path`.
     #[error("cannot resume from '{}': {message}", path.display())]
     Resume { path: PathBuf, message: String },
+    /// A file read back (e.g. a frame) lacks what was asked for or is inconsistent.
+    #[error("cannot read '{}': {message}", path.display())]
+    Read { path: PathBuf, message: String },
     /// The VTK library failed to encode or decode `path`.
     #[error("VTK error on '{}': {message}", path.display())]
     Vtk { path: PathBuf, message: String },

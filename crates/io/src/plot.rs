@@ -1,6 +1,9 @@
 //! PNG charts: one or more panels (side by side, or in a grid), each with any number of
 //! named line series, a title, axis labels with units and a legend; grouped bar charts
-//! ([`bars`]); and pictures of direction fields in 3-D as arrows ([`glyphs`]).
+//! ([`bars`]); pictures of direction fields in 3-D as arrows ([`glyphs`]); and pictures
+//! of a deformed solid coloured by a value per cell ([`mesh_picture`], with the feature
+//! `results`). Pictures coloured by a scalar share the colour map and bar of
+//! [`colour_bar`].
 //!
 //! Text is drawn with DejaVu Sans, bundled in the crate (`assets/DejaVuSans.ttf`, licence
 //! in `assets/DejaVuSans-LICENSE.txt`) and registered with plotters' `ab_glyph` backend
@@ -19,9 +22,13 @@ use crate::OutputError;
 use crate::atomic::PendingFile;
 
 pub mod bars;
+pub mod colour_bar;
 pub mod glyphs;
+#[cfg(feature = "results")]
+pub mod mesh_picture;
 
 pub use bars::{BarChart, BarPanel, BarSeries, stage_bar_png};
+pub use colour_bar::{ColourBar, viridis};
 pub use glyphs::{GlyphView, PrincipalAxes, stage_glyph_png};
 
 /// Font family under which the bundled font is registered (plotters' default family, so

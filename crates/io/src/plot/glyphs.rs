@@ -14,6 +14,7 @@ use nalgebra::{Matrix3, SymmetricEigen, Vector2, Vector3};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::colour_bar::{ColourBar, draw_colour_bar, viridis};
 use super::{FONT_FAMILY, check_png_path, ensure_font, tick_label};
 use crate::OutputError;
 use crate::atomic::PendingFile;
@@ -116,28 +117,6 @@ impl PrincipalAxes {
 pub fn subsample(count: usize, max_glyphs: usize) -> Vec<usize> {
     let stride = count.div_ceil(max_glyphs.max(1)).max(1);
     (0..count).step_by(stride).collect()
-}
-
-/// Colour of `t` ∈ [0, 1] on the viridis map (dark blue → green → yellow), interpolated
-/// linearly between five of its colours.
-fn viridis(t: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let s = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    } * 4.0;
-    let i = (s.floor() as usize).min(3);
-    let f = s - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let mix = |p: f64, q: f64| (p + f * (q - p)).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// The laid-out picture: axis ranges with equal scales and the sizes in pixels.
@@ -307,8 +286,13 @@ fn render(file: &Path, view: &GlyphView) -> Result<(), String> {
     let (chart_area, bar_area) = body.split_horizontally(layout.chart_size().0);
     draw_arrows(&chart_area, &layout, &frame, &arrows, selected.len())
         .map_err(|e| format!("arrows: {e}"))?;
-    draw_colour_bar(&bar_area, &view.colour_label, c_lo..c_hi)
-        .map_err(|e| format!("colour bar: {e}"))?;
+    let bar = ColourBar {
+        label: view.colour_label.clone(),
+        range: c_lo..c_hi,
+        above: None,
+        below: None,
+    };
+    draw_colour_bar(&bar_area, &bar).map_err(|e| format!("colour bar: {e}"))?;
     root.present().map_err(|e| e.to_string())
 }
 
@@ -380,40 +364,6 @@ fn draw_arrows<'a>(
     Ok(())
 }
 
-fn draw_colour_bar<'a>(
-    area: &DrawingArea<BitMapBackend<'a>, Shift>,
-    label: &str,
-    range: std::ops::Range<f64>,
-) -> Result<(), Box<dyn std::error::Error + 'a>> {
-    const STEPS: usize = 128;
-    let span = range.end - range.start;
-    // The scalar's name above the bar, its values to the right of it.
-    let mut chart = ChartBuilder::on(area)
-        .caption(label, (FONT_FAMILY, 16))
-        .margin(MARGIN)
-        .margin_left(24)
-        .x_label_area_size(X_LABEL_AREA)
-        .right_y_label_area_size(COLOUR_BAR_WIDTH - 24 - 28 - MARGIN)
-        .build_cartesian_2d(0.0..1.0, range.clone())?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_labels(9)
-        .y_label_formatter(&|y| tick_label(*y, span))
-        .label_style((FONT_FAMILY, 14))
-        .axis_desc_style((FONT_FAMILY, 16))
-        .draw()?;
-    chart.draw_series((0..STEPS).map(|k| {
-        let (a, b) = (k as f64 / STEPS as f64, (k + 1) as f64 / STEPS as f64);
-        Rectangle::new(
-            [(0.0, range.start + a * span), (1.0, range.start + b * span)],
-            viridis(0.5 * (a + b)).filled(),
-        )
-    }))?;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -477,14 +427,6 @@ mod tests {
             assert!(picked.len() <= 3000 && picked.len() >= 1500, "{count}");
             assert_eq!(picked, subsample(count, 3000));
         }
-    }
-
-    #[test]
-    fn colour_map_runs_from_dark_blue_to_yellow() {
-        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
-        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
-        assert_eq!(viridis(0.5), RGBColor(33, 145, 140));
-        assert_eq!(viridis(f64::NAN), viridis(0.0));
     }
 
     #[test]
