@@ -303,8 +303,17 @@ mod tests {
             assert!(stress.amax() < 1e-12, "{technology:?}: {stress}");
 
             let (shear_rate, dilatation_rate) = (0.8, 0.3);
-            let velocity_gradient =
-                Matrix3::new(dilatation_rate, shear_rate, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            let velocity_gradient = Matrix3::new(
+                dilatation_rate,
+                shear_rate,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            );
             let moving: Vec<_> = x.iter().map(|p| velocity_gradient * p).collect();
             let stress = shear_stress(eta, volume, &moving, &gradient);
             let rate = (velocity_gradient + velocity_gradient.transpose()) * 0.5;

@@ -327,7 +327,9 @@ impl HillMuscle {
             let d_i1 = d_b_bar.trace();
             b_bar * (2.0 * w11 * (d_i1 + x * d_stretch))
                 + d_b_bar * (2.0 * s.w1_matrix)
-                + s.fiber * s.fiber.transpose() * (d_ratio_d_stretch * d_stretch + d_ratio_d_i1 * d_i1)
+                + s.fiber
+                    * s.fiber.transpose()
+                    * (d_ratio_d_stretch * d_stretch + d_ratio_d_i1 * d_i1)
                 + (d_g_g + d_g_g.transpose()) * ratio
         })
     }

@@ -41,11 +41,11 @@ use nalgebra::Vector3;
 
 use musclefem_core::mesh::ElementRef;
 
+use super::super::ClosedChain;
 use super::super::dimensions::KneeDimensions;
 use super::super::kinematics::{KneeKinematics, PatellaPose, QuadricepsPull};
 use super::super::moment_arms::DIFFERENCE_STEP;
 use super::super::path::free_path;
-use super::super::ClosedChain;
 use super::knee::{VisibleHumanKnee, patellar_tendon_length};
 
 /// Height of the tibial plateau below the condyles' circle [m], as the default knee's
