@@ -78,7 +78,7 @@ mod tests {
                 )
             };
             let text = format!(
-                "schema_version = 1\n\n{}{}{}{}[step]\nduration = 1.7\n",
+                "schema_version = 1\n\n{}{}{}{}{}[step]\nduration = 1.7\n",
                 knee_material_entries(&muscles, activation, &squat),
                 part("vl", "vastus_lateralis_muscle"),
                 part("rf", "rectus_femoris_muscle"),
