@@ -50,7 +50,9 @@
 //!
 //! Bulk viscosity ([`ExplicitSettings::bulk_viscosity`], off by default): see
 //! [`super::bulk_viscosity`]; its dissipated work is the viscous energy W_visc, and the
-//! balance becomes W_int + W_visc + K − W_ext = const.
+//! balance becomes W_int + W_visc + K − W_ext = const. The shear viscosity
+//! ([`ExplicitSettings::shear_viscosity`], off by default) adds its forces and work to the
+//! same terms, and its damping to the stable step's factor.
 //!
 //! The history also reports the hourglass energy of the one-point hex8 (Σ ½ k |q|², part of
 //! W_int, recorded with each row).
