@@ -228,6 +228,74 @@ fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
     assert!(plain.history.iter().all(|row| row.viscous_energy == 0.0));
 }
 
+/// The same single mode damped by the shear viscosity instead: σ_v,xx = 2η (2/3) ε̇ in
+/// uniaxial strain, so c_v = (4/3) η A/h and ζ = (4/3) η / (h √(2 M ρ₀)). The energy
+/// balance holds with the dissipated work, and the step is cut by √(1 + ζ_e²) − ζ_e with
+/// the element's ζ_e = (4/3) η / (L₀ √(ρ₀ M)).
+#[test]
+fn shear_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
+    let mesh = box_of_hexes([SIDE; 3], [1; 3]).unwrap();
+    let mut loads = Loads::from(vec![
+        held(&mesh, "x0", 0),
+        held(&mesh, "y0", 1),
+        held(&mesh, "z0", 2),
+        held(&mesh, "y1", 1),
+        held(&mesh, "z1", 2),
+    ]);
+    let modulus = BULK + 4.0 * MU / 3.0;
+    let omega = (2.0 * modulus / (DENSITY * SIDE * SIDE)).sqrt();
+    let period = 2.0 * std::f64::consts::PI / omega;
+    let pulse = 0.2 * period;
+    let force = 1e-4 * modulus * SIDE * SIDE / 4.0;
+    loads.forces.push(NodalForce {
+        nodes: mesh.node_set("x1").unwrap().to_vec(),
+        dof: 0,
+        amplitude: Amplitude::new(vec![(0.0, force), (pulse, force), (pulse * 1.0001, 0.0)])
+            .unwrap(),
+    });
+    let eta = 3.0;
+    let zeta = 4.0 / 3.0 * eta / (SIDE * (2.0 * modulus * DENSITY).sqrt());
+    let mut settings = ExplicitSettings::new(8.0 * period);
+    settings.shear_viscosity = Some(eta);
+    settings.fixed_time_step = Some(period / 400.0);
+    settings.history_interval = period / 400.0;
+    let damped = run_explicit(&mesh, &parts(Technology::Hex8Full), &loads, &settings).unwrap();
+    let peak = |from: f64| {
+        (damped.history.iter())
+            .filter(|row| row.time >= from * period && row.time < (from + 1.0) * period)
+            .map(|row| row.kinetic_energy)
+            .fold(0.0, f64::max)
+    };
+    let expected = (-20.0 * std::f64::consts::PI * zeta / (1.0 - zeta * zeta).sqrt()).exp();
+    let ratio = peak(6.0) / peak(1.0);
+    println!("ζ = {zeta:.4}: peaks decay by {ratio:.4}, expected {expected:.4}");
+    assert!(
+        (ratio - expected).abs() < 0.03 * expected,
+        "kinetic-energy peaks decay by {ratio} over five periods, expected {expected}"
+    );
+    let last = damped.history.last().unwrap();
+    assert!(last.viscous_energy > 0.0);
+
+    // The stable step with the viscosity: the cube's (L₀ = h/√3) with the factor above.
+    settings.fixed_time_step = None;
+    settings.end_time = 50.0 * period;
+    settings.history_interval = period;
+    let stepped = run_explicit(&mesh, &parts(Technology::Hex8Full), &loads, &settings).unwrap();
+    let mut plain = settings.clone();
+    plain.shear_viscosity = None;
+    let unviscous = run_explicit(&mesh, &parts(Technology::Hex8Full), &loads, &plain).unwrap();
+    let length = SIDE / 3f64.sqrt();
+    let element_zeta = 4.0 / 3.0 * eta / (length * (DENSITY * modulus).sqrt());
+    let factor = (1.0 + element_zeta * element_zeta).sqrt() - element_zeta;
+    let steps_ratio = unviscous.steps as f64 / stepped.steps as f64;
+    assert!(
+        (steps_ratio - factor).abs() < 0.02 * factor,
+        "steps {} with η, {} without: ratio {steps_ratio}, expected {factor}",
+        stepped.steps,
+        unviscous.steps
+    );
+}
+
 /// One-point hex8: a slow homogeneous stretch excites no hourglass mode (its hourglass
 /// energy is below 1e-8 of the internal energy: only the small inertial departures from
 /// the affine motion), a corner load does (above 1e-3 of it, and a part of it).

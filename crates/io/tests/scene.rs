@@ -229,6 +229,13 @@ fn settings_run_would_refuse_are_refused_when_the_scene_is_built() {
             "must be a positive time",
         ),
         (
+            "negative shear viscosity",
+            "duration = 1.0",
+            "duration = 1.0\nexplicit = { shear_viscosity = -1.0 }",
+            "s.toml:29:",
+            "shear_viscosity = -1 must be a viscosity ≥ 0 [Pa s]",
+        ),
+        (
             "negative energy tolerance",
             "duration = 1.0",
             "duration = 1.0\nexplicit = { energy_tolerance = -1.0 }",
@@ -485,6 +492,15 @@ fn solver_auto_picks_by_the_speed_of_the_step() {
             .replace("duration = 1.0", "duration = 1e-4"),
     );
     assert!(matches!(fast.analysis, Analysis::Explicit(_)));
+    let viscous = build(&VALID.replace(
+        "solver = \"implicit\"",
+        "solver = \"explicit\"\nexplicit = { bulk_viscosity = true, shear_viscosity = 2e3 }",
+    ));
+    let Analysis::Explicit(settings) = &viscous.analysis else {
+        panic!("the scene asks for explicit");
+    };
+    assert_eq!(settings.shear_viscosity, Some(2e3));
+    assert!(settings.bulk_viscosity.is_some());
     let why = fast.solver_rationale.as_deref().unwrap();
     assert!(
         why.contains("explicit") && why.contains("(fast motion)"),

@@ -15,6 +15,20 @@
 //! that factor. The quadratic term's further reduction in fast compression is not; it is
 //! small at the defaults and the energy balance would catch an instability.
 //!
+//! **Shear viscosity** (a project addition, off by default): a deviatoric Cauchy stress
+//!
+//! σ_v = 2η dev D̄,  D̄ = sym L̄,  L̄ = (1/v) Σ_a v_a ⊗ ∂v/∂x_a   [Pa],
+//!
+//! with η [Pa s] and L̄ the element's volume-averaged velocity gradient ((1/v) ∫ ∇v dv, from
+//! the half-step velocities of the step just taken). Its nodal forces are f_a = σ_v ∂v/∂x_a
+//! and its power Σ_a f_a·v_a = 2η v |dev D̄|² ≥ 0 is dissipated (viscous energy). A rigid
+//! motion gives D̄ = 0 and no force. It damps a mode of frequency ω in proportion to
+//! ηω/μ: strongly the ringing of single elements, hardly the slow loading of a
+//! quasi-static run. It adds (4/3)η/(ρ c L₀) to the damping ratio of an element's highest
+//! mode, so the step factor becomes √(1 + ζ²) − ζ with ζ = b₁ + that ratio at its largest
+//! (with the densities after mass scaling: a mass-scaled element's ratio is
+//! (4/3) η/(Δt M), tiny for a soft tissue's 10⁻⁵ s steps and η of 10³ Pa s).
+//!
 //! Not available for `Tet4NodalAverage` blocks yet (the solver refuses the combination).
 
 use std::ops::Range;
@@ -47,8 +61,22 @@ impl Default for BulkViscosity {
 impl BulkViscosity {
     /// Factor on the stable step from the linear term: √(1 + b₁²) − b₁.
     pub fn stable_step_factor(&self) -> f64 {
-        (1.0 + self.linear * self.linear).sqrt() - self.linear
+        damped_step_factor(self.linear)
     }
+}
+
+/// Factor on the undamped stable step 2/ω of central differences with a damping ratio ζ
+/// at the highest frequency: √(1 + ζ²) − ζ.
+pub fn damped_step_factor(damping_ratio: f64) -> f64 {
+    (1.0 + damping_ratio * damping_ratio).sqrt() - damping_ratio
+}
+
+/// The artificial viscosities of one run: bulk (b₁, b₂) and shear η [Pa s].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Viscosities {
+    pub bulk: Option<BulkViscosity>,
+    /// η [Pa s], 0 for none.
+    pub shear: f64,
 }
 
 /// Per-element state of one block: current volumes at the last two steps and the viscous
@@ -89,17 +117,20 @@ impl ViscousBlock {
         }
     }
 
-    /// Viscous element forces at `positions` after a step of `dt` [s], with `chunks` the
-    /// explicit element chunks (reference lengths and acoustic moduli) and `density[e]` the
-    /// (possibly mass-scaled) density of element e [kg/m³]. Elements in parallel.
+    /// Viscous element forces at `positions` after a step of `dt` [s] taken with the nodal
+    /// `velocities`, with `chunks` the explicit element chunks (reference lengths and
+    /// acoustic moduli) and `density[e]` the (possibly mass-scaled) density of element e
+    /// [kg/m³]. Elements in parallel.
+    #[allow(clippy::too_many_arguments)]
     pub fn evaluate(
         &mut self,
-        coefficients: &BulkViscosity,
+        viscosities: &Viscosities,
         kernel: &BlockKernel,
         block: &ElementBlock,
         chunks: &[ElementChunk],
         density: &[f64],
         positions: &[Vector3<f64>],
+        velocities: &[Vector3<f64>],
         dt: f64,
     ) {
         let npe = kernel.nodes_per_element();
@@ -116,27 +147,45 @@ impl ViscousBlock {
             .zip(self.ranges.par_iter())
             .for_each(|(((forces, volumes), chunk), range)| {
                 let mut local = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+                let mut local_velocity = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
                 let mut gradient = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
                 let lengths = chunk.reference_lengths();
                 let moduli = chunk.wave_moduli();
                 for (i, element) in range.clone().enumerate() {
-                    for (x, &id) in local.iter_mut().zip(block.element_nodes(element)) {
+                    for ((x, v), &id) in (local.iter_mut())
+                        .zip(local_velocity.iter_mut())
+                        .zip(block.element_nodes(element))
+                    {
                         *x = positions[id as usize];
+                        *v = velocities[id as usize];
                     }
                     let volume =
                         volume_and_gradient(kernel, element, ppe, &local[..npe], &mut gradient);
                     volumes[i] = volume;
-                    let old = self.volume_old[element];
-                    let rate = (volume - old) / (0.5 * (volume + old) * dt);
-                    let rho = density[element];
-                    let length = lengths[i];
-                    let speed = (moduli[i] / rho).sqrt();
-                    let mut q = -coefficients.linear * rho * speed * length * rate;
-                    if rate < 0.0 {
-                        q += rho * (coefficients.quadratic * length * rate).powi(2);
+                    // Cauchy stress of the viscosities: −q I + σ_v.
+                    let mut stress = Matrix3::zeros();
+                    if let Some(bulk) = &viscosities.bulk {
+                        let old = self.volume_old[element];
+                        let rate = (volume - old) / (0.5 * (volume + old) * dt);
+                        let rho = density[element];
+                        let length = lengths[i];
+                        let speed = (moduli[i] / rho).sqrt();
+                        let mut q = -bulk.linear * rho * speed * length * rate;
+                        if rate < 0.0 {
+                            q += rho * (bulk.quadratic * length * rate).powi(2);
+                        }
+                        stress -= Matrix3::identity() * q;
+                    }
+                    if viscosities.shear > 0.0 && volume > 0.0 {
+                        stress += shear_stress(
+                            viscosities.shear,
+                            volume,
+                            &local_velocity[..npe],
+                            &gradient[..npe],
+                        );
                     }
                     for (f, g) in forces[i * npe..(i + 1) * npe].iter_mut().zip(&gradient) {
-                        *f = -q * g;
+                        *f = stress * g;
                     }
                 }
             });
@@ -160,6 +209,23 @@ impl ViscousBlock {
     pub fn commit(&mut self) {
         std::mem::swap(&mut self.volume_old, &mut self.volume_new);
     }
+}
+
+/// The shear viscosity's Cauchy stress 2η dev D̄ [Pa] of an element of current `volume`
+/// whose nodes move at `velocities`, with `gradient` = ∂v/∂x_a (module documentation).
+fn shear_stress(
+    eta: f64,
+    volume: f64,
+    velocities: &[Vector3<f64>],
+    gradient: &[Vector3<f64>],
+) -> Matrix3<f64> {
+    let mut velocity_gradient = Matrix3::zeros();
+    for (v, g) in velocities.iter().zip(gradient) {
+        velocity_gradient += v * g.transpose();
+    }
+    let rate = (velocity_gradient + velocity_gradient.transpose()) * (0.5 / volume);
+    let deviator = rate - Matrix3::identity() * (rate.trace() / 3.0);
+    deviator * (2.0 * eta)
 }
 
 /// Current volume v = Σ_p w_p J_p [m³] of `element` and its gradient
@@ -197,6 +263,77 @@ mod tests {
     use super::*;
     use crate::element::Technology;
     use crate::mesh::generate::{TetOrder, box_of_hexes, box_of_tets, distort};
+
+    /// On a distorted, deformed tet10 and hex8: a rigid motion (translation and spin
+    /// v = w × x) gives no shear-viscosity stress; a simple shear v = (γ̇ y, 0, 0) plus a
+    /// dilatation gives 2η dev D exactly (the velocity field is linear, so its mean
+    /// gradient is its gradient), and the nodal forces' power is 2η v |dev D|².
+    #[test]
+    fn the_shear_viscosity_is_2_eta_dev_d_and_ignores_rigid_motion() {
+        let eta = 3.0;
+        for (mut mesh, technology) in [
+            (
+                box_of_hexes([1.0; 3], [2; 3]).unwrap(),
+                Technology::Hex8Full,
+            ),
+            (
+                box_of_tets([1.0; 3], [1; 3], TetOrder::Quadratic).unwrap(),
+                Technology::Tet10,
+            ),
+        ] {
+            distort(&mut mesh, 0.15, 7).unwrap();
+            let block = &mesh.blocks[0];
+            let kernel = BlockKernel::new(&mesh.nodes, block, technology).unwrap();
+            let npe = kernel.nodes_per_element();
+            let x: Vec<Vector3<f64>> = block
+                .element_nodes(0)
+                .iter()
+                .map(|&id| mesh.nodes.position(id as usize))
+                .map(|p| p + Vector3::new(0.1 * p.y * p.z, -0.05 * p.x * p.x, 0.08 * p.y))
+                .collect();
+            let mut gradient = vec![Vector3::zeros(); npe];
+            let volume =
+                volume_and_gradient(&kernel, 0, kernel.points_per_element(), &x, &mut gradient);
+            let spin = Vector3::new(0.3, -1.2, 0.7);
+            let rigid: Vec<_> = x
+                .iter()
+                .map(|p| Vector3::new(0.4, 0.1, -2.0) + spin.cross(p))
+                .collect();
+            let stress = shear_stress(eta, volume, &rigid, &gradient);
+            assert!(stress.amax() < 1e-12, "{technology:?}: {stress}");
+
+            let (shear_rate, dilatation_rate) = (0.8, 0.3);
+            let velocity_gradient = Matrix3::new(
+                dilatation_rate,
+                shear_rate,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            );
+            let moving: Vec<_> = x.iter().map(|p| velocity_gradient * p).collect();
+            let stress = shear_stress(eta, volume, &moving, &gradient);
+            let rate = (velocity_gradient + velocity_gradient.transpose()) * 0.5;
+            let deviator = rate - Matrix3::identity() * (rate.trace() / 3.0);
+            let expected = deviator * (2.0 * eta);
+            assert!(
+                (stress - expected).amax() < 1e-12,
+                "{technology:?}: {stress} vs {expected}"
+            );
+            let power: f64 = (moving.iter())
+                .zip(&gradient)
+                .map(|(v, g)| (stress * g).dot(v))
+                .sum();
+            let dissipation = 2.0 * eta * volume * deviator.norm_squared();
+            assert!(
+                (power - dissipation).abs() < 1e-12 * dissipation,
+                "{technology:?}: power {power} vs {dissipation}"
+            );
+        }
+    }
 
     /// ∂v/∂x_a against central differences of v on distorted, deformed elements.
     #[test]

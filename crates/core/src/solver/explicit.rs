@@ -50,18 +50,21 @@
 //!
 //! Bulk viscosity ([`ExplicitSettings::bulk_viscosity`], off by default): see
 //! [`super::bulk_viscosity`]; its dissipated work is the viscous energy W_visc, and the
-//! balance becomes W_int + W_visc + K − W_ext = const.
+//! balance becomes W_int + W_visc + K − W_ext = const. The shear viscosity
+//! ([`ExplicitSettings::shear_viscosity`], off by default) adds its forces and work to the
+//! same terms, and its damping to the stable step's factor.
 //!
 //! The history also reports the hourglass energy of the one-point hex8 (Σ ½ k |q|², part of
 //! W_int, recorded with each row).
 
 use nalgebra::Vector3;
 
-use super::bulk_viscosity::BulkViscosity;
+use super::bulk_viscosity::{BulkViscosity, Viscosities, damped_step_factor};
 use super::checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
 use super::element_fields::PartFields;
 use super::explicit_parts::{
-    PartRun, hourglass_energy, internal_forces, scale_masses, smallest_stable_step, viscous_forces,
+    PartRun, hourglass_energy, internal_forces, scale_masses, smallest_impedance_length,
+    smallest_stable_step, viscous_forces,
 };
 pub use super::explicit_settings::{ExplicitSettings, MAX_EXPLICIT_STEPS, MIN_MASS_SCALED_STEPS};
 use super::explicit_settings::{check_settings, check_step_budget};
@@ -177,7 +180,7 @@ pub(super) fn explicit_run(
             mesh,
             part,
             &mut mass,
-            settings.bulk_viscosity.is_some(),
+            settings.has_viscosity(),
         )?);
     }
     loads.validate(node_count)?;
@@ -206,11 +209,10 @@ pub(super) fn explicit_run(
     let mut previous_viscous_force = vec![Vector3::zeros(); node_count];
     let mut interaction_force = vec![Vector3::zeros(); node_count];
     let mut previous_interaction_force = vec![Vector3::zeros(); node_count];
-    let step_factor = settings.safety_factor
-        * settings
-            .bulk_viscosity
-            .as_ref()
-            .map_or(1.0, BulkViscosity::stable_step_factor);
+    let viscosities = Viscosities {
+        bulk: settings.bulk_viscosity,
+        shear: settings.shear_viscosity.unwrap_or(0.0),
+    };
     let mut previous_displacement = vec![Vector3::zeros(); node_count];
     // Constrained degrees of freedom 3 node + component, their targets ū, the nodal
     // reactions R (zero on free components) and the external forces.
@@ -228,6 +230,11 @@ pub(super) fn explicit_run(
     let mut time = 0.0;
     let (mut stable_step, mut critical) =
         internal_forces(mesh, &mut runs, &positions, time, 0.0, true, &mut force)?;
+    let mut step_factor = settings.safety_factor
+        * settings
+            .bulk_viscosity
+            .as_ref()
+            .map_or(1.0, BulkViscosity::stable_step_factor);
     interaction_forces(interactions, time, &positions, &mut interaction_force)?;
     let energy_scale: f64 = runs
         .iter()
@@ -238,6 +245,14 @@ pub(super) fn explicit_run(
     if let Some(target) = settings.mass_scaling_time_step {
         added_mass = scale_masses(mesh, &mut runs, &mut mass, target / step_factor);
         (stable_step, critical) = smallest_stable_step(&runs);
+    }
+    if viscosities.shear > 0.0 {
+        // The damping ratio of the highest mode: b₁ from the bulk viscosity and, at its
+        // largest, (4/3) η/(ρ c L₀) from the shear viscosity (the densities as scaled, the
+        // moduli as first computed).
+        let damping_ratio = settings.bulk_viscosity.as_ref().map_or(0.0, |b| b.linear)
+            + 4.0 / 3.0 * viscosities.shear / smallest_impedance_length(&runs);
+        step_factor = settings.safety_factor * damped_step_factor(damping_ratio);
     }
     check_step_budget(
         settings.end_time,
@@ -413,7 +428,7 @@ pub(super) fn explicit_run(
         internal_energy += deterministic_sum(node_count, |i| {
             0.5 * (previous_force[i] + force[i]).dot(&(displacement[i] - previous_displacement[i]))
         });
-        if settings.bulk_viscosity.is_some() {
+        if settings.has_viscosity() {
             viscous_energy += deterministic_sum(node_count, |i| {
                 0.5 * (previous_viscous_force[i] + viscous_force[i])
                     .dot(&(displacement[i] - previous_displacement[i]))
@@ -533,12 +548,13 @@ pub(super) fn explicit_run(
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
         (stable_step, critical) =
             internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
-        if let Some(coefficients) = &settings.bulk_viscosity {
+        if settings.has_viscosity() {
             viscous_forces(
                 mesh,
                 &mut runs,
-                coefficients,
+                &viscosities,
                 &positions,
+                &velocity,
                 dt,
                 &mut viscous_force,
             );

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use musclefem_materials::Material;
 
 use super::assembly::NodeAdjacency;
-use super::bulk_viscosity::{BulkViscosity, ViscousBlock};
+use super::bulk_viscosity::{Viscosities, ViscousBlock};
 use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk, chunk_ranges};
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
@@ -59,13 +59,13 @@ enum PartElements {
 
 impl<'a> PartRun<'a> {
     /// Element data and lumped mass (ρ₀ V_e shared equally by the element's nodes, added
-    /// into `mass`) of one part. The one-point hex8 takes the batched kernel unless bulk
-    /// viscosity is on (which needs the general kernel's volume gradients).
+    /// into `mass`) of one part. The one-point hex8 takes the batched kernel unless an
+    /// artificial viscosity is on (which needs the general kernel's volume gradients).
     pub fn new(
         mesh: &'a Mesh,
         part: &'a Part,
         mass: &mut [f64],
-        bulk_viscosity: bool,
+        viscosity: bool,
     ) -> Result<Self, SolverError> {
         let block = mesh
             .blocks
@@ -96,7 +96,7 @@ impl<'a> PartRun<'a> {
         };
         let elements = match part.technology {
             Technology::Hex8OnePoint { hourglass_modulus }
-                if block.shape == ElementShape::Hex8 && !bulk_viscosity =>
+                if block.shape == ElementShape::Hex8 && !viscosity =>
             {
                 let chunks = chunk_ranges(block.len())
                     .map(|range| {
@@ -121,12 +121,12 @@ impl<'a> PartRun<'a> {
                     BlockKernel::new(&mesh.nodes, block, technology).map_err(element_error)?;
                 lump(&mut (0..block.len()).map(|e| kernel.reference_volume(e)));
                 if technology == Technology::Tet4NodalAverage {
-                    if bulk_viscosity {
+                    if viscosity {
                         return Err(SolverError::InvalidPart {
                             block: part.block,
-                            reason: "bulk viscosity is not available for Tet4NodalAverage \
-                                     blocks yet (use Tet4 or Tet10, or run without bulk \
-                                     viscosity)"
+                            reason: "bulk and shear viscosity are not available for \
+                                     Tet4NodalAverage blocks yet (use Tet4 or Tet10, or run \
+                                     without them)"
                                 .to_string(),
                         });
                     }
@@ -140,7 +140,7 @@ impl<'a> PartRun<'a> {
                 }
             }
         };
-        let viscous = match (&elements, bulk_viscosity) {
+        let viscous = match (&elements, viscosity) {
             (PartElements::General { kernel, .. }, true) => Some(ViscousBlock::new(kernel)),
             _ => None,
         };
@@ -492,13 +492,34 @@ pub(super) fn scale_masses(
     added
 }
 
-/// Bulk-viscosity forces at `positions` after a step of `dt` into `viscous_force`
-/// (elements in parallel, gathered in element order), volumes committed.
+/// Smallest L₀ √(ρ M) over the elements with viscous forces [Pa s]: the shear viscosity
+/// η adds (4/3) η / (L₀ √(ρ M)) to the damping ratio of an element's highest mode.
+pub(super) fn smallest_impedance_length(runs: &[PartRun]) -> f64 {
+    let mut smallest = f64::INFINITY;
+    for run in runs {
+        if let (Some(_), PartElements::General { chunks, .. }) = (&run.viscous, &run.elements) {
+            for chunk in chunks {
+                for (element, (length, modulus)) in (chunk.elements.clone())
+                    .zip(chunk.reference_lengths().iter().zip(chunk.wave_moduli()))
+                {
+                    let rho = run.element_density[element];
+                    smallest = smallest.min(length * (rho * modulus).sqrt());
+                }
+            }
+        }
+    }
+    smallest
+}
+
+/// Bulk- and shear-viscosity forces at `positions` after a step of `dt` taken with
+/// `velocities` into `viscous_force` (elements in parallel, gathered in element order),
+/// volumes committed.
 pub(super) fn viscous_forces(
     mesh: &Mesh,
     runs: &mut [PartRun],
-    coefficients: &BulkViscosity,
+    viscosities: &Viscosities,
     positions: &[Vector3<f64>],
+    velocities: &[Vector3<f64>],
     dt: f64,
     viscous_force: &mut [Vector3<f64>],
 ) {
@@ -509,12 +530,13 @@ pub(super) fn viscous_forces(
             (&mut run.viscous, &run.elements)
         {
             viscous.evaluate(
-                coefficients,
+                viscosities,
                 kernel,
                 block,
                 chunks,
                 &run.element_density,
                 positions,
+                velocities,
                 dt,
             );
             viscous.scatter(block, viscous_force);

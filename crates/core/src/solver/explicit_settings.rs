@@ -27,6 +27,18 @@ pub struct ExplicitSettings {
     pub mass_scaling_time_step: Option<f64>,
     /// Linear and quadratic bulk viscosity; `None` (default) = none.
     pub bulk_viscosity: Option<BulkViscosity>,
+    /// Shear (deviatoric) viscosity η [Pa s] of every element: σ_v = 2η dev D̄ from the
+    /// element's mean rate of deformation ([`super::bulk_viscosity`]); `None` (default) =
+    /// none. For quasi-static runs whose mass scaling slows a soft tissue's shear modes
+    /// down to the loading's time scale, where they ring undamped.
+    pub shear_viscosity: Option<f64>,
+}
+
+impl ExplicitSettings {
+    /// Whether any artificial viscosity (bulk or shear) is on.
+    pub fn has_viscosity(&self) -> bool {
+        self.bulk_viscosity.is_some() || self.shear_viscosity.is_some()
+    }
 }
 
 impl ExplicitSettings {
@@ -41,6 +53,7 @@ impl ExplicitSettings {
             energy_tolerance: 0.01,
             mass_scaling_time_step: None,
             bulk_viscosity: None,
+            shear_viscosity: None,
         }
     }
 }
@@ -69,6 +82,13 @@ pub(super) fn check_settings(settings: &ExplicitSettings) -> Result<(), SolverEr
         return bad(format!(
             "history interval {} must be positive",
             settings.history_interval
+        ));
+    }
+    if let Some(eta) = settings.shear_viscosity
+        && !(eta.is_finite() && eta >= 0.0)
+    {
+        return bad(format!(
+            "shear viscosity {eta} Pa s must be finite and not negative"
         ));
     }
     for (name, step) in [

@@ -403,6 +403,8 @@ pub struct ExplicitEntry {
     /// Linear and quadratic bulk viscosity on (Abaqus defaults 0.06, 1.2); default off.
     #[serde(default)]
     pub bulk_viscosity: bool,
+    /// Shear (deviatoric) viscosity η [Pa s] of every element; default none.
+    pub shear_viscosity: Option<Spanned<f64>>,
     /// Largest energy-balance error as a fraction of the largest energy; default 0.01.
     pub energy_tolerance: Option<Spanned<f64>>,
 }

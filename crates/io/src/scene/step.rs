@@ -114,6 +114,12 @@ pub(super) fn step_settings(
         |x| x.is_finite() && x > 0.0,
     )?;
     in_range(
+        &explicit.shear_viscosity,
+        "shear_viscosity",
+        "a viscosity ≥ 0 [Pa s]",
+        |x| x.is_finite() && x >= 0.0,
+    )?;
+    in_range(
         &explicit.energy_tolerance,
         "energy_tolerance",
         "a positive fraction of the largest energy",
@@ -140,6 +146,7 @@ pub(super) fn step_settings(
                 settings.energy_tolerance = *v.get_ref();
             }
             settings.bulk_viscosity = e.bulk_viscosity.then(BulkViscosity::default);
+            settings.shear_viscosity = e.shear_viscosity.as_ref().map(|v| *v.get_ref());
             Analysis::Explicit(settings)
         }
         AutoSolver::Implicit { dynamic } => {

@@ -171,6 +171,39 @@ pub fn parallel_element(sigma0: f64, a: f64, slack: f64, fiber_stretch: f64) -> 
     }
 }
 
+/// The matrix's slack along the fiber (a project extension; λ_M = 1 is the paper's matrix).
+///
+/// Ī₁ − 3 splits into a part that an isochoric stretch along the fiber does not change
+/// and the uniaxial part e(λ̄_f) = λ̄_f² + 2/λ̄_f − 3 (Ī₁ − Ī₄ ≥ 2/λ̄_f for det C̄ = 1, so
+/// the first part is ≥ 0). With a slack λ_M the matrix energy takes
+/// W_I = c [exp(b E) − 1], E = Ī₁ − 3 − e(λ̄_f) + e(λ*),
+/// λ* = λ̄_f below 1, 1 between 1 and λ_M (the crimped matrix is slack along the fiber),
+/// λ̄_f − (λ_M − 1) beyond: the paper's matrix, shifted to start at λ_M. e and e' vanish
+/// at 1, so E and its slope are continuous.
+///
+/// Returns (ΔE, x, x') with ΔE = e(λ*) − e(λ̄_f), x = dΔE/dλ̄_f and x' = d²ΔE/dλ̄_f²:
+/// the matrix adds the nominal fiber stress W₁ x to σ_PE + σ_SEE, W₁ = b c exp(b E).
+/// All three are exactly 0 for λ_M = 1 or λ̄_f ≤ 1.
+#[inline]
+pub fn matrix_slack(slack: f64, fiber_stretch: f64) -> (f64, f64, f64) {
+    let e = |l: f64| l * l + 2.0 / l - 3.0;
+    let de = |l: f64| 2.0 * l - 2.0 / (l * l);
+    let dde = |l: f64| 2.0 + 4.0 / (l * l * l);
+    let l = fiber_stretch;
+    if slack <= 1.0 || l <= 1.0 {
+        (0.0, 0.0, 0.0)
+    } else if l <= slack {
+        (-e(l), -de(l), -dde(l))
+    } else {
+        let shifted = l - (slack - 1.0);
+        (
+            e(shifted) - e(l),
+            de(shifted) - de(l),
+            dde(shifted) - dde(l),
+        )
+    }
+}
+
 /// Series elastic element stress σ_SEE = β (exp(α (λ_s − 1)) − 1) (seed Eq. 8) [Pa].
 #[inline]
 pub fn series_elastic(alpha: f64, beta: f64, lambda_s: f64) -> f64 {

@@ -2,7 +2,10 @@
 //!
 //! Strain energy W = W_I + W_f + W_V (Eq. 1), with the readings fixed in docs/design.md:
 //!
-//! - matrix: W_I = c [exp(b (Ī₁ − 3)) − 1] (the printed bracket of Eq. 2 is a slip);
+//! - matrix: W_I = c [exp(b (Ī₁ − 3)) − 1] (the printed bracket of Eq. 2 is a slip); a
+//!   parameter λ_M, 1 by default, makes the matrix slack along the fiber up to λ_M
+//!   ([`functions::matrix_slack`]: E = Ī₁ − 3 + ΔE(λ̄_f) in place of Ī₁ − 3, and the
+//!   nominal fiber stress W₁ x added to σ_PE + σ_SEE);
 //! - fiber: W_f = ∫₁^λ̄_f (σ_PE + σ_SEE) dλ (Eq. 3), so σ_PE + σ_SEE = ∂W_f/∂λ̄_f is a
 //!   *nominal* fiber stress, with λ̄_f = |F̄ a₀| the isochoric fiber stretch;
 //! - volume: W_V = (J − 1)²/D (Eq. 4).
@@ -48,7 +51,7 @@ use crate::tensor::{
     symmetric_from_voigt, volumetric_kirchhoff_slope, volumetric_pressure,
 };
 use crate::{ActivationHistory, Material, MaterialError, VoigtStress};
-use functions::{force_length, parallel_element};
+use functions::{force_length, matrix_slack, parallel_element};
 use local_solve::{LocalEquation, LocalSolution};
 pub use parameters::{HILL_PARAMETERS, HillParameters};
 
@@ -91,9 +94,12 @@ struct PointSolution {
     /// g = F̄ a₀ (|g| = λ̄_f).
     fiber: Vector3<f64>,
     fiber_stretch: f64,
-    /// W₁ = ∂W_I/∂Ī₁ [Pa].
+    /// W₁ = ∂W_I/∂E [Pa] (∂W_I/∂Ī₁ without a matrix slack).
     w1_matrix: f64,
-    /// σ_PE + σ_SEE [Pa].
+    /// x = ∂E/∂λ̄_f and x' = ∂²E/∂λ̄_f² of the matrix slack (0 without one).
+    matrix_slack_slope: f64,
+    matrix_slack_curvature: f64,
+    /// σ_PE + σ_SEE + W₁ x [Pa].
     fiber_stress: f64,
     /// dσ_PE/dλ̄_f [Pa].
     d_pe_stress: f64,
@@ -168,15 +174,20 @@ impl HillMuscle {
             p.parallel_slack,
             fiber_stretch,
         );
+        let (slack_energy, slack_slope, slack_curvature) =
+            matrix_slack(p.matrix_slack, fiber_stretch);
+        let w1_matrix = p.matrix_exponent
+            * p.matrix_stress
+            * (p.matrix_exponent * (split.i1_bar - 3.0 + slack_energy)).exp();
         PointSolution {
             split,
             reference_fiber: a0,
             fiber,
             fiber_stretch,
-            w1_matrix: p.matrix_exponent
-                * p.matrix_stress
-                * (p.matrix_exponent * (split.i1_bar - 3.0)).exp(),
-            fiber_stress: pe_stress + local.series_stress,
+            w1_matrix,
+            matrix_slack_slope: slack_slope,
+            matrix_slack_curvature: slack_curvature,
+            fiber_stress: pe_stress + local.series_stress + w1_matrix * slack_slope,
             d_pe_stress,
             local_equation,
             local,
@@ -287,9 +298,10 @@ impl HillMuscle {
     }
 
     /// Consistent ∂P/∂F through [`decoupled_tangent`], with
-    /// dM = 2 W₁₁ dĪ₁ B̄ + 2 W₁ dB̄ + d(σ_f/λ̄) g⊗g + (σ_f/λ̄)(dg⊗g + g⊗dg),
-    /// dB̄ = dF̄ F̄ᵀ + F̄ dF̄ᵀ, dĪ₁ = tr dB̄, dg = dF̄ a₀, dλ̄ = g·dg/λ̄,
-    /// d(σ_f/λ̄) = (σ_f' λ̄ − σ_f)/λ̄² dλ̄, W₁₁ = b W₁, and σ_f' including the local solve.
+    /// dM = 2 W₁₁ dE B̄ + 2 W₁ dB̄ + d(σ_f/λ̄) g⊗g + (σ_f/λ̄)(dg⊗g + g⊗dg),
+    /// dB̄ = dF̄ F̄ᵀ + F̄ dF̄ᵀ, dE = tr dB̄ + x dλ̄, dg = dF̄ a₀, dλ̄ = g·dg/λ̄,
+    /// d(σ_f/λ̄) = (σ_f' λ̄ − σ_f)/λ̄² dλ̄ + (W₁₁ x/λ̄) tr dB̄, W₁₁ = b W₁, and
+    /// σ_f' = σ_PE' + σ_SEE' (through the local solve) + W₁₁ x² + W₁ x'.
     fn tangent(&self, s: &PointSolution, tau: &Matrix3<f64>) -> crate::Tangent {
         let p = &self.parameters;
         let d_jp_dj = volumetric_kirchhoff_slope(s.split.jacobian, p.compressibility);
@@ -297,8 +309,13 @@ impl HillMuscle {
         let w11 = p.matrix_exponent * s.w1_matrix;
         let stretch = s.fiber_stretch;
         let ratio = s.fiber_stress / stretch;
-        let d_fiber_stress = s.d_pe_stress + s.local_equation.series_stress_sensitivity(&s.local);
+        let x = s.matrix_slack_slope;
+        let d_fiber_stress = s.d_pe_stress
+            + s.local_equation.series_stress_sensitivity(&s.local)
+            + w11 * x * x
+            + s.w1_matrix * s.matrix_slack_curvature;
         let d_ratio_d_stretch = (d_fiber_stress * stretch - s.fiber_stress) / (stretch * stretch);
+        let d_ratio_d_i1 = w11 * x / stretch;
         let f_bar = s.split.f_bar();
         let b_bar = symmetric_from_voigt(&s.split.b_bar);
         decoupled_tangent(&s.split, tau, d_jp_dj, |d_f_bar| {
@@ -307,9 +324,12 @@ impl HillMuscle {
             let d_fiber = d_f_bar * a0;
             let d_stretch = s.fiber.dot(&d_fiber) / stretch;
             let d_g_g = d_fiber * s.fiber.transpose();
-            b_bar * (2.0 * w11 * d_b_bar.trace())
+            let d_i1 = d_b_bar.trace();
+            b_bar * (2.0 * w11 * (d_i1 + x * d_stretch))
                 + d_b_bar * (2.0 * s.w1_matrix)
-                + s.fiber * s.fiber.transpose() * (d_ratio_d_stretch * d_stretch)
+                + s.fiber
+                    * s.fiber.transpose()
+                    * (d_ratio_d_stretch * d_stretch + d_ratio_d_i1 * d_i1)
                 + (d_g_g + d_g_g.transpose()) * ratio
         })
     }

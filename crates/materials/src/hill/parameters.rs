@@ -10,7 +10,7 @@ use crate::parameters::{Bound, ParameterSet, ParameterSpec};
 use Bound::{Exclusive, Inclusive, Unbounded};
 
 /// Declared parameters, defaults from Table 1 (activation: passive unless n2 > 0).
-pub const HILL_PARAMETERS: [ParameterSpec; 19] = [
+pub const HILL_PARAMETERS: [ParameterSpec; 20] = [
     ParameterSpec::new(
         "D",
         "1/Pa",
@@ -50,6 +50,14 @@ pub const HILL_PARAMETERS: [ParameterSpec; 19] = [
         Exclusive(0.0),
         Unbounded,
         "parallel element slack stretch: sigma_PE = sigma0 A (lambda_f - lambda_pe)^2 beyond it (1 in the paper)",
+    ),
+    ParameterSpec::new(
+        "lambda_matrix",
+        "1",
+        1.0,
+        Inclusive(1.0),
+        Unbounded,
+        "matrix slack stretch along the fiber: the matrix resists a stretch along the fiber only beyond it, as the paper's matrix beyond 1 (1 in the paper)",
     ),
     ParameterSpec::new(
         "sigma0",
@@ -173,6 +181,9 @@ pub struct HillParameters {
     /// Parallel element slack stretch λ_PE [1] (1 in the paper): the fiber stretch from
     /// which the PE carries stress.
     pub parallel_slack: f64,
+    /// Matrix slack stretch λ_M [1] (1 in the paper): the matrix's energy counts the
+    /// isochoric fiber stretch only beyond it ([`super::functions::matrix_slack`]).
+    pub matrix_slack: f64,
     /// Maximum isometric stress σ₀ [Pa].
     pub max_isometric_stress: f64,
     /// SEE exponent α [1].
@@ -214,6 +225,7 @@ impl HillParameters {
             matrix_stress: p.get("c")?,
             parallel_factor: p.get("A")?,
             parallel_slack: p.get("lambda_pe")?,
+            matrix_slack: p.get("lambda_matrix")?,
             max_isometric_stress: p.get("sigma0")?,
             see_exponent: p.get("alpha")?,
             see_stress: p.get("beta")?,
@@ -242,6 +254,7 @@ impl HillParameters {
             ("c", self.matrix_stress),
             ("A", self.parallel_factor),
             ("lambda_pe", self.parallel_slack),
+            ("lambda_matrix", self.matrix_slack),
             ("sigma0", self.max_isometric_stress),
             ("alpha", self.see_exponent),
             ("beta", self.see_stress),

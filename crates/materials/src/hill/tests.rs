@@ -58,7 +58,9 @@ fn fiber() -> Vector3<f64> {
 }
 
 /// Passive strain energy written independently of the stress code:
-/// W = c [exp(b (Ī₁ − 3)) − 1] + σ₀ A (λ̄_f − 1)³/3 [λ̄_f > 1] + (J − 1)²/D.
+/// W = c [exp(b E) − 1] + σ₀ A (λ̄_f − λ_PE)³/3 [λ̄_f > λ_PE] + (J − 1)²/D, with
+/// E = Ī₁ − 3 − u(λ̄_f) + u(λ*), u(λ) = λ² + 2/λ − 3, and λ* the fiber stretch with the
+/// matrix slack λ_M taken out (λ̄_f up to 1, then 1 up to λ_M, then λ̄_f − λ_M + 1).
 fn passive_energy(p: &HillParameters, f: &Matrix3<f64>, a0: &Vector3<f64>) -> f64 {
     let j = f.determinant();
     let c = f.transpose() * f;
@@ -70,7 +72,14 @@ fn passive_energy(p: &HillParameters, f: &Matrix3<f64>, a0: &Vector3<f64>) -> f6
     } else {
         0.0
     };
-    p.matrix_stress * ((p.matrix_exponent * (i1_bar - 3.0)).exp() - 1.0)
+    let uniaxial = |l: f64| l * l + 2.0 / l - 3.0;
+    let slack_free = if fiber_stretch <= 1.0 {
+        fiber_stretch
+    } else {
+        (fiber_stretch - p.matrix_slack + 1.0).max(1.0)
+    };
+    let e = i1_bar - 3.0 - uniaxial(fiber_stretch) + uniaxial(slack_free);
+    p.matrix_stress * ((p.matrix_exponent * e).exp() - 1.0)
         + pe
         + (j - 1.0).powi(2) / p.compressibility
 }
@@ -98,18 +107,25 @@ fn reference_state_is_stress_free() {
 /// P = ∂W/∂F, by central differences of W (independent of the stress formulas).
 #[test]
 fn zero_activation_gives_the_hyperelastic_passive_response() {
-    // The paper's parallel element, and one slack up to λ_PE = 1.08.
-    for slack in [1.0, 1.08] {
-        passive_response_is_the_energy_gradient(slack);
+    // The paper's parallel element and matrix, a parallel element slack up to
+    // λ_PE = 1.08, and a matrix slack up to λ_M = 1.1 (the stretches below reach the
+    // fiber stretches 0.9, ~1.0 and ~1.15: below 1, inside and beyond the slack).
+    for (slack, matrix_slack) in [(1.0, 1.0), (1.08, 1.0), (1.0, 1.1), (1.08, 1.1)] {
+        passive_response_is_the_energy_gradient(slack, matrix_slack);
     }
 }
 
-fn passive_response_is_the_energy_gradient(slack: f64) {
-    let params = [("D", 1e-6), ("lambda_pe", slack)];
+fn passive_response_is_the_energy_gradient(slack: f64, matrix_slack: f64) {
+    let params = [
+        ("D", 1e-6),
+        ("lambda_pe", slack),
+        ("lambda_matrix", matrix_slack),
+    ];
     let m = hill(&params);
     let p = HillParameters {
         compressibility: 1e-6,
         parallel_slack: slack,
+        matrix_slack,
         ..HillParameters::default()
     };
     let a0 = fiber();
@@ -309,8 +325,9 @@ fn stress_is_objective() {
 #[test]
 fn tangent_matches_finite_differences() {
     let a0 = fiber();
-    for d in [5e-9, 1e-5] {
-        let m = hill(&[("n2", 1.0), ("D", d)]);
+    // The matrix slacks put the fiber stretches (~1.03) beyond and inside the slack.
+    for (d, matrix_slack) in [(5e-9, 1.0), (1e-5, 1.0), (5e-9, 1.01), (1e-5, 1.1)] {
+        let m = hill(&[("n2", 1.0), ("D", d), ("lambda_matrix", matrix_slack)]);
         let f_old = general_f(1.0005);
         for (fiber_increment, lambda_s) in [(0.003, 1.5), (-0.003, 1.6), (0.01, 1.0)] {
             let f_new = f_old * (Matrix3::identity() + a0 * a0.transpose() * fiber_increment);
@@ -331,10 +348,13 @@ fn tangent_matches_finite_differences() {
             let mut fd = [Tangent::zeros()];
             finite_difference_tangent(m.as_ref(), &block, &mut fd).unwrap();
             let error = (analytic - fd[0]).norm() / analytic.norm();
-            println!("D {d:e}, fiber increment {fiber_increment}: relative error {error:e}");
+            println!(
+                "D {d:e}, λ_M {matrix_slack}, fiber increment {fiber_increment}: relative \
+                 error {error:e}"
+            );
             assert!(
                 error < 1e-5,
-                "D {d}, Δ {fiber_increment}: relative error {error:e}"
+                "D {d}, λ_M {matrix_slack}, Δ {fiber_increment}: relative error {error:e}"
             );
             // Hyperelastic in λ̄_f within a step: major symmetry ∂P_iJ/∂F_kL = ∂P_kL/∂F_iJ.
             let asymmetry = (analytic - analytic.transpose()).norm() / analytic.norm();
@@ -507,4 +527,39 @@ fn a_recorded_history_drives_the_contraction_like_the_papers_activation() {
     let plateau = 7e5 * force_length(1.0 / 1.05);
     assert!((s_paper[STATE_SEE_STRESS] - plateau).abs() < 2e-3 * plateau);
     assert!((s_half[STATE_SEE_STRESS] - 0.5 * plateau).abs() < 2e-3 * plateau);
+}
+
+/// Uniaxial isochoric stretch λ along the fiber, passive, PE slack beyond reach: with a
+/// matrix slack λ_M the matrix carries nothing up to λ_M, and beyond it the nominal
+/// stress (σ₁₁ − σ₂₂)/λ at λ_M − 1 + λ* is the paper's matrix's at λ*, whose closed form
+/// is dW/dλ* = 2 b c exp(b u(λ*)) (λ* − 1/λ*²), u(λ) = λ² + 2/λ − 3.
+#[test]
+fn a_matrix_slack_shifts_the_papers_uniaxial_curve_along_the_fiber() {
+    let matrix_slack = 1.15;
+    let m = hill(&[("lambda_pe", 10.0), ("lambda_matrix", matrix_slack)]);
+    let p = HillParameters::default();
+    let a0 = Vector3::x();
+    let nominal = |stretch: f64| {
+        let f = Matrix3::from_diagonal(&Vector3::new(
+            stretch,
+            stretch.powf(-0.5),
+            stretch.powf(-0.5),
+        ));
+        let (stress, _, _) = step(m.as_ref(), 0.5, 1e-3, f, f, a0, &[1.0, 1.0, 0.0]);
+        (stress[0] - stress[1]) / stretch
+    };
+    for stretch in [1.02, 1.1, 1.149] {
+        let s = nominal(stretch);
+        assert!(s.abs() < 1e-9, "λ = {stretch}: {s} Pa inside the slack");
+    }
+    for unslacked in [1.01, 1.1, 1.25] {
+        let (b, c) = (p.matrix_exponent, p.matrix_stress);
+        let u = unslacked * unslacked + 2.0 / unslacked - 3.0;
+        let expected = 2.0 * b * c * (b * u).exp() * (unslacked - 1.0 / (unslacked * unslacked));
+        let s = nominal(matrix_slack - 1.0 + unslacked);
+        assert!(
+            (s - expected).abs() <= 1e-9 * expected,
+            "λ* = {unslacked}: {s} Pa vs {expected} Pa"
+        );
+    }
 }

@@ -19,7 +19,7 @@ use musclefem_contact::RigidSurface;
 use musclefem_io::mesh_import::read_mesh;
 
 use super::super::anatomy::{Anatomy, BlockRole, Quadriceps, Squat, Tissue, TriangleSurface};
-use super::model::KneeGeometry;
+use super::model::{FiberReference, KneeGeometry};
 
 /// The muscle a block name stands for.
 pub fn muscle_of_block(name: &str) -> Option<Quadriceps> {
@@ -88,7 +88,7 @@ pub fn geometry_from_directory(
     }
     let mut geometry = KneeGeometry::default_knee(anatomy, squat)?;
     geometry.mesh = imported.mesh;
-    geometry.passive_slack = vec![1.0; muscles.len()];
+    geometry.fiber_reference = vec![FiberReference::paper(); muscles.len()];
     geometry.muscles = muscles;
     geometry.roles = roles;
     for b in 0..geometry.muscles.len() {

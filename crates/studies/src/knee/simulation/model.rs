@@ -72,11 +72,13 @@ pub struct KneeGeometry {
     pub dimensions: KneeDimensions,
     /// The squat's bone motions (the closed chain).
     pub motions: BoneMotions,
-    /// The parallel element's slack stretch λ_PE of each muscle (in `muscles` order): the
-    /// mean fiber stretch its belly reaches at [`PASSIVE_SLACK_FLEXION`] of knee flexion in
-    /// the squat (1, the paper's stress-free reference, for user anatomies). See the
+    /// Where each muscle's fiber laws start (in `muscles` order): the default knee's
+    /// parallel element slack up to the mean fiber stretch its belly reaches at
+    /// [`PASSIVE_SLACK_FLEXION`] of knee flexion in the squat, the Visible Human's whole
+    /// fiber-direction law from the stretch where its fibers reach optimal length
+    /// ([`FiberReference::rest_at`]); the paper's reference for user anatomies. See the
     /// module documentation of [`super`].
-    pub passive_slack: Vec<f64>,
+    pub fiber_reference: Vec<FiberReference>,
     /// The patella's poses in the femur's frame with the patellar tendon as a spring
     /// (the run's patella).
     pub patella_table: Arc<PatellaTable>,
@@ -100,11 +102,11 @@ impl KneeGeometry {
         )
         .context("the patella's poses with the tendon stretched")?;
         let (mesh, roles) = anatomy.muscle_mesh();
-        let passive_slack =
+        let fiber_reference =
             belly_stretch_in_squat(&anatomy.kinematics, &anatomy.muscles, PASSIVE_SLACK_FLEXION)
                 .context("the muscles' fiber stretch in the squat")?
                 .into_iter()
-                .map(|s| s.max(1.0))
+                .map(|s| FiberReference::parallel_slack(s.max(1.0)))
                 .collect();
         Ok(KneeGeometry {
             mesh,
@@ -116,7 +118,7 @@ impl KneeGeometry {
             patella: anatomy.bones.patella.clone(),
             dimensions,
             motions,
-            passive_slack,
+            fiber_reference,
             patella_table: Arc::new(patella_table),
             strands: Vec::new(),
         })
@@ -261,21 +263,68 @@ pub fn flexion_time(squat: &Squat, flexion: f64) -> f64 {
     squat.duration * phase.acos() / (2.0 * std::f64::consts::PI)
 }
 
+/// Where a muscle's fiber-direction laws start, as isochoric fiber stretches from the
+/// mesh's pose (0° of flexion): the Hill parameters λ_PE, λ_M and λ_opt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FiberReference {
+    /// The parallel element's slack stretch λ_PE.
+    pub parallel_slack: f64,
+    /// The matrix's slack stretch along the fiber λ_M.
+    pub matrix_slack: f64,
+    /// The force–length relation's optimal stretch λ_opt.
+    pub optimal_stretch: f64,
+}
+
+impl FiberReference {
+    /// The paper's: the mesh's pose is the specimen's rest (λ_PE = λ_M = 1, λ_opt = 1.05).
+    pub fn paper() -> Self {
+        let paper = HillParameters::default();
+        FiberReference {
+            parallel_slack: paper.parallel_slack,
+            matrix_slack: paper.matrix_slack,
+            optimal_stretch: paper.optimal_stretch,
+        }
+    }
+
+    /// The paper's with the parallel element slack up to `slack` (the default knee).
+    pub fn parallel_slack(slack: f64) -> Self {
+        FiberReference {
+            parallel_slack: slack,
+            ..Self::paper()
+        }
+    }
+
+    /// The paper's laws moved to start at the fiber stretch `rest` (≥ 1), where the
+    /// relaxed fibers are at the paper's rest length: λ_PE = λ_M = rest and λ_opt = 1.05
+    /// rest. For muscles whose mesh pose is shorter than their fibers' rest length.
+    pub fn rest_at(rest: f64) -> Self {
+        let paper = Self::paper();
+        FiberReference {
+            parallel_slack: paper.parallel_slack * rest,
+            matrix_slack: paper.matrix_slack * rest,
+            optimal_stretch: paper.optimal_stretch * rest,
+        }
+    }
+}
+
 /// The Hill muscle of `activation`: Table 1's parameters, `n2` = 0.5 from the time the
-/// squat passes 35° (activation rate S = 50/s), never switched off (t1 = ∞), the parallel
-/// element slack up to the fiber stretch `slack` (λ_PE; 1 is the paper's, see
-/// [`KneeGeometry::passive_slack`]).
+/// squat passes 35° (activation rate S = 50/s), never switched off (t1 = ∞), the fiber
+/// laws starting at `reference` (see [`KneeGeometry::fiber_reference`]).
 pub fn muscle_material(
     activation: Activation,
     squat: &Squat,
-    slack: f64,
+    reference: &FiberReference,
 ) -> Result<Arc<dyn Material>> {
-    HillMuscle::with_parameters(&muscle_parameters(activation, squat, slack))
+    HillMuscle::with_parameters(&muscle_parameters(activation, squat, reference))
         .context("the quadriceps' Hill muscle")
 }
 
 /// The parameters of [`muscle_material`].
-pub fn muscle_parameters(activation: Activation, squat: &Squat, slack: f64) -> HillParameters {
+pub fn muscle_parameters(
+    activation: Activation,
+    squat: &Squat,
+    reference: &FiberReference,
+) -> HillParameters {
     let level = match activation {
         Activation::Passive => 0.0,
         Activation::Active => ACTIVE_LEVEL,
@@ -283,7 +332,9 @@ pub fn muscle_parameters(activation: Activation, squat: &Squat, slack: f64) -> H
     let mut parameters = HillParameters::default();
     parameters.activation.n2 = level;
     parameters.activation.t0 = flexion_time(squat, ACTIVATION_FLEXION);
-    parameters.parallel_slack = slack;
+    parameters.parallel_slack = reference.parallel_slack;
+    parameters.matrix_slack = reference.matrix_slack;
+    parameters.optimal_stretch = reference.optimal_stretch;
     parameters
 }
 
@@ -361,11 +412,11 @@ impl KneeModel {
     ) -> Result<Self> {
         let mesh = geometry.fibered_mesh(fibers)?;
         let materials = geometry
-            .passive_slack
+            .fiber_reference
             .iter()
-            .map(|&slack| muscle_material(activation, squat, slack))
+            .map(|reference| muscle_material(activation, squat, reference))
             .collect::<Result<Vec<_>>>()?;
-        let material = muscle_material(activation, squat, 1.0)?;
+        let material = muscle_material(activation, squat, &FiberReference::paper())?;
         let tendon = tendon_material()?;
         let parts = geometry
             .roles

@@ -114,6 +114,20 @@ pub const KNEE_NEWMARK_DISSIPATION: f64 = 0.1;
 /// Default mass-scaling target step of the explicit solver [s].
 pub const DEFAULT_MASS_SCALING_STEP: f64 = 2e-5;
 
+/// Shear viscosity η of the explicit squat [Pa s] (`[step.explicit] shear_viscosity`).
+///
+/// Mass scaling to 2e-5 s multiplies the Visible Human knee's mass by about 100, which
+/// slows the muscles' shear modes tenfold: a 5 mm element's shear mode (μ ≈ 50 kPa) rings
+/// with a period of about 20 ms. Undamped, 5–10 % of the vasti's elements changed their
+/// fiber stretch by more than 0.05 between frames 20 ms apart (2026-11-27), and at the
+/// activation the Hill series element of a ringing element was squeezed through zero
+/// length (a fiber shortening at 77 /s, faster than the contractile element's 17 /s).
+/// η = 1000 Pa s gives such modes a damping ratio ηω/(2μ) of 1–3 while the squat's own
+/// rates (fiber strain rates below 0.5 /s) meet a viscous stress below 1 kPa. It is
+/// numerical damping, a thousand times the viscosity measured in muscle, that stands in
+/// for the stiffness the mass scaling took away from those modes' time scale.
+pub const KNEE_SHEAR_VISCOSITY: f64 = 1000.0;
+
 /// Why a solver is the one to use on the knee, from the runs measured on the coarse knee
 /// (README, "The knee") and on the Visible Human's (`visible_human`,
 /// docs/knee-model.md).
@@ -452,6 +466,7 @@ pub fn squat_analysis(settings: &SquatSettings, femur: &RigidMotion) -> Analysis
         Solver::Explicit => {
             let mut solver_settings = ExplicitSettings::new(duration);
             solver_settings.mass_scaling_time_step = Some(settings.time_step);
+            solver_settings.shear_viscosity = Some(KNEE_SHEAR_VISCOSITY);
             solver_settings.history_interval = settings.record_interval;
             Analysis::Explicit(solver_settings)
         }

@@ -19,7 +19,9 @@ use musclefem_io::csv::format_number;
 use musclefem_io::strand_csv::{StrandRow, format_strands_csv};
 
 use super::interactions::{InterfaceLaw, KneeInteractions, STRANDS_NAME};
-use super::model::{Activation, KneeGeometry, MUSCLE_DENSITY, TENDON_DENSITY, block_element};
+use super::model::{
+    Activation, FiberReference, KneeGeometry, MUSCLE_DENSITY, TENDON_DENSITY, block_element,
+};
 use super::run::SquatSettings;
 use super::scene_bones::{FEMUR_BODY, bone_files, knee_bone_entries};
 use super::scene_files::{FIBERS_CSV, MUSCLES_INP, model_files};
@@ -115,8 +117,8 @@ impl<'a> SquatScene<'a> {
             format_number(settings.squat.peak_flexion.to_degrees()),
             format_number(settings.squat.duration)
         );
-        let muscles: Vec<(&str, f64)> = (0..geometry.muscles.len())
-            .map(|m| (geometry.block_name(m), geometry.passive_slack[m]))
+        let muscles: Vec<(&str, FiberReference)> = (0..geometry.muscles.len())
+            .map(|m| (geometry.block_name(m), geometry.fiber_reference[m]))
             .collect();
         let mut text = format!(
             "# {description}\n# Written by `musclefem knee`; `musclefem run` reruns it.\n\

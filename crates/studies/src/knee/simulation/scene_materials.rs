@@ -1,5 +1,5 @@
 //! The knee's materials as `[[materials]]` entries of a scene (issue 30, step 4): one
-//! Hill muscle per belly with its parallel element's slack λ_PE and the squat's
+//! Hill muscle per belly with its fiber reference (λ_PE, λ_M, λ_opt) and the squat's
 //! activation (`n2`, `t0`), every parameter written as the shortest decimal that reads
 //! back to the same `f64` (`t1 = inf`: never switched off), and the tendon with the
 //! registry's defaults. A scene built from them has the knee's materials, bit for bit.
@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use musclefem_io::csv::format_number;
 use musclefem_materials::hill::HillParameters;
 
-use super::model::{Activation, muscle_parameters};
+use super::model::{Activation, FiberReference, muscle_parameters};
 use crate::knee::anatomy::Squat;
 
 /// The `[[materials]]` entry `name` of the Hill muscle with `parameters`.
@@ -26,15 +26,15 @@ pub fn hill_entry(name: &str, parameters: &HillParameters) -> String {
 }
 
 /// The `[[materials]]` entries of the squat's muscles, `<name>_muscle` for each
-/// (name, λ_PE) of `muscles`, and of the tendon, `tendon`.
+/// (name, fiber reference) of `muscles`, and of the tendon, `tendon`.
 pub fn knee_material_entries(
-    muscles: &[(&str, f64)],
+    muscles: &[(&str, FiberReference)],
     activation: Activation,
     squat: &Squat,
 ) -> String {
     let mut text = String::new();
-    for (name, slack) in muscles {
-        let parameters = muscle_parameters(activation, squat, *slack);
+    for (name, reference) in muscles {
+        let parameters = muscle_parameters(activation, squat, reference);
         let _ = writeln!(
             text,
             "{}",
@@ -62,8 +62,12 @@ mod tests {
             peak_flexion: 75f64.to_radians(),
         };
         let muscles = [
-            ("vastus_lateralis", 1.0),
-            ("rectus_femoris", 1.0834117021530126),
+            ("vastus_lateralis", FiberReference::paper()),
+            (
+                "rectus_femoris",
+                FiberReference::parallel_slack(1.0834117021530126),
+            ),
+            ("vastus_medialis", FiberReference::rest_at(1.153)),
         ];
         for activation in [Activation::Passive, Activation::Active] {
             let part = |name: &str, material: &str| {
@@ -74,23 +78,24 @@ mod tests {
                 )
             };
             let text = format!(
-                "schema_version = 1\n\n{}{}{}{}[step]\nduration = 1.7\n",
+                "schema_version = 1\n\n{}{}{}{}{}[step]\nduration = 1.7\n",
                 knee_material_entries(&muscles, activation, &squat),
                 part("vl", "vastus_lateralis_muscle"),
                 part("rf", "rectus_femoris_muscle"),
+                part("vm", "vastus_medialis_muscle"),
                 part("rf_tendon", "tendon"),
             );
             let (scene, locator) = parse_scene(&text, Path::new("knee.toml")).unwrap();
             let model =
                 build_model(&scene, &locator, &mut MaterialLibrary::with_builtins()).unwrap();
             let described = |part: usize| format!("{:?}", model.parts[part].material);
-            for (part, (_, slack)) in muscles.iter().enumerate() {
-                let expected = muscle_material(activation, &squat, *slack).unwrap();
+            for (part, (_, reference)) in muscles.iter().enumerate() {
+                let expected = muscle_material(activation, &squat, reference).unwrap();
                 // `Debug` writes every f64 as its shortest round-trip decimal: equal text
                 // is equal bits.
                 assert_eq!(described(part), format!("{expected:?}"), "{activation:?}");
             }
-            assert_eq!(described(2), format!("{:?}", tendon_material().unwrap()));
+            assert_eq!(described(3), format!("{:?}", tendon_material().unwrap()));
         }
         // The muscles are never switched off.
         let entries = knee_material_entries(&muscles, Activation::Active, &squat);

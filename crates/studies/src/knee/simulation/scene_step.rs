@@ -1,12 +1,15 @@
 //! The squat's analysis as a scene's `[step]` (issue 30, step 4): the implicit solver
 //! with the knee's Newton settings ([`super::run`]: its tolerances, three line-search
 //! halvings, no factor reuse, Newmark with α = 0.1 when the muscles' inertia is on, the
-//! femur as the predictor frame) or the explicit solver with mass scaling. A scene built
+//! femur as the predictor frame) or the explicit solver with mass scaling and the knee's
+//! shear viscosity. A scene built
 //! from it has the knee's [`Analysis`], bit for bit.
 
 use musclefem_io::csv::format_number;
 
-use super::run::{KNEE_LINE_SEARCH_CUTS, KNEE_NEWMARK_DISSIPATION, SquatSettings};
+use super::run::{
+    KNEE_LINE_SEARCH_CUTS, KNEE_NEWMARK_DISSIPATION, KNEE_SHEAR_VISCOSITY, SquatSettings,
+};
 use crate::elongation::Solver;
 
 /// The `[step]` table of a squat with `settings`; `femur` names the rigid body whose
@@ -36,10 +39,11 @@ pub fn squat_step_entry(settings: &SquatSettings, femur: &str) -> String {
         }
         Solver::Explicit => format!(
             "[step]\nsolver = \"explicit\"\nduration = {}\noutput_interval = {}\n\n\
-             [step.explicit]\nmass_scaling_time_step = {}\n",
+             [step.explicit]\nmass_scaling_time_step = {}\nshear_viscosity = {}\n",
             format_number(duration),
             format_number(settings.record_interval),
             format_number(settings.time_step),
+            format_number(KNEE_SHEAR_VISCOSITY),
         ),
     }
 }

@@ -30,37 +30,23 @@
 //! to the attachment (wrapped over the trochlea) and on through the patellar tendon,
 //! as for the default knee.
 //!
-//! **Passive slack** ([`passive_slack`]). As for the default knee, each muscle's parallel
-//! element is slack up to the fiber stretch λ_PE its fibers reach at 60° of flexion in
-//! the squat. The Visible Human's fibers are oblique and shorter than the muscle, so the
-//! stretch is λ_PE = 1 + ΔL cos α / L_f: ΔL the musculotendon length change from 0° to
-//! 60° (the hip flexing with the knee moves the rectus's origin, see
-//! [`super::super::moment_arms::hip_length_change_in`]), α the mesh's mean fiber angle to
-//! the muscle's long axis, and L_f the fiber length that Ward, Eng, Smallwood & Lieber
-//! (2009, Clin Orthop Relat Res 467:1074, Table 1, cadaveric) measured: VI 99.3, VL 99.4,
-//! VM 96.8, RF 75.9 mm.
+//! **Fiber reference.** Where the muscles' fiber laws start is not the mechanism's: the
+//! squat measures it (`crate::knee::simulation::visible_human::fiber_rest_stretch`).
+//! An estimate from this mechanism with the cadaveric fiber lengths of Ward et al.
+//! (2009) put the fibers at 1.31–1.39 by 60°, twice what the squat's fibers reach: the
+//! flow solver's fibers run from the origin to the aponeurosis, about twice as long.
 
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
 
 use musclefem_core::mesh::ElementRef;
 
+use super::super::ClosedChain;
 use super::super::dimensions::KneeDimensions;
-use super::super::kinematics::{KneeKinematics, PatellaPose, QuadricepsPull, flexion_rotation};
+use super::super::kinematics::{KneeKinematics, PatellaPose, QuadricepsPull};
 use super::super::moment_arms::DIFFERENCE_STEP;
 use super::super::path::free_path;
-use super::super::{ClosedChain, Quadriceps};
 use super::knee::{VisibleHumanKnee, patellar_tendon_length};
-
-/// Fiber length L_f [m] of each muscle (Ward et al. 2009, Table 1).
-pub fn fiber_length(muscle: Quadriceps) -> f64 {
-    1e-3 * match muscle {
-        Quadriceps::VastusIntermedius => 99.3,
-        Quadriceps::VastusLateralis => 99.4,
-        Quadriceps::VastusMedialis => 96.8,
-        Quadriceps::RectusFemoris => 75.9,
-    }
-}
 
 /// Height of the tibial plateau below the condyles' circle [m], as the default knee's
 /// (cartilage and menisci left out of the rigid bones).
@@ -182,51 +168,6 @@ pub fn moment_arms_at(kinematics: &KneeKinematics, angle: f64) -> Result<Vec<f64
         .zip(&behind)
         .map(|(a, b)| (a - b) / (2.0 * DIFFERENCE_STEP))
         .collect())
-}
-
-/// How much the hip's flexion `hip` [rad] lengthens the rectus femoris [m]: its origin
-/// (the centre of its origin nodes) turns with the pelvis about the hip centre, and the
-/// line from it to the release point changes length. Zero for the vasti.
-fn hip_length_change(
-    knee: &VisibleHumanKnee,
-    muscle: Quadriceps,
-    hip_centre: &Vector3<f64>,
-    hip: f64,
-) -> Result<f64> {
-    if muscle != Quadriceps::RectusFemoris {
-        return Ok(0.0);
-    }
-    let nodes = knee.mesh.node_set(&format!("{}_origin", muscle.name()))?;
-    let origin = nodes
-        .iter()
-        .map(|&n| knee.mesh.nodes.position(n as usize))
-        .sum::<Vector3<f64>>()
-        / nodes.len() as f64;
-    let release = knee.outlet_centroid(muscle);
-    let moved = hip_centre + flexion_rotation(hip) * (origin - hip_centre);
-    Ok((moved - release).norm() - (origin - release).norm())
-}
-
-/// λ_PE of each muscle (module documentation): the fiber stretch at knee flexion `angle`
-/// [rad] in the squat (hip flexion = knee flexion), at least 1, given each muscle's mean
-/// fiber angle `pennation` [rad] to its long axis.
-pub fn passive_slack(
-    knee: &VisibleHumanKnee,
-    kinematics: &KneeKinematics,
-    pennation: &[f64],
-    angle: f64,
-) -> Result<Vec<f64>> {
-    let extended = lengths(kinematics, &kinematics.patella_pose(0.0)?);
-    let flexed = lengths(kinematics, &kinematics.patella_pose(angle)?);
-    let hip = kinematics.dimensions.hip_centre;
-    knee.muscles
-        .iter()
-        .enumerate()
-        .map(|(m, &muscle)| {
-            let change = flexed[m] - extended[m] + hip_length_change(knee, muscle, &hip, angle)?;
-            Ok((1.0 + change * pennation[m].cos() / fiber_length(muscle)).max(1.0))
-        })
-        .collect()
 }
 
 #[cfg(test)]
