@@ -204,7 +204,7 @@ fn ringing_hex() -> (Mesh, Loads, f64, f64) {
 /// periods by e^{−20πζ/√(1−ζ²)}. Without viscosity they do not decay.
 #[test]
 fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
-    let (mesh, loads, modulus, period) = ringing_hex();
+    let (mesh, loads, _, period) = ringing_hex();
     let run = |viscosity: Option<BulkViscosity>| {
         let mut settings = ExplicitSettings::new(8.0 * period);
         settings.bulk_viscosity = viscosity;
