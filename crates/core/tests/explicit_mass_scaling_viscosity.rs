@@ -170,13 +170,9 @@ fn bulk_viscosity_adds_the_linear_and_quadratic_pressure_in_compression() {
     );
 }
 
-/// One hex8 in uniaxial strain (lateral components held, x0 held along x) set ringing by
-/// a short force pulse on x1: a single mode, m ẍ + c_v ẋ + k x = 0 with m = ρ₀V/2 on the
-/// face, k = M A/h and c_v = ρ₀ L₀ b₁ c A/h from the linear term, whose damping ratio is
-/// ζ = b₁ L₀/(√2 h) = b₁/√6. The kinetic-energy peaks then decay as e^{−2ζωt}: over five
-/// periods by e^{−20πζ/√(1−ζ²)}. Without viscosity they do not decay.
-#[test]
-fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
+/// One hex8 in uniaxial strain (lateral components held, x0 held along x) and a force
+/// pulse on x1 that sets it ringing: (mesh, loads, acoustic modulus M [Pa], period [s]).
+fn ringing_hex() -> (Mesh, Loads, f64, f64) {
     let mesh = box_of_hexes([SIDE; 3], [1; 3]).unwrap();
     let mut loads = Loads::from(vec![
         held(&mesh, "x0", 0),
@@ -198,6 +194,17 @@ fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
         amplitude: Amplitude::new(vec![(0.0, force), (pulse, force), (pulse * 1.0001, 0.0)])
             .unwrap(),
     });
+    (mesh, loads, modulus, period)
+}
+
+/// One hex8 in uniaxial strain (lateral components held, x0 held along x) set ringing by
+/// a short force pulse on x1: a single mode, m ẍ + c_v ẋ + k x = 0 with m = ρ₀V/2 on the
+/// face, k = M A/h and c_v = ρ₀ L₀ b₁ c A/h from the linear term, whose damping ratio is
+/// ζ = b₁ L₀/(√2 h) = b₁/√6. The kinetic-energy peaks then decay as e^{−2ζωt}: over five
+/// periods by e^{−20πζ/√(1−ζ²)}. Without viscosity they do not decay.
+#[test]
+fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
+    let (mesh, loads, _, period) = ringing_hex();
     let run = |viscosity: Option<BulkViscosity>| {
         let mut settings = ExplicitSettings::new(8.0 * period);
         settings.bulk_viscosity = viscosity;
@@ -234,25 +241,7 @@ fn bulk_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
 /// the element's ζ_e = (4/3) η / (L₀ √(ρ₀ M)).
 #[test]
 fn shear_viscosity_damps_a_single_mode_at_the_predicted_ratio() {
-    let mesh = box_of_hexes([SIDE; 3], [1; 3]).unwrap();
-    let mut loads = Loads::from(vec![
-        held(&mesh, "x0", 0),
-        held(&mesh, "y0", 1),
-        held(&mesh, "z0", 2),
-        held(&mesh, "y1", 1),
-        held(&mesh, "z1", 2),
-    ]);
-    let modulus = BULK + 4.0 * MU / 3.0;
-    let omega = (2.0 * modulus / (DENSITY * SIDE * SIDE)).sqrt();
-    let period = 2.0 * std::f64::consts::PI / omega;
-    let pulse = 0.2 * period;
-    let force = 1e-4 * modulus * SIDE * SIDE / 4.0;
-    loads.forces.push(NodalForce {
-        nodes: mesh.node_set("x1").unwrap().to_vec(),
-        dof: 0,
-        amplitude: Amplitude::new(vec![(0.0, force), (pulse, force), (pulse * 1.0001, 0.0)])
-            .unwrap(),
-    });
+    let (mesh, loads, modulus, period) = ringing_hex();
     let eta = 3.0;
     let zeta = 4.0 / 3.0 * eta / (SIDE * (2.0 * modulus * DENSITY).sqrt());
     let mut settings = ExplicitSettings::new(8.0 * period);

@@ -264,14 +264,10 @@ mod tests {
     use crate::element::Technology;
     use crate::mesh::generate::{TetOrder, box_of_hexes, box_of_tets, distort};
 
-    /// On a distorted, deformed tet10 and hex8: a rigid motion (translation and spin
-    /// v = w × x) gives no shear-viscosity stress; a simple shear v = (γ̇ y, 0, 0) plus a
-    /// dilatation gives 2η dev D exactly (the velocity field is linear, so its mean
-    /// gradient is its gradient), and the nodal forces' power is 2η v |dev D|².
-    #[test]
-    fn the_shear_viscosity_is_2_eta_dev_d_and_ignores_rigid_motion() {
-        let eta = 3.0;
-        for (mut mesh, technology) in [
+    /// The first element of a distorted hex8 and a distorted tet10 block, each with its
+    /// kernel and its nodes moved by a non-affine deformation.
+    fn deformed_elements() -> Vec<(Technology, BlockKernel, Vec<Vector3<f64>>)> {
+        [
             (
                 box_of_hexes([1.0; 3], [2; 3]).unwrap(),
                 Technology::Hex8Full,
@@ -280,17 +276,30 @@ mod tests {
                 box_of_tets([1.0; 3], [1; 3], TetOrder::Quadratic).unwrap(),
                 Technology::Tet10,
             ),
-        ] {
+        ]
+        .into_iter()
+        .map(|(mut mesh, technology)| {
             distort(&mut mesh, 0.15, 7).unwrap();
             let block = &mesh.blocks[0];
             let kernel = BlockKernel::new(&mesh.nodes, block, technology).unwrap();
-            let npe = kernel.nodes_per_element();
-            let x: Vec<Vector3<f64>> = block
-                .element_nodes(0)
-                .iter()
+            let x = (block.element_nodes(0).iter())
                 .map(|&id| mesh.nodes.position(id as usize))
                 .map(|p| p + Vector3::new(0.1 * p.y * p.z, -0.05 * p.x * p.x, 0.08 * p.y))
                 .collect();
+            (technology, kernel, x)
+        })
+        .collect()
+    }
+
+    /// On a distorted, deformed tet10 and hex8: a rigid motion (translation and spin
+    /// v = w × x) gives no shear-viscosity stress; a simple shear v = (γ̇ y, 0, 0) plus a
+    /// dilatation gives 2η dev D exactly (the velocity field is linear, so its mean
+    /// gradient is its gradient), and the nodal forces' power is 2η v |dev D|².
+    #[test]
+    fn the_shear_viscosity_is_2_eta_dev_d_and_ignores_rigid_motion() {
+        let eta = 3.0;
+        for (technology, kernel, x) in deformed_elements() {
+            let npe = kernel.nodes_per_element();
             let mut gradient = vec![Vector3::zeros(); npe];
             let volume =
                 volume_and_gradient(&kernel, 0, kernel.points_per_element(), &x, &mut gradient);
@@ -338,30 +347,9 @@ mod tests {
     /// ∂v/∂x_a against central differences of v on distorted, deformed elements.
     #[test]
     fn the_volume_gradient_is_the_derivative_of_the_volume() {
-        for (mut mesh, technology) in [
-            (
-                box_of_hexes([1.0; 3], [2; 3]).unwrap(),
-                Technology::Hex8Full,
-            ),
-            (
-                box_of_tets([1.0; 3], [1; 3], TetOrder::Quadratic).unwrap(),
-                Technology::Tet10,
-            ),
-        ] {
-            distort(&mut mesh, 0.15, 7).unwrap();
-            let block = &mesh.blocks[0];
-            let kernel = BlockKernel::new(&mesh.nodes, block, technology).unwrap();
+        for (technology, kernel, x) in deformed_elements() {
             let npe = kernel.nodes_per_element();
             let ppe = kernel.points_per_element();
-            let mut x: Vec<Vector3<f64>> = block
-                .element_nodes(0)
-                .iter()
-                .map(|&id| mesh.nodes.position(id as usize))
-                .collect();
-            // A non-affine deformation.
-            for p in &mut x {
-                *p += Vector3::new(0.1 * p.y * p.z, -0.05 * p.x * p.x, 0.08 * p.y);
-            }
             let mut gradient = vec![Vector3::zeros(); npe];
             volume_and_gradient(&kernel, 0, ppe, &x, &mut gradient);
             let h = 1e-6;
