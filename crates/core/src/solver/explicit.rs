@@ -68,7 +68,7 @@ use super::explicit_parts::{
 };
 pub use super::explicit_settings::{ExplicitSettings, MAX_EXPLICIT_STEPS, MIN_MASS_SCALED_STEPS};
 use super::explicit_settings::{check_settings, check_step_budget};
-use super::interaction::{Interaction, InteractionReport, NodalField};
+use super::interaction::{Interaction, InteractionReport, NodalField, interaction_forces};
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
 use super::observer::{NoObserver, Observer, Record, Snapshot};
 use super::rigid_motion::{observe_followers, restore_follower_states, save_follower_states};
@@ -569,25 +569,6 @@ pub(super) fn explicit_run(
         steps,
         added_mass_fraction: added_mass / physical_mass,
     })
-}
-
-/// f_c of every interaction at `positions` and `time`, each searched first, into `force`
-/// (overwritten).
-fn interaction_forces(
-    interactions: &mut [Box<dyn Interaction>],
-    time: f64,
-    positions: &[Vector3<f64>],
-    force: &mut [Vector3<f64>],
-) -> Result<(), SolverError> {
-    if interactions.is_empty() {
-        return Ok(());
-    }
-    force.fill(Vector3::zeros());
-    for interaction in interactions.iter_mut() {
-        interaction.search(time, positions)?;
-        interaction.forces(time, positions, false, force)?;
-    }
-    Ok(())
 }
 
 /// The per-node fields of every interaction, each named `INTERACTION_FIELD` (so two

@@ -116,3 +116,22 @@ pub struct NodalField {
     /// `components` values per node, node after node.
     pub values: Vec<f64>,
 }
+
+/// f_c of every interaction at `positions` and `time`, each searched first, into `force`
+/// (overwritten).
+pub(super) fn interaction_forces(
+    interactions: &mut [Box<dyn Interaction>],
+    time: f64,
+    positions: &[Vector3<f64>],
+    force: &mut [Vector3<f64>],
+) -> Result<(), SolverError> {
+    if interactions.is_empty() {
+        return Ok(());
+    }
+    force.fill(Vector3::zeros());
+    for interaction in interactions.iter_mut() {
+        interaction.search(time, positions)?;
+        interaction.forces(time, positions, false, force)?;
+    }
+    Ok(())
+}
