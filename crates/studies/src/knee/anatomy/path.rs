@@ -12,8 +12,13 @@
 //!
 //! (tangent, arc, tangent), and |V − I| otherwise. On a cylinder about z the shortest
 //! path is that planar path unrolled with z varying linearly along it (a helix on the
-//! arc), so the length is √(ℓ₂² + (z_V − z_I)²). Both ends must lie outside the
-//! cylinder; an end inside it gives the straight line.
+//! arc), so the length is √(ℓ₂² + (z_V − z_I)²).
+//!
+//! An end inside the cylinder (a tendon that attaches deep on the patella while the
+//! patella sits in the groove) is reached from the cylinder's surface: the path runs to
+//! that end's radial projection I′ = C + ρ (I − C)/|I − C| as above and then radially
+//! in, ℓ = ℓ(V, I′) + ρ − |I − C|, which is continuous with the outside case at
+//! |I − C| = ρ. With both ends inside, the path is the straight line.
 
 use nalgebra::Vector3;
 
@@ -37,6 +42,26 @@ impl WrapCylinder {
             radius: dimensions.groove_radius + dimensions.tendon_wrap_offset,
         }
     }
+
+    /// How far `point` lies inside the cylinder, ρ − |P − C| in the (x, y) plane [m], or
+    /// `None` when it lies on or outside it.
+    fn depth(&self, point: &Vector3<f64>) -> Option<f64> {
+        let distance = (point.x - self.centre[0]).hypot(point.y - self.centre[1]);
+        (distance < self.radius).then_some(self.radius - distance)
+    }
+
+    /// The point of the cylinder's surface radially out from `point` (same z); `point`
+    /// itself on the axis.
+    fn surface_point(&self, point: &Vector3<f64>) -> Vector3<f64> {
+        let [cx, cy] = self.centre;
+        let (x, y) = (point.x - cx, point.y - cy);
+        let distance = x.hypot(y);
+        if distance == 0.0 {
+            return *point;
+        }
+        let scale = self.radius / distance;
+        Vector3::new(cx + scale * x, cy + scale * y, point.z)
+    }
 }
 
 /// The free path's length and whether it wraps.
@@ -51,6 +76,32 @@ pub struct FreePath {
 /// The shortest path from `from` to `to` [m] that does not cut through `cylinder` on
 /// the side the straight line crosses (see the module documentation).
 pub fn free_path(from: &Vector3<f64>, to: &Vector3<f64>, cylinder: &WrapCylinder) -> FreePath {
+    let straight = FreePath {
+        length: (from - to).norm(),
+        wrapped: false,
+    };
+    match (cylinder.depth(from), cylinder.depth(to)) {
+        (Some(_), Some(_)) => straight,
+        (Some(depth), None) => {
+            let path = outside_path(&cylinder.surface_point(from), to, cylinder);
+            FreePath {
+                length: path.length + depth,
+                ..path
+            }
+        }
+        (None, Some(depth)) => {
+            let path = outside_path(from, &cylinder.surface_point(to), cylinder);
+            FreePath {
+                length: path.length + depth,
+                ..path
+            }
+        }
+        (None, None) => outside_path(from, to, cylinder),
+    }
+}
+
+/// [`free_path`] between two points on or outside the cylinder.
+fn outside_path(from: &Vector3<f64>, to: &Vector3<f64>, cylinder: &WrapCylinder) -> FreePath {
     let [cx, cy] = cylinder.centre;
     let rho = cylinder.radius;
     let (v, i) = ([from.x - cx, from.y - cy], [to.x - cx, to.y - cy]);
@@ -60,9 +111,8 @@ pub fn free_path(from: &Vector3<f64>, to: &Vector3<f64>, cylinder: &WrapCylinder
         length: (from - to).norm(),
         wrapped: false,
     };
-    if dv <= rho || di <= rho {
-        return straight;
-    }
+    // On the surface (up to rounding), a point's tangent has zero length.
+    let (dv, di) = (dv.max(rho), di.max(rho));
     let gamma = (v[0] * i[1] - v[1] * i[0])
         .atan2(v[0] * i[0] + v[1] * i[1])
         .abs();
@@ -86,13 +136,39 @@ pub fn free_path_points(
     cylinder: &WrapCylinder,
     arc_points: usize,
 ) -> Vec<Vector3<f64>> {
-    if !free_path(from, to, cylinder).wrapped {
+    match (cylinder.depth(from), cylinder.depth(to)) {
+        (Some(_), Some(_)) => vec![*from, *to],
+        (Some(_), None) => {
+            let mut points =
+                outside_path_points(&cylinder.surface_point(from), to, cylinder, arc_points);
+            points.insert(0, *from);
+            points
+        }
+        (None, Some(_)) => {
+            let mut points =
+                outside_path_points(from, &cylinder.surface_point(to), cylinder, arc_points);
+            points.push(*to);
+            points
+        }
+        (None, None) => outside_path_points(from, to, cylinder, arc_points),
+    }
+}
+
+/// [`free_path_points`] between two points on or outside the cylinder.
+fn outside_path_points(
+    from: &Vector3<f64>,
+    to: &Vector3<f64>,
+    cylinder: &WrapCylinder,
+    arc_points: usize,
+) -> Vec<Vector3<f64>> {
+    if !outside_path(from, to, cylinder).wrapped {
         return vec![*from, *to];
     }
     let [cx, cy] = cylinder.centre;
     let rho = cylinder.radius;
     let (v, i) = ([from.x - cx, from.y - cy], [to.x - cx, to.y - cy]);
     let (dv, di) = (v[0].hypot(v[1]), i[0].hypot(i[1]));
+    let (dv, di) = (dv.max(rho), di.max(rho));
     let side = (v[0] * i[1] - v[1] * i[0]).signum();
     let start = v[1].atan2(v[0]) + side * (rho / dv).acos();
     let end = i[1].atan2(i[0]) - side * (rho / di).acos();
@@ -179,6 +255,54 @@ mod tests {
                 .iter()
                 .all(|p| (p.x.hypot(p.y) - 1.0).abs() < 1e-12 && p.x > 0.0)
         );
+    }
+
+    #[test]
+    fn an_end_inside_the_cylinder_is_reached_radially_from_its_surface() {
+        // From (0, 2) round the +x side to 0.5 (0.6, −0.8), half a radius inside: the
+        // tangent √3 (α_V = π/3), the arc γ − π/3 to the end's angle (γ = π/2 + 0.927),
+        // then 0.5 radially in.
+        let from = Vector3::new(1e-12, 2.0, 0.0);
+        let direction = Vector3::new(0.6, -0.8, 0.0);
+        let to = 0.5 * direction;
+        let path = free_path(&from, &to, &UNIT);
+        assert!(path.wrapped);
+        let arc = (-0.8f64).atan2(0.6).abs() + PI / 2.0 - PI / 3.0;
+        let expected = 3f64.sqrt() + arc + 0.5;
+        assert!(
+            (path.length - expected).abs() < 1e-9,
+            "{} {expected}",
+            path.length
+        );
+        assert_eq!(free_path(&to, &from, &UNIT), path);
+        // The drawn path ends with the radial leg and has the same length.
+        let points = free_path_points(&from, &to, &UNIT, 2000);
+        let drawn: f64 = points.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        assert!((drawn - path.length).abs() < 1e-6, "{drawn}");
+        assert_eq!(points[points.len() - 2], direction);
+        // Both ends inside: the straight line.
+        let inside = free_path(&to, &Vector3::new(0.0, 0.5, 0.0), &UNIT);
+        assert!(!inside.wrapped);
+        assert!((inside.length - (0.3f64.powi(2) + 0.9f64.powi(2)).sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_length_is_continuous_where_an_end_crosses_the_surface() {
+        // Move the end radially through the surface, on a wrapped and on a straight path.
+        for from in [Vector3::new(1e-12, 2.0, 0.3), Vector3::new(2.0, 0.5, 0.0)] {
+            let length =
+                |r: f64| free_path(&from, &Vector3::new(0.6 * r, -0.8 * r, 0.0), &UNIT).length;
+            for r in [1.0 - 1e-9, 1.0, 1.0 + 1e-9] {
+                assert!(
+                    (length(r) - length(1.0)).abs() < 1e-8,
+                    "{r}: {} {}",
+                    length(r),
+                    length(1.0)
+                );
+            }
+            // Inside, the length grows by the depth.
+            assert!((length(0.9) - length(1.0) - 0.1).abs() < 1e-12);
+        }
     }
 
     #[test]
