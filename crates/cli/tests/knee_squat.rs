@@ -10,14 +10,12 @@ use std::collections::HashMap;
 
 use support::run::{musclefem, test_dir, text};
 
-use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::observer::Snapshot;
 use musclefem_studies::elongation::Solver;
 use musclefem_studies::knee::anatomy::TendonSpring;
 use musclefem_studies::knee::simulation::interactions::{InterfaceLaw, knee_interactions};
 use musclefem_studies::knee::simulation::patella::TENDON_CSV_HEADER;
 use musclefem_studies::knee::simulation::{
-    Activation, KneeGeometry, KneeModel, SquatSettings, SquatWatcher, StressSample, run_squat,
+    Activation, KneeGeometry, KneeModel, SquatSettings, run_squat_in,
 };
 use musclefem_studies::knee::{Anatomy, Resolution, Squat};
 use nalgebra::Vector3;
@@ -293,20 +291,6 @@ fn the_default_squat_converges_without_inversion_and_activation_raises_the_stres
     assert!(stdout.contains("elements above it at:"), "{stdout}");
 }
 
-/// A squat with no outputs.
-struct Quiet;
-
-impl SquatWatcher for Quiet {
-    fn recorded(
-        &mut self,
-        _: &StressSample,
-        _: &Snapshot,
-        _: &[PartFields],
-    ) -> std::ops::ControlFlow<()> {
-        std::ops::ControlFlow::Continue(())
-    }
-}
-
 /// The whole pipeline of the default knee (closed chain, fibers, tendons, sliding
 /// interfaces, contact, the patella on its tendon, implicit Newmark) on a squat small
 /// enough for every test run (~160 s in release on 2 cores: 117 increments of 2–15 ms):
@@ -326,14 +310,12 @@ fn a_shallow_passive_squat_runs_the_whole_pipeline_with_plausible_loads() {
     };
     let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat).unwrap();
     let fibers = geometry.fibers().unwrap();
-    let run = run_squat(
-        &geometry,
-        &fibers,
-        Activation::Passive,
-        &settings,
-        &mut Quiet,
-    )
-    .unwrap();
+    // Run as its scene, as `musclefem knee` runs it.
+    let out = test_dir("knee_squat", "shallow");
+    let run = run_squat_in(&geometry, &fibers, Activation::Passive, &settings, &out).unwrap();
+    for file in ["scene.toml", "history.csv", "run.log"] {
+        assert!(out.join(file).is_file(), "the run wrote no {file}");
+    }
     eprintln!(
         "shallow squat: {} increments, {:?} iterations, {:?} cuts, {:.1} s",
         run.steps,

@@ -7,19 +7,14 @@
 //! active one costs about twice as much and its vm95 differ from the passive ones at the
 //! same angles by the activation, which every resolution and solver models alike.
 
-use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::{Context, Result, bail};
-
-use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::observer::Snapshot;
 
 use super::Response;
 use super::method::{Method, StepSetting};
 use crate::knee::simulation::peak_stress::TABLE_ANGLES_DEGREES;
-use crate::knee::simulation::{
-    Activation, KneeGeometry, Phase, SquatSettings, SquatWatcher, StressSample, run_squat,
-};
+use crate::knee::simulation::{Activation, KneeGeometry, Phase, SquatSettings, run_squat_in};
 use crate::knee::{Anatomy, Quadriceps, Resolution};
 
 /// The `error_metric` column.
@@ -68,20 +63,24 @@ pub fn squat_of(method: &Method) -> Result<(SquatSettings, Resolution)> {
     Ok((settings, resolution))
 }
 
-/// Run the passive squat of `method` and return its 32 vm95 entries, muscle by muscle,
-/// angle by angle, flexion before extension.
+/// Run the passive squat of `method` as its scene (in a scratch directory, removed
+/// afterwards) and return its 32 vm95 entries, muscle by muscle, angle by angle, flexion
+/// before extension.
 pub fn run_knee(method: &Method) -> Result<Response> {
     let (settings, resolution) = squat_of(method)?;
     let anatomy = Anatomy::default_knee(resolution)?;
     let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat)?;
     let fibers = geometry.fibers()?;
-    let run = run_squat(
-        &geometry,
-        &fibers,
-        Activation::Passive,
-        &settings,
-        &mut Unwatched,
-    )?;
+    // One scratch directory per run: the bench may run several at once.
+    static RUNS: AtomicUsize = AtomicUsize::new(0);
+    let scratch = std::env::temp_dir().join(format!(
+        "musclefem-bench-knee-{}-{}",
+        std::process::id(),
+        RUNS.fetch_add(1, Ordering::Relaxed)
+    ));
+    let run = run_squat_in(&geometry, &fibers, Activation::Passive, &settings, &scratch);
+    let _ = std::fs::remove_dir_all(&scratch);
+    let run = run?;
     let mut samples = Vec::with_capacity(32);
     for muscle in Quadriceps::ALL {
         for angle in TABLE_ANGLES_DEGREES {
@@ -105,15 +104,6 @@ pub fn run_knee(method: &Method) -> Result<Response> {
         samples,
         warning: None,
     })
-}
-
-/// A squat with no outputs.
-struct Unwatched;
-
-impl SquatWatcher for Unwatched {
-    fn recorded(&mut self, _: &StressSample, _: &Snapshot, _: &[PartFields]) -> ControlFlow<()> {
-        ControlFlow::Continue(())
-    }
 }
 
 #[cfg(test)]

@@ -74,6 +74,6 @@ pub mod visible_human;
 
 pub use model::{Activation, KneeGeometry, KneeModel};
 pub use peak_stress::{PEAK_STRESS_CSV_HEADER, PeakLocation, PeakStressRow, Phase, StressSample};
-pub use run::{SquatResume, SquatRun, SquatSettings, SquatStart, SquatWatcher, run_squat};
+pub use run::{SquatRun, SquatSettings};
 pub use scene::SquatScene;
-pub use scene_run::{SceneSquat, SquatDirectory, run_squat_scene};
+pub use scene_run::{SceneSquat, SquatDirectory, run_squat_in, run_squat_scene};

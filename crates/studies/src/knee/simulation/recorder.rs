@@ -11,8 +11,7 @@ use nalgebra::Vector3;
 
 use musclefem_core::mesh::{ElementShape, Mesh};
 use musclefem_core::solver::{
-    Checkpoint, InteractionReport, Observer, PoseFollower, Record, RigidReaction, Snapshot,
-    SolverError,
+    InteractionReport, Observer, PoseFollower, Record, RigidReaction, Snapshot,
 };
 
 use super::super::anatomy::{KneeDimensions, Squat};
@@ -24,7 +23,6 @@ use super::plausibility::{PlausibilitySample, extensor_moment};
 use super::checkpoint::{restore_study, save_study};
 use super::interactions::KneeInteractions;
 use super::model::{KneeGeometry, KneeModel};
-use super::run::SquatWatcher;
 use crate::run_directory::RunCompanion;
 
 /// The solver's result, unless the recorder stopped it with an error of its own.
@@ -43,7 +41,6 @@ pub(super) struct Recorder<'a> {
     pub(super) regions: &'a [ElementRegions],
     pub(super) squat: &'a Squat,
     pub(super) samples: Vec<StressSample>,
-    pub(super) watcher: &'a mut dyn SquatWatcher,
     pub(super) error: Option<anyhow::Error>,
     /// Explicit: the largest energy and the largest balance error so far [J].
     pub(super) largest_energy: f64,
@@ -54,10 +51,6 @@ pub(super) struct Recorder<'a> {
     pub(super) patella: &'a TendonPatella,
     /// The knee's landmarks (the patellar tendon's attachments).
     pub(super) dimensions: KneeDimensions,
-    /// Whether the recorder tells `patella` the pull itself: beside a scene's run, whose
-    /// solver tells the scene's own patella (the same follower on the same table, so both
-    /// take the same poses), rather than the run of the knee's model.
-    pub(super) observes_patella: bool,
     pub(super) insertion_ties: &'a [usize],
     pub(super) tendon: Vec<TendonRow>,
     /// The muscles' nodes against the patella (which has no contact surface).
@@ -110,16 +103,13 @@ pub(super) fn element_map(
 
 impl<'a> Recorder<'a> {
     /// The recorder of `geometry`'s squat on `model` with the interactions `built`, whose
-    /// muscles' elements lie in `regions`, telling `watcher`; `observes_patella`: see the
-    /// field.
+    /// muscles' elements lie in `regions`.
     pub(super) fn new(
         geometry: &KneeGeometry,
         model: &'a KneeModel,
         built: &KneeInteractions,
         regions: &'a [ElementRegions],
         squat: &'a Squat,
-        watcher: &'a mut dyn SquatWatcher,
-        observes_patella: bool,
     ) -> Result<Self> {
         Ok(Recorder {
             mesh: &model.mesh,
@@ -127,14 +117,12 @@ impl<'a> Recorder<'a> {
             regions,
             squat,
             samples: Vec::new(),
-            watcher,
             error: None,
             largest_energy: 0.0,
             energy_error: 0.0,
             stall: StallDetector::default(),
             patella: &model.patella,
             dimensions: geometry.dimensions,
-            observes_patella,
             insertion_ties: &model.insertion_ties,
             tendon: Vec::new(),
             patella_clearance: PatellaClearance::new(geometry)?,
@@ -268,9 +256,8 @@ impl Recorder<'_> {
         let (mesh, u) = (self.mesh, snapshot.displacement);
         self.patella_clearance
             .check(snapshot.time, &motion, |n| mesh.nodes.position(n) + u[n]);
-        let flow = self.watcher.recorded(&sample, snapshot, &fields);
         self.samples.push(sample);
-        flow
+        ControlFlow::Continue(())
     }
 }
 
@@ -320,15 +307,13 @@ impl StallDetector {
     }
 }
 
-/// The knee's observer, and the run's writer behind it: every call of the solver is
-/// passed on to the writer ([`SquatWatcher::run_writer`]), and its checkpoints carry the
-/// knee's state ([`super::checkpoint`]).
+/// The knee's observer beside the run's writer ([`crate::run_directory`]): it tells the
+/// knee's patella the quadriceps' pull (the scene's solver tells the scene's own patella
+/// the same: the same follower on the same table, so both take the same poses) and
+/// records the squat's samples; the writer writes the frames, history and checkpoints.
 impl Observer for Recorder<'_> {
-    /// The implicit solver's initial state: a sample (and frame) at t = 0.
+    /// The implicit solver's initial state: a sample at t = 0.
     fn start(&mut self, snapshot: &Snapshot) -> ControlFlow<()> {
-        if let Some(writer) = self.watcher.run_writer() {
-            writer.start(snapshot)?;
-        }
         self.record(snapshot)
     }
 
@@ -349,56 +334,22 @@ impl Observer for Recorder<'_> {
                 - row.external_work;
             self.energy_error = self.energy_error.max(balance.abs());
         }
-        if let Some(writer) = self.watcher.run_writer() {
-            writer.record(record, snapshot)?;
-        }
-        if self.observes_patella {
-            self.patella
-                .observe(record.time(), record.rigid_reactions());
-        }
+        self.patella
+            .observe(record.time(), record.rigid_reactions());
         self.report_pull(
             record.time(),
             record.rigid_reactions(),
             record.interactions(),
         )?;
         self.record(snapshot)?;
-        match record {
-            // Implicit increments are few: each is checked for a stall and reported.
-            Record::Implicit(row) => {
-                if let Some(message) = self.stall.advance(row.time, self.squat) {
-                    self.error = Some(anyhow::anyhow!(message));
-                    return ControlFlow::Break(());
-                }
-                self.watcher.progress(row.time)
-            }
-            Record::Explicit(_) => ControlFlow::Continue(()),
+        // Implicit increments are few: each is checked for a stall.
+        if let Record::Implicit(row) = record
+            && let Some(message) = self.stall.advance(row.time, self.squat)
+        {
+            self.error = Some(anyhow::anyhow!(message));
+            return ControlFlow::Break(());
         }
-    }
-
-    fn wants_checkpoint(&mut self) -> bool {
-        self.watcher
-            .run_writer()
-            .is_some_and(|writer| writer.wants_checkpoint())
-    }
-
-    /// The solver's state with the knee's: the samples and the patella's pull so far.
-    fn checkpoint(&mut self, checkpoint: Result<Checkpoint, SolverError>) -> ControlFlow<()> {
-        let study = save_study(self);
-        match self.watcher.run_writer() {
-            Some(writer) => writer.checkpoint_with_study(checkpoint, study),
-            None => ControlFlow::Continue(()),
-        }
-    }
-
-    fn progress(&mut self, time: f64, steps: usize) -> ControlFlow<()> {
-        if let Some(writer) = self.watcher.run_writer() {
-            writer.progress(time, steps)?;
-        }
-        if steps.is_multiple_of(200) {
-            self.watcher.progress(time)
-        } else {
-            ControlFlow::Continue(())
-        }
+        ControlFlow::Continue(())
     }
 }
 

@@ -1,33 +1,27 @@
-//! Running one squat (passive or active) with either solver: the model, its interactions,
-//! the muscles' vm95 at every recorded instant, and the caller's hook (frames, history,
-//! progress, Ctrl-C) at each.
+//! One squat (passive or active) with either solver: its settings, the model and its
+//! interactions, the solver's analysis, and the result gathered from the recorder (the
+//! squat runs as its scene: [`super::scene_run`]).
 
-use std::ops::ControlFlow;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-use musclefem_core::solver::element_fields::PartFields;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{
     CutAttempt, EvaluationTimes, ImplicitSettings, LinearSolveStatistics, StepReport,
 };
-use musclefem_core::solver::{
-    Analysis, Checkpoint, Outcome, Problem, RigidMotion, Snapshot, resume, run,
-};
+use musclefem_core::solver::{Analysis, Outcome, RigidMotion};
 use musclefem_fibers::FiberField;
-use musclefem_io::output::StudyRunWriter;
 use musclefem_io::scene::dissipative_newmark;
 
 use super::super::anatomy::Squat;
-use super::checkpoint::restore_study;
 use super::interactions::{InteractionSummary, InterfaceLaw, KneeInteractions, knee_interactions};
 use super::model::{Activation, KneeGeometry, KneeModel};
 use super::patella::TendonRow;
 use super::patella_clearance::PatellaApproach;
 use super::peak_stress::{ElementRegions, PeakStressRow, StressSample, peak_stress_rows};
 use super::plausibility::{PlausibilityRow, PlausibilitySample, plausibility_rows};
-use super::recorder::{Recorder, finish};
+use super::recorder::Recorder;
 use crate::elongation::{ElementChoice, Solver};
 use crate::knee::Quadriceps;
 
@@ -179,51 +173,6 @@ impl SquatSettings {
     }
 }
 
-/// What a squat is about to run on, for the caller's outputs.
-pub struct SquatStart<'a> {
-    /// The muscles' mesh, with fibers.
-    pub mesh: &'a musclefem_core::mesh::Mesh,
-    /// Names of the rigid ties (origins, insertions) and interactions, in solver order.
-    pub rigid_ties: Vec<String>,
-    pub interactions: Vec<String>,
-    pub solver: Solver,
-    /// The patella's motion: the pose the run gives it (the femur and tibia follow the
-    /// geometry's prescribed motions).
-    pub patella: musclefem_core::solver::RigidMotion,
-}
-
-/// Where a squat goes on from: the solver's checkpoint and the knee's own state stored
-/// with it (see [`super::checkpoint`]).
-pub struct SquatResume {
-    pub solver: Checkpoint,
-    pub study: Vec<u8>,
-}
-
-/// What a caller sees of a running squat. `recorded` and `progress` may stop the run.
-pub trait SquatWatcher {
-    /// The model is built and the solver about to start: the checkpoint the run goes on
-    /// from, if it resumes a stopped one.
-    fn start(&mut self, _start: &SquatStart) -> Result<Option<SquatResume>> {
-        Ok(None)
-    }
-    /// A recorded instant: its sample, the solver's snapshot and the element fields.
-    fn recorded(
-        &mut self,
-        sample: &StressSample,
-        snapshot: &Snapshot,
-        fields: &[PartFields],
-    ) -> ControlFlow<()>;
-    /// Simulated time reached [s].
-    fn progress(&mut self, _time: f64) -> ControlFlow<()> {
-        ControlFlow::Continue(())
-    }
-    /// The run's writer (history, frames, checkpoints with the knee's state), which sees
-    /// every call of the solver; `None`: the squat is not written.
-    fn run_writer(&mut self) -> Option<&mut dyn StudyRunWriter> {
-        None
-    }
-}
-
 /// The result of one squat.
 pub struct SquatRun {
     pub activation: Activation,
@@ -263,7 +212,7 @@ pub struct SquatRun {
 }
 
 /// The model and the interactions of the squat of `activation` on `geometry` with
-/// `fibers`: what both the in-code run and the scene's are built from.
+/// `fibers`: what the squat's scene and its recorder are built from.
 pub(super) fn squat_model(
     geometry: &KneeGeometry,
     fibers: &FiberField,
@@ -284,75 +233,6 @@ pub(super) fn squat_model(
         settings.interfaces,
     )?;
     Ok((model, built))
-}
-
-/// Run the squat of `activation` on `geometry` with `fibers`.
-pub fn run_squat(
-    geometry: &KneeGeometry,
-    fibers: &FiberField,
-    activation: Activation,
-    settings: &SquatSettings,
-    watcher: &mut dyn SquatWatcher,
-) -> Result<SquatRun> {
-    let (model, built) = squat_model(geometry, fibers, activation, settings)?;
-    let regions = element_regions(geometry, &model.mesh, fibers, &built);
-    let resume_from = watcher.start(&SquatStart {
-        mesh: &model.mesh,
-        rigid_ties: model
-            .loads
-            .rigid_ties
-            .iter()
-            .map(|t| t.name.clone())
-            .collect(),
-        interactions: built.names(),
-        solver: settings.solver,
-        patella: musclefem_core::solver::RigidMotion::followed(model.patella.clone()),
-    })?;
-    let mut recorder = Recorder::new(
-        geometry,
-        &model,
-        &built,
-        &regions,
-        &settings.squat,
-        watcher,
-        false,
-    )?;
-    let context = || {
-        format!(
-            "{} {} squat ({} elements)",
-            settings.solver.name(),
-            activation.name(),
-            model.mesh.element_count()
-        )
-    };
-    let started = Instant::now();
-    if let Some(point) = &resume_from {
-        restore_study(&mut recorder, &point.study)
-            .context("the knee's state in the checkpoint")
-            .with_context(context)?;
-    }
-    let analysis = squat_analysis(settings, &geometry.motions.femur);
-    let mut interactions = built.solver_interactions();
-    let problem = Problem {
-        mesh: &model.mesh,
-        parts: &model.parts,
-        loads: &model.loads,
-        interactions: &mut interactions,
-    };
-    let outcome = match &resume_from {
-        Some(point) => resume(problem, &analysis, &point.solver, &mut recorder),
-        None => run(problem, &analysis, &mut recorder),
-    };
-    let outcome =
-        finish(outcome.map_err(anyhow::Error::from), &mut recorder).with_context(context)?;
-    squat_result(
-        &mut recorder,
-        outcome,
-        (activation, settings, &geometry.muscles),
-        built.summaries,
-        started.elapsed(),
-        resume_from.map(|point| point.solver.time),
-    )
 }
 
 /// The regions (origin, insertion, interface, belly) of every muscle's elements of

@@ -6,7 +6,6 @@
 //! run DIR/scene.toml` computes the same `history.csv`. The observer's patella is the
 //! knee's own, told the same pull as the scene's ([`Recorder::observes_patella`]).
 
-use std::ops::ControlFlow;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -14,20 +13,17 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use indicatif::ProgressBar;
 
-use musclefem_core::solver::element_fields::PartFields;
-use musclefem_core::solver::{Snapshot, SolverError};
+use musclefem_core::solver::SolverError;
 use musclefem_fibers::FiberField;
 use musclefem_io::output::run_directory::SCENE_FILE;
-use musclefem_io::output::{RunDirectory, RunStart};
+use musclefem_io::output::{ExistingResults, RunDirectory, RunStart};
 use musclefem_io::scene::{Model, load_scene};
 use musclefem_materials::MaterialLibrary;
 
 use super::model::{Activation, KneeGeometry};
-use super::peak_stress::{StressSample, table_instants};
+use super::peak_stress::table_instants;
 use super::recorder::{Recorder, finish};
-use super::run::{
-    SquatRun, SquatSettings, SquatWatcher, element_regions, squat_model, squat_result,
-};
+use super::run::{SquatRun, SquatSettings, element_regions, squat_model, squat_result};
 use super::scene::SquatScene;
 use crate::run_directory::{DirectoryRun, run_into_directory};
 
@@ -73,16 +69,7 @@ pub fn run_squat_scene(
     let files = scene.files();
     let model = load_staged(&text, &files, activation)?;
     let regions = element_regions(geometry, &knee.mesh, fibers, &built);
-    let mut unwatched = Unwatched;
-    let mut recorder = Recorder::new(
-        geometry,
-        &knee,
-        &built,
-        &regions,
-        &settings.squat,
-        &mut unwatched,
-        true,
-    )?;
+    let mut recorder = Recorder::new(geometry, &knee, &built, &regions, &settings.squat)?;
     let beside: Vec<(&str, &str)> = (files.iter())
         .map(|(name, text)| (*name, text.as_str()))
         .collect();
@@ -135,6 +122,34 @@ pub fn run_squat_scene(
     })
 }
 
+/// Run the squat of `activation` as its scene into `out`, replacing what it holds, with
+/// frames only at the table's angles, no progress bar and no stop but an error: the
+/// squat of the benchmark and the tests.
+pub fn run_squat_in(
+    geometry: &KneeGeometry,
+    fibers: &FiberField,
+    activation: Activation,
+    settings: &SquatSettings,
+    out: &Path,
+) -> Result<SquatRun> {
+    let never = AtomicBool::new(false);
+    let squat = run_squat_scene(
+        geometry,
+        fibers,
+        activation,
+        settings,
+        SquatDirectory {
+            out,
+            start: RunStart::Fresh(ExistingResults::Replace),
+            frame_interval: 0.0,
+            log_header: format!("activation = {}\n", activation.name()),
+            interrupted: &never,
+            bar: Some(ProgressBar::hidden()),
+        },
+    )?;
+    squat.run
+}
+
 /// The squat's scene read back from a private staging folder (the run directory is not
 /// touched before the runner refuses or replaces what it holds).
 fn load_staged(text: &str, files: &[(&str, String)], activation: Activation) -> Result<Model> {
@@ -156,13 +171,4 @@ fn load_staged(text: &str, files: &[(&str, String)], activation: Activation) -> 
     })();
     let _ = std::fs::remove_dir_all(&staging);
     loaded.context("the squat's scene")
-}
-
-/// The recorder's caller when the runner writes the squat: nothing to tell.
-struct Unwatched;
-
-impl SquatWatcher for Unwatched {
-    fn recorded(&mut self, _: &StressSample, _: &Snapshot, _: &[PartFields]) -> ControlFlow<()> {
-        ControlFlow::Continue(())
-    }
 }
