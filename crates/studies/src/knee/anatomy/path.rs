@@ -50,6 +50,27 @@ impl WrapCylinder {
         (distance < self.radius).then_some(self.radius - distance)
     }
 
+    /// The ends moved radially out onto the surface where they lie inside it, and how far
+    /// they were moved in all [m]; `None` when both lie inside (the module
+    /// documentation).
+    fn lifted_ends(
+        &self,
+        from: &Vector3<f64>,
+        to: &Vector3<f64>,
+    ) -> Option<(Vector3<f64>, Vector3<f64>, f64)> {
+        let lift = |point: &Vector3<f64>| match self.depth(point) {
+            Some(depth) => (self.surface_point(point), depth),
+            None => (*point, 0.0),
+        };
+        match (self.depth(from), self.depth(to)) {
+            (Some(_), Some(_)) => None,
+            _ => {
+                let ((from, a), (to, b)) = (lift(from), lift(to));
+                Some((from, to, a + b))
+            }
+        }
+    }
+
     /// The point of the cylinder's surface radially out from `point` (same z); `point`
     /// itself on the axis.
     fn surface_point(&self, point: &Vector3<f64>) -> Vector3<f64> {
@@ -76,27 +97,18 @@ pub struct FreePath {
 /// The shortest path from `from` to `to` [m] that does not cut through `cylinder` on
 /// the side the straight line crosses (see the module documentation).
 pub fn free_path(from: &Vector3<f64>, to: &Vector3<f64>, cylinder: &WrapCylinder) -> FreePath {
-    let straight = FreePath {
-        length: (from - to).norm(),
-        wrapped: false,
-    };
-    match (cylinder.depth(from), cylinder.depth(to)) {
-        (Some(_), Some(_)) => straight,
-        (Some(depth), None) => {
-            let path = outside_path(&cylinder.surface_point(from), to, cylinder);
+    match cylinder.lifted_ends(from, to) {
+        None => FreePath {
+            length: (from - to).norm(),
+            wrapped: false,
+        },
+        Some((from, to, depth)) => {
+            let path = outside_path(&from, &to, cylinder);
             FreePath {
                 length: path.length + depth,
                 ..path
             }
         }
-        (None, Some(depth)) => {
-            let path = outside_path(from, &cylinder.surface_point(to), cylinder);
-            FreePath {
-                length: path.length + depth,
-                ..path
-            }
-        }
-        (None, None) => outside_path(from, to, cylinder),
     }
 }
 
@@ -136,22 +148,17 @@ pub fn free_path_points(
     cylinder: &WrapCylinder,
     arc_points: usize,
 ) -> Vec<Vector3<f64>> {
-    match (cylinder.depth(from), cylinder.depth(to)) {
-        (Some(_), Some(_)) => vec![*from, *to],
-        (Some(_), None) => {
-            let mut points =
-                outside_path_points(&cylinder.surface_point(from), to, cylinder, arc_points);
-            points.insert(0, *from);
-            points
-        }
-        (None, Some(_)) => {
-            let mut points =
-                outside_path_points(from, &cylinder.surface_point(to), cylinder, arc_points);
-            points.push(*to);
-            points
-        }
-        (None, None) => outside_path_points(from, to, cylinder, arc_points),
+    let Some((lifted_from, lifted_to, _)) = cylinder.lifted_ends(from, to) else {
+        return vec![*from, *to];
+    };
+    let mut points = outside_path_points(&lifted_from, &lifted_to, cylinder, arc_points);
+    if lifted_from != *from {
+        points.insert(0, *from);
     }
+    if lifted_to != *to {
+        points.push(*to);
+    }
+    points
 }
 
 /// [`free_path_points`] between two points on or outside the cylinder.
