@@ -1,4 +1,5 @@
-//! The `[step.implicit]` keys a study needs (the knee's Newton and Newmark settings):
+//! The `[step.implicit]` keys a study needs (the knee's Newton and Newmark settings) and
+//! the explicit step's `mass_scaling_frame`:
 //! they reach the solver's settings as written, and what does not apply is refused with
 //! its line.
 
@@ -100,5 +101,49 @@ fn implicit_keys_that_do_not_apply_are_refused_with_their_line() {
     assert!(
         tolerance.contains("correction_tolerance = 2 must be in (0, 1)"),
         "{tolerance}"
+    );
+}
+
+/// The scene above with an explicit step whose keys are `explicit`.
+fn load_explicit(name: &str, explicit: &str) -> Result<musclefem_io::scene::Model, String> {
+    let dir = std::env::temp_dir().join(format!("musclefem_step_{name}_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    let text = scene("increments = 1")
+        .replace("solver = \"implicit\"", "solver = \"explicit\"")
+        .replace(
+            "implicit = { increments = 1 }",
+            &format!("explicit = {{ {explicit} }}"),
+        );
+    std::fs::write(&path, text).unwrap();
+    load_scene(&path, &mut MaterialLibrary::with_builtins()).map_err(|e| e.to_string())
+}
+
+#[test]
+fn the_added_mass_rides_on_the_rigid_body_the_step_names() {
+    let model = load_explicit(
+        "frame",
+        "mass_scaling_time_step = 1e-4, mass_scaling_frame = \"ball\"",
+    )
+    .unwrap();
+    let Analysis::Explicit(settings) = &model.analysis else {
+        panic!("explicit");
+    };
+    let frame = settings.mass_scaling_frame.as_ref().unwrap();
+    let moved = frame.isometry_at(1.0).translation.vector;
+    assert!((moved - nalgebra::Vector3::new(0.0, 0.01, 0.0)).norm() < 1e-15);
+
+    let unknown = load_explicit(
+        "frame_unknown",
+        "mass_scaling_time_step = 1e-4, mass_scaling_frame = \"bal\"",
+    )
+    .unwrap_err();
+    assert!(unknown.contains("no rigid body 'bal'"), "{unknown}");
+    assert!(unknown.contains("did you mean `ball`"), "{unknown}");
+    assert!(unknown.contains("scene.toml:27:"), "{unknown}");
+    let unscaled = load_explicit("frame_unscaled", "mass_scaling_frame = \"ball\"").unwrap_err();
+    assert!(
+        unscaled.contains("without mass_scaling_time_step: there is no added mass to carry"),
+        "{unscaled}"
     );
 }

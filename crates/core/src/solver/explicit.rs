@@ -46,7 +46,11 @@
 //! lumped like the rest and reported as a fraction of the physical mass. Stiffening later
 //! in the run can still bring the step below the target (the step always follows the
 //! stability limit). Mass scaling adds inertia: check the kinetic energy stays small
-//! against the internal energy in a quasi-static run.
+//! against the internal energy in a quasi-static run. The kinetic energy does not see the
+//! added mass's inertia where a moving body carries the model and turns (at the bottom of
+//! a squat the velocity is zero and the acceleration largest):
+//! [`ExplicitSettings::mass_scaling_frame`] gives the added mass the carrier's
+//! acceleration as a body force ([`super::added_mass_frame`]).
 //!
 //! Bulk viscosity ([`ExplicitSettings::bulk_viscosity`], off by default): see
 //! [`super::bulk_viscosity`]; its dissipated work is the viscous energy W_visc, and the
@@ -59,6 +63,7 @@
 
 use nalgebra::Vector3;
 
+use super::added_mass_frame::AddedMassFrame;
 use super::bulk_viscosity::{BulkViscosity, Viscosities, damped_step_factor};
 use super::checkpoint::{Checkpoint, CheckpointReader, CheckpointWriter};
 use super::element_fields::PartFields;
@@ -242,9 +247,16 @@ pub(super) fn explicit_run(
         .sum();
     let physical_mass: f64 = mass.iter().sum();
     let mut added_mass = 0.0;
+    let mut carrier = None;
     if let Some(target) = settings.mass_scaling_time_step {
+        let physical = mass.clone();
         added_mass = scale_masses(mesh, &mut runs, &mut mass, target / step_factor);
         (stable_step, critical) = smallest_stable_step(&runs);
+        carrier = (settings.mass_scaling_frame.as_deref())
+            .map(|frame| AddedMassFrame::new(frame, &physical, &mass));
+    }
+    if let Some(carrier) = &carrier {
+        carrier.add_forces(0.0, &positions, &mut external);
     }
     if viscosities.shear > 0.0 {
         // The damping ratio of the highest mode: b₁ from the bulk viscosity and, at its
@@ -542,8 +554,11 @@ pub(super) fn explicit_run(
         if observer.progress(time, steps).is_break() {
             return Err(SolverError::Interrupted { time });
         }
-        if loads.has_forces() {
+        if loads.has_forces() || carrier.is_some() {
             loads.external_forces(time, &mut external);
+        }
+        if let Some(carrier) = &carrier {
+            carrier.add_forces(time, &positions, &mut external);
         }
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
         (stable_step, critical) =

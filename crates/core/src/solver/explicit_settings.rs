@@ -32,6 +32,12 @@ pub struct ExplicitSettings {
     /// none. For quasi-static runs whose mass scaling slows a soft tissue's shear modes
     /// down to the loading's time scale, where they ring undamped.
     pub shear_viscosity: Option<f64>,
+    /// A rigid motion that carries the mass added by mass scaling (default `None`): the
+    /// added mass gets the frame's acceleration as a body force, so that it has inertia
+    /// only for motion relative to the frame ([`super::added_mass_frame`]). For a
+    /// mass-scaled model that rides on a moving body (the knee's muscles on the femur).
+    /// (Boxed: a rigid motion is large, and the settings travel inside enums.)
+    pub mass_scaling_frame: Option<Box<super::RigidMotion>>,
 }
 
 impl ExplicitSettings {
@@ -54,6 +60,7 @@ impl ExplicitSettings {
             mass_scaling_time_step: None,
             bulk_viscosity: None,
             shear_viscosity: None,
+            mass_scaling_frame: None,
         }
     }
 }

@@ -12,6 +12,7 @@
 //! rigid bodies with prescribed translation and rotation, with reactions (and rigid-tie
 //! force and moment resultants).
 
+pub mod added_mass_frame;
 mod amg;
 pub mod amg_cg;
 mod assembly;

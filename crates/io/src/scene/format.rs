@@ -407,6 +407,9 @@ pub struct ExplicitEntry {
     pub shear_viscosity: Option<Spanned<f64>>,
     /// Largest energy-balance error as a fraction of the largest energy; default 0.01.
     pub energy_tolerance: Option<Spanned<f64>>,
+    /// The rigid body whose motion carries the mass that mass scaling adds (it gets the
+    /// body's acceleration as a body force); default none.
+    pub mass_scaling_frame: Option<Spanned<String>>,
 }
 
 /// `[step.implicit]`.

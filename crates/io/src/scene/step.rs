@@ -5,15 +5,15 @@ use toml::Spanned;
 
 use musclefem_contact::RigidSurface;
 use musclefem_core::mesh::Mesh;
-use musclefem_core::solver::Part;
 use musclefem_core::solver::amg_cg::LinearSolver;
 use musclefem_core::solver::bulk_viscosity::BulkViscosity;
 use musclefem_core::solver::explicit::ExplicitSettings;
 use musclefem_core::solver::implicit::{ImplicitSettings, Newmark};
+use musclefem_core::solver::{Part, RigidMotion};
 
 use super::Analysis;
 use super::error::{Locator, SceneError, suggestion};
-use super::format::{ImplicitEntry, SceneFile};
+use super::format::{ExplicitEntry, ImplicitEntry, SceneFile};
 use super::solver_choice::{AutoSolver, choose_solver};
 
 /// What the step sets.
@@ -132,6 +132,7 @@ pub(super) fn step_settings(
         |x| x > 0.0 && x < 1.0,
     )?;
     implicit_checks(&step.implicit, locator)?;
+    let mass_scaling_frame = mass_scaling_frame(&step.explicit, rigid_bodies, locator)?;
     let analysis = match solver {
         AutoSolver::Explicit => {
             let mut settings = ExplicitSettings::new(duration);
@@ -147,6 +148,7 @@ pub(super) fn step_settings(
             }
             settings.bulk_viscosity = e.bulk_viscosity.then(BulkViscosity::default);
             settings.shear_viscosity = e.shear_viscosity.as_ref().map(|v| *v.get_ref());
+            settings.mass_scaling_frame = mass_scaling_frame;
             Analysis::Explicit(settings)
         }
         AutoSolver::Implicit { dynamic } => {
@@ -179,6 +181,41 @@ pub(super) fn step_settings(
         output_interval,
         frame_interval,
     })
+}
+
+/// The motion of the rigid body `[step.explicit] mass_scaling_frame` names, checked
+/// whichever solver runs: it must name a rigid body, and mass scaling must be on.
+fn mass_scaling_frame(
+    explicit: &ExplicitEntry,
+    rigid_bodies: &[RigidSurface],
+    locator: &Locator,
+) -> Result<Option<Box<RigidMotion>>, SceneError> {
+    let Some(name) = &explicit.mass_scaling_frame else {
+        return Ok(None);
+    };
+    if explicit.mass_scaling_time_step.is_none() {
+        return Err(locator.error(
+            name.span(),
+            format!(
+                "mass_scaling_frame = \"{}\" without mass_scaling_time_step: there is no \
+                 added mass to carry",
+                name.get_ref()
+            ),
+        ));
+    }
+    let body = (rigid_bodies.iter())
+        .find(|b| &b.name == name.get_ref())
+        .ok_or_else(|| {
+            locator.error(
+                name.span(),
+                format!(
+                    "mass_scaling_frame: no rigid body '{}'{}",
+                    name.get_ref(),
+                    suggestion(name.get_ref(), rigid_bodies.iter().map(|b| b.name.as_str()))
+                ),
+            )
+        })?;
+    Ok(Some(Box::new(body.motion.clone())))
 }
 
 /// Newmark's parameters with numerical dissipation α ≥ 0: γ = ½ + α, β = (1 + α)²/4

@@ -318,7 +318,7 @@ pub(super) fn squat_result(
 }
 
 /// The analysis of a squat with `settings`, the femur moving as `femur` (the implicit
-/// solver's predictor frame).
+/// solver's predictor frame, the explicit solver's carrier of the added mass).
 pub fn squat_analysis(settings: &SquatSettings, femur: &RigidMotion) -> Analysis {
     let duration = settings.squat.duration;
     match settings.solver {
@@ -348,6 +348,10 @@ pub fn squat_analysis(settings: &SquatSettings, femur: &RigidMotion) -> Analysis
             solver_settings.mass_scaling_time_step = Some(settings.time_step);
             solver_settings.shear_viscosity = Some(KNEE_SHEAR_VISCOSITY);
             solver_settings.history_interval = settings.record_interval;
+            // The added mass rides on the femur without its inertia: with the knee's
+            // hundredfold mass, the vasti's inertia at the turn of the squat would
+            // otherwise be as large as their passive pull (docs/knee-model.md).
+            solver_settings.mass_scaling_frame = Some(Box::new(femur.clone()));
             Analysis::Explicit(solver_settings)
         }
     }

@@ -1,8 +1,8 @@
 //! The squat's analysis as a scene's `[step]` (issue 30, step 4): the implicit solver
 //! with the knee's Newton settings ([`super::run`]: its tolerances, three line-search
 //! halvings, no factor reuse, Newmark with α = 0.1 when the muscles' inertia is on, the
-//! femur as the predictor frame) or the explicit solver with mass scaling and the knee's
-//! shear viscosity. A scene built
+//! femur as the predictor frame) or the explicit solver with mass scaling (its added mass
+//! carried by the femur) and the knee's shear viscosity. A scene built
 //! from it has the knee's [`Analysis`], bit for bit.
 
 use musclefem_io::csv::format_number;
@@ -13,7 +13,8 @@ use super::run::{
 use crate::elongation::Solver;
 
 /// The `[step]` table of a squat with `settings`; `femur` names the rigid body whose
-/// motion is the implicit solver's predictor frame.
+/// motion is the implicit solver's predictor frame and carries the explicit solver's
+/// added mass.
 pub fn squat_step_entry(settings: &SquatSettings, femur: &str) -> String {
     let duration = settings.squat.duration;
     match settings.solver {
@@ -39,7 +40,8 @@ pub fn squat_step_entry(settings: &SquatSettings, femur: &str) -> String {
         }
         Solver::Explicit => format!(
             "[step]\nsolver = \"explicit\"\nduration = {}\noutput_interval = {}\n\n\
-             [step.explicit]\nmass_scaling_time_step = {}\nshear_viscosity = {}\n",
+             [step.explicit]\nmass_scaling_time_step = {}\nshear_viscosity = {}\n\
+             mass_scaling_frame = {femur:?}\n",
             format_number(duration),
             format_number(settings.record_interval),
             format_number(settings.time_step),
