@@ -1,4 +1,4 @@
-//! The default knee anatomy against the reference data of `../shared/data/knee_reference/`:
+//! The procedural knee anatomy against the reference data of `../shared/data/knee_reference/`:
 //! the quadriceps' knee-extensor moment arms and musculotendon excursions against the
 //! Rajagopal–Lai–Uhlrich 2023 OpenSim model, their volumes against the Visible Human
 //! Male (Andreassen et al. 2023), and the geometric soundness of bones, muscles and
@@ -80,7 +80,7 @@ fn rajagopal(muscle: Quadriceps) -> Vec<(f64, f64, f64)> {
 
 fn anatomy() -> &'static Anatomy {
     static ANATOMY: OnceLock<Anatomy> = OnceLock::new();
-    ANATOMY.get_or_init(|| Anatomy::default_knee(Resolution::Coarse).unwrap())
+    ANATOMY.get_or_init(|| Anatomy::procedural_knee(Resolution::Coarse).unwrap())
 }
 
 #[test]
@@ -193,7 +193,7 @@ fn muscle_volumes_match_the_visible_human_at_every_resolution() {
         let anatomy = if resolution == Resolution::Coarse {
             anatomy().clone()
         } else {
-            Anatomy::default_knee(resolution).unwrap()
+            Anatomy::procedural_knee(resolution).unwrap()
         };
         let (n, m, axial) = resolution.muscle_divisions();
         for muscle in &anatomy.muscles {
@@ -489,7 +489,7 @@ fn the_patella_rides_the_groove_on_an_inextensible_tendon() {
 fn the_squat_moves_the_bones_as_the_closed_chain_says() {
     let anatomy = anatomy();
     let squat = Squat::to_ninety_degrees(2.0);
-    let chain = ClosedChain::default_knee();
+    let chain = ClosedChain::procedural_knee();
     let motions = squat.motions(&chain).unwrap();
     for time in [0.0, 0.25, 0.5, 0.77, 1.0, 1.5, 2.0] {
         let angle = squat.flexion_at(time);

@@ -1,4 +1,4 @@
-//! The default knee's squat pipeline through the library, on the coarse mesh: a shallow
+//! The procedural knee's squat pipeline through the library, on the coarse mesh: a shallow
 //! passive squat run as its scene (as `musclefem knee` runs it) with loads a relaxed
 //! quadriceps can have, and the interactions bonded stress-free at 0°. (The whole squat
 //! through the command line, and the command's arguments, are tested in
@@ -23,7 +23,7 @@ fn test_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// The whole pipeline of the default knee (closed chain, fibers, tendons, sliding
+/// The whole pipeline of the procedural knee (closed chain, fibers, tendons, sliding
 /// interfaces, contact, the patella on its tendon, implicit Newmark) on a squat small
 /// enough for every test run (~160 s in release on 2 cores: 117 increments of 2–15 ms):
 /// coarse, passive, 0° → 30° → 0° in 0.6 s (about as fast at 30° as the 2 s squat to
@@ -34,13 +34,13 @@ fn test_dir(name: &str) -> PathBuf {
 /// at 0° (the whole squat at 30°: 8.0 / 6.1 / 6.7 / 2.1 kPa, 39 N, 1.107).
 #[test]
 fn a_shallow_passive_squat_runs_the_whole_pipeline_with_plausible_loads() {
-    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+    let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
     let mut settings = SquatSettings::recommended(Solver::Implicit);
     settings.squat = Squat {
         duration: 0.6,
         peak_flexion: 30f64.to_radians(),
     };
-    let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat).unwrap();
+    let geometry = KneeGeometry::procedural_knee(&anatomy, &settings.squat).unwrap();
     let fibers = geometry.fibers().unwrap();
     // Run as its scene, as `musclefem knee` runs it.
     let out = test_dir("shallow");
@@ -101,10 +101,10 @@ fn a_shallow_passive_squat_runs_the_whole_pipeline_with_plausible_loads() {
 }
 
 #[test]
-fn the_default_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free() {
-    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+fn the_procedural_knee_bonds_the_vasti_to_the_intermedius_and_the_femur_stress_free() {
+    let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
     let settings = SquatSettings::recommended(Solver::Implicit);
-    let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat).unwrap();
+    let geometry = KneeGeometry::procedural_knee(&anatomy, &settings.squat).unwrap();
     let fibers = geometry.fibers().unwrap();
     let model = KneeModel::new(
         &geometry,

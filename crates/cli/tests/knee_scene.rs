@@ -44,6 +44,8 @@ fn the_knees_scene_reruns_its_squat_bit_for_bit() {
         &dir,
         &[
             "knee",
+            "--anatomy",
+            "procedural",
             "--passive",
             "--peak-flexion",
             "10",
@@ -85,8 +87,8 @@ fn the_knees_scene_reruns_its_squat_bit_for_bit() {
         duration: 0.2,
         peak_flexion: 10f64.to_radians(),
     };
-    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
-    let geometry = KneeGeometry::default_knee(&anatomy, &squat_motion).unwrap();
+    let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
+    let geometry = KneeGeometry::procedural_knee(&anatomy, &squat_motion).unwrap();
     let bellies: Vec<&str> = (0..geometry.muscles.len())
         .map(|m| geometry.block_name(m))
         .collect();

@@ -213,6 +213,8 @@ fn a_killed_knee_squat_resumes_to_the_same_files_byte_for_byte() {
     let squat = |out: &str| -> Vec<String> {
         [
             "knee",
+            "--anatomy",
+            "procedural",
             "--passive",
             "--peak-flexion",
             "10",

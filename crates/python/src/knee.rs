@@ -25,10 +25,12 @@ struct KneeCommand {
 }
 
 /// The knee squat 0° → 90° → 0° with the four quadriceps, passive and active side by side
-/// (`musclefem knee`; about 14 minutes on 2 cores with the defaults). The keyword
+/// (`musclefem knee`; about two hours on 2 cores with the defaults, the Visible Human
+/// knee; about 14 minutes with `anatomy="procedural"`). The keyword
 /// arguments are the command's options (`musclefem knee --help`), `None` meaning its
 /// default: `passive`, `active`, `both` (flags), `solver`, `element`, `resolution`,
-/// `tolerance` [%], `bench_table`, `anatomy` (a directory), `interfaces`,
+/// `tolerance` [%], `bench_table`, `anatomy` ("visible-human", "procedural" or a
+/// directory), `interfaces`,
 /// `peak_flexion` [°], `duration` [s], `time_step` [s], `frame_interval` [s], `out`
 /// (default "out/knee"), `force`, `resume` (go on from the squats' last frames). Its
 /// files are written under `out` as the command writes them. `progress`: the command's

@@ -1,6 +1,7 @@
-"""`musclefem.knee`: `musclefem knee` from Python. The squat takes about 14 minutes (the
-command line's test runs it, ignored by default), so these tests check only that its
-options are read and refused as the command reads and refuses them, before any output."""
+"""`musclefem.knee`: `musclefem knee` from Python. The squat takes hours on the default
+(Visible Human) knee and about 14 minutes on the procedural one (the command line's test
+runs that, ignored by default), so these tests check only that its options are read and
+refused as the command reads and refuses them, before any output."""
 
 import pytest
 
@@ -12,7 +13,11 @@ import musclefem
     [
         (dict(duration=-1.0), r"--duration -1 s must be positive"),
         (dict(passive=True, active=True), r"cannot be used with"),
-        (dict(element="tet4"), r"--element tet4: the knee's muscles are meshed with hex8"),
+        (dict(element="tet4"), r"--element tet4: the Visible Human knee's muscles are meshed with tet10"),
+        (
+            dict(anatomy="procedural", element="tet4"),
+            r"--element tet4: the knee's muscles are meshed with hex8",
+        ),
         (dict(tolerance=0.0), r"--tolerance 0 must be a positive percentage"),
         (dict(tolerance=5.0, resolution="coarse"), r"cannot be used with"),
         (dict(frame_interval=-0.1), r"--frame-interval -0.1 s must be 0"),

@@ -1,4 +1,4 @@
-//! Writes the default knee anatomy at 0°, 45° and 90° of flexion for a look in ParaView,
+//! Writes the procedural knee anatomy at 0°, 45° and 90° of flexion for a look in ParaView,
 //! and prints its moment arms.
 //!
 //! ```text
@@ -27,7 +27,7 @@ fn main() -> Result<()> {
             .context("the resolution is coarse, medium or fine")?,
         None => Resolution::Coarse,
     };
-    let anatomy = Anatomy::default_knee(resolution)?;
+    let anatomy = Anatomy::procedural_knee(resolution)?;
     write_anatomy(&anatomy, &directory, &[0.0, 45.0, 90.0])?;
     println!(
         "wrote the anatomy at 0°, 45°, 90° to {}",

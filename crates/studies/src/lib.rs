@@ -10,7 +10,7 @@
 //!   the elongation tests or a scene (`musclefem fit`).
 //! - [`frame_interval`]: the `--frame-interval` option of the commands that write frames.
 //! - [`inertia`]: whether an explicit run stayed quasi-static (kinetic/internal energy).
-//! - [`knee`]: the knee scene's default anatomy, kinematics and squat drive.
+//! - [`knee`]: the knee scene's procedural anatomy, kinematics and squat drive.
 //! - [`material_point`]: a material point driven in uniaxial stress (`musclefem point`).
 //! - [`progress`]: a run's progress over simulated time (bar or plain lines).
 //! - [`scene_check`]: what `musclefem check` says of a scene, and the free-body check of

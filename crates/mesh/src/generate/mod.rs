@@ -20,7 +20,7 @@
 //!
 //! [`swept_muscle_mesh`] sweeps the same O-grid along a 3-D centreline through control
 //! stations, with elliptical sections of varying semi-axes ([`SweptSolid`]): the
-//! quadriceps of the default knee.
+//! quadriceps of the procedural knee.
 
 mod cooks_membrane;
 mod curved_tube;

@@ -1,4 +1,4 @@
-//! The passive knee squat (see [`crate::knee`]): the default anatomy, knee flexion
+//! The passive knee squat (see [`crate::knee`]): the procedural anatomy, knee flexion
 //! 0° → 90° → 0° in 2 s, at a resolution chosen by the method's mesh size (the
 //! resolution's [`Resolution::mean_element_size`]).
 //!
@@ -68,8 +68,8 @@ pub fn squat_of(method: &Method) -> Result<(SquatSettings, Resolution)> {
 /// before extension.
 pub fn run_knee(method: &Method) -> Result<Response> {
     let (settings, resolution) = squat_of(method)?;
-    let anatomy = Anatomy::default_knee(resolution)?;
-    let geometry = KneeGeometry::default_knee(&anatomy, &settings.squat)?;
+    let anatomy = Anatomy::procedural_knee(resolution)?;
+    let geometry = KneeGeometry::procedural_knee(&anatomy, &settings.squat)?;
     let fibers = geometry.fibers()?;
     // One scratch directory per run: the bench may run several at once.
     static RUNS: AtomicUsize = AtomicUsize::new(0);
@@ -122,7 +122,7 @@ mod tests {
         // The coarse anatomy's bellies (volume-matched to the Visible Human; the tendons
         // are meshed apart): as many elements as the formula says, and the mean element
         // volume of the formula within 1 %.
-        let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+        let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
         let mut volume = 0.0;
         let mut elements = 0;
         for muscle in &anatomy.muscles {

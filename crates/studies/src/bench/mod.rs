@@ -55,7 +55,7 @@ pub enum Problem {
     Cube,
     /// The paper's passive elongation of the 50 mm fusiform Hill muscle to 20 % strain.
     Elongate,
-    /// The passive knee squat 0° → 90° → 0° in 2 s on the default anatomy (no quick
+    /// The passive knee squat 0° → 90° → 0° in 2 s on the procedural anatomy (no quick
     /// matrix: its reference takes about 5 minutes).
     Knee,
 }

@@ -19,7 +19,7 @@
 //!   squat as a scene that `musclefem run` reruns;
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
-//! - `anatomy/`: the default knee's bones and muscles at 0°, 30°, 45°, 60° and 90°.
+//! - `anatomy/` (procedural knee): its bones and muscles at 0°, 30°, 45°, 60° and 90°.
 //!
 //! [`knee`] is the command; [`run_knee`] the same study with its lines, bars and stop in
 //! the caller's hands and its tables returned (the Python module's `musclefem.knee`).
@@ -40,7 +40,7 @@ use crate::knee::simulation::peak_stress::{
 };
 use crate::knee::simulation::plausibility::write_plausibility_csv;
 use crate::knee::simulation::resolution::resolution_rationale;
-use crate::knee::simulation::visible_human::{VISIBLE_HUMAN, visible_human_geometry};
+use crate::knee::simulation::visible_human::visible_human_geometry;
 use crate::knee::simulation::{
     Activation, KneeGeometry, PeakStressRow, SquatDirectory, SquatRun, SquatSettings,
     run_squat_scene,
@@ -103,30 +103,25 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
     {
         bail!("--time-step {step} s must be positive and below the duration");
     }
-    if !args.element.is_hex() {
-        bail!(
+    let knee_anatomy = args.knee_anatomy();
+    match (&knee_anatomy, args.element) {
+        (KneeAnatomy::VisibleHuman, Some(element)) => bail!(
+            "--element {}: the Visible Human knee's muscles are meshed with tet10-fbar; \
+             --element chooses the hex8 of --anatomy procedural or of an anatomy directory",
+            element.name()
+        ),
+        (_, Some(element)) if !element.is_hex() => bail!(
             "--element {}: the knee's muscles are meshed with hex8 (use hex8-fbar or \
              hex8-one-point)",
-            args.element.name()
-        );
+            element.name()
+        ),
+        _ => {}
     }
     let activations = args.activations();
     let (settings, resolution, why) = args.settings()?;
     if let Some(why) = why {
         say(&format!("{why}\n"));
     }
-    let anatomy = Anatomy::default_knee(resolution).context("the default knee")?;
-    let geometry = match &args.anatomy {
-        None => KneeGeometry::default_knee(&anatomy, &settings.squat)?,
-        Some(name) if name.as_os_str() == VISIBLE_HUMAN => {
-            visible_human_geometry(resolution, &settings.squat)?
-        }
-        Some(directory) => crate::knee::simulation::files::geometry_from_directory(
-            directory,
-            &anatomy,
-            &settings.squat,
-        )?,
-    };
     let start = if args.resume {
         RunStart::Resume
     } else if args.force {
@@ -166,10 +161,27 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             }
         }
     }
+    let anatomy = match &knee_anatomy {
+        KneeAnatomy::VisibleHuman => None,
+        _ => Some(Anatomy::procedural_knee(resolution).context("the procedural knee")?),
+    };
+    let geometry = match (&knee_anatomy, &anatomy) {
+        (KneeAnatomy::Procedural, Some(anatomy)) => {
+            KneeGeometry::procedural_knee(anatomy, &settings.squat)?
+        }
+        (KneeAnatomy::Files(directory), Some(anatomy)) => {
+            crate::knee::simulation::files::geometry_from_directory(
+                directory,
+                anatomy,
+                &settings.squat,
+            )?
+        }
+        _ => visible_human_geometry(resolution, &settings.squat)?,
+    };
     // Nothing is written before the output directory is this run's alone.
     let _lock = musclefem_io::output::OutputLock::acquire(&args.out)?;
-    if args.anatomy.is_none() {
-        write_anatomy(&anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
+    if let (KneeAnatomy::Procedural, Some(anatomy)) = (&knee_anatomy, &anatomy) {
+        write_anatomy(anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
             .context("writing the anatomy")?;
     }
     musclefem_io::atomic::write_atomically(
@@ -199,16 +211,18 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         },
         muscle_elements,
         geometry.mesh.element_count() - muscle_elements,
-        match &args.anatomy {
-            Some(d) if d.as_os_str() == VISIBLE_HUMAN => "tet10-fbar",
-            _ => args.element.name(),
+        match &knee_anatomy {
+            KneeAnatomy::VisibleHuman => "tet10-fbar",
+            _ => args.element().name(),
         },
-        match &args.anatomy {
-            Some(d) if d.as_os_str() == VISIBLE_HUMAN => {
+        match &knee_anatomy {
+            KneeAnatomy::VisibleHuman => {
                 format!("Visible Human Female, {resolution:?} resolution").to_lowercase()
             }
-            Some(d) => format!("from {}", d.display()),
-            None => format!("default anatomy, {resolution:?} resolution").to_lowercase(),
+            KneeAnatomy::Files(d) => format!("from {}", d.display()),
+            KneeAnatomy::Procedural => {
+                format!("procedural anatomy, {resolution:?} resolution").to_lowercase()
+            }
         },
         settings.interfaces.name(),
         fibers.solve_time + fibers.setup_time,
@@ -218,7 +232,7 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         settings.solver.name(),
         crate::knee::simulation::run::solver_rationale(settings.solver, args.is_visible_human())
     ));
-    if args.anatomy.is_none() {
+    if knee_anatomy == KneeAnatomy::Procedural {
         say(&format!(
             "  {} resolution: {}\n",
             format!("{resolution:?}").to_lowercase(),
@@ -337,7 +351,7 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
 mod tolerance;
 
 mod args;
-pub use args::KneeArgs;
+pub use args::{KneeAnatomy, KneeArgs, PROCEDURAL};
 
 mod run_files;
 use run_files::{run_log, run_summary, write_cut_attempts, write_newton_steps, write_vm95};

@@ -1,9 +1,9 @@
 //! The knee flexion–extension scene of the paper (seed §2.4, issue 8): a squat with the
 //! four quadriceps between the femur/pelvis and the patella.
 //!
-//! - [`anatomy`]: the default anatomy built into the program (bones, quadriceps meshes,
+//! - [`anatomy`]: the procedural anatomy built into the program (bones, quadriceps meshes,
 //!   patellar tendon, kinematics), its moment arms, and the squat's bone motions
-//!   ([`Anatomy::default_knee`]).
+//!   ([`Anatomy::procedural_knee`]).
 //!
 //! - [`simulation`]: the finite-element squat on that anatomy (or user meshes), with
 //!   fibers, cohesive and contact interactions, and the muscles' peak stresses.

@@ -14,7 +14,7 @@
 //!
 //! with R(a) = R_z(−a) the flexion rotation ([`flexion_rotation`]) and H₀ the hip centre
 //! in the femur's frame (the global frame at 0°). H_x grows monotonically with β on
-//! [−θ/2, θ + π/2], where it is solved by bisection. With the default anatomy (tibia
+//! [−θ/2, θ + π/2], where it is solved by bisection. With the procedural anatomy (tibia
 //! 398 mm, femur 445 mm) β = 23.9° at θ = 45° and 48.4° at θ = 90°.
 //!
 //! **The pelvis.** It moves vertically with the hip centre and tilts forward by the
@@ -73,10 +73,10 @@ fn placement(centre: &Vector3<f64>, target: &Vector3<f64>, angle: f64) -> Isomet
 }
 
 impl ClosedChain {
-    /// The default knee's chain: the ankle pin at [`ANKLE`](super::dimensions::ANKLE), the
+    /// The procedural knee's chain: the ankle pin at [`ANKLE`](super::dimensions::ANKLE), the
     /// hip at [`HIP_CENTRE`](super::dimensions::HIP_CENTRE).
-    pub fn default_knee() -> Self {
-        Self::from_dimensions(&KneeDimensions::default_knee())
+    pub fn procedural_knee() -> Self {
+        Self::from_dimensions(&KneeDimensions::procedural_knee())
     }
 
     /// The chain of the knee of `dimensions`: the ankle pin at its ankle, the hip at its
@@ -164,7 +164,7 @@ mod tests {
 
     #[test]
     fn the_ankle_stays_pinned_and_the_hip_moves_straight_down() {
-        let chain = ClosedChain::default_knee();
+        let chain = ClosedChain::procedural_knee();
         let upright = chain.pose(0.0);
         assert!(upright.tibia_tilt.abs() < 1e-12);
         assert!((upright.femur.translation.vector).norm() < 1e-15);
@@ -188,7 +188,7 @@ mod tests {
 
     #[test]
     fn femur_and_tibia_keep_the_knee_and_the_hip_flexes_with_it() {
-        let chain = ClosedChain::default_knee();
+        let chain = ClosedChain::procedural_knee();
         let knee = KneeKinematics::new(Vec::new());
         for degrees in [15.0, 45.0, 90.0] {
             let angle = degrees * DEG;

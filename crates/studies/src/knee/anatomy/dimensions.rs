@@ -25,7 +25,7 @@
 //! # Landmarks as data
 //! The mechanism (kinematics, wrap, moment arms, tendon spring, closed chain) reads these
 //! landmarks from a [`KneeDimensions`], so that a knee measured from data runs the same
-//! squat; [`KneeDimensions::default_knee`] is the constants below.
+//! squat; [`KneeDimensions::procedural_knee`] is the constants below.
 
 use nalgebra::Vector3;
 
@@ -108,9 +108,9 @@ pub const ANKLE: Vector3<f64> = mm(1.0, -398.0, 0.0);
 /// The landmarks a knee's mechanism reads: the groove's sagittal circle, the patella's
 /// ellipsoid, the patellar tendon, the wrap offset and the closed chain's hip and ankle
 /// (see the module documentation), in this module's frame, lengths in metres.
-/// [`KneeDimensions::default_knee`] holds the constants above; a knee measured from
+/// [`KneeDimensions::procedural_knee`] holds the constants above; a knee measured from
 /// data (the Visible Human Female's, issue #35) brings its own. The procedural bones
-/// ([`super::bones`]) are the default knee's shapes and keep reading the constants.
+/// ([`super::bones`]) are the procedural knee's shapes and keep reading the constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KneeDimensions {
     /// Radius of the posterior femoral condyles' circular profile about the flexion axis
@@ -151,7 +151,7 @@ pub struct KneeDimensions {
 
 impl KneeDimensions {
     /// The default right knee: the constants of this module.
-    pub fn default_knee() -> Self {
+    pub fn procedural_knee() -> Self {
         Self {
             condyle_radius: CONDYLE_RADIUS,
             joint_line: JOINT_LINE,
@@ -206,8 +206,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_default_knees_dimensions_are_the_constants() {
-        let knee = KneeDimensions::default_knee();
+    fn the_procedural_knees_dimensions_are_the_constants() {
+        let knee = KneeDimensions::procedural_knee();
         assert_eq!(knee.anterior_femur(), ANTERIOR_FEMUR);
         assert_eq!(knee.patella_ridge_radius(), PATELLA_RIDGE_RADIUS);
         assert_eq!(knee.scaled(1.0), knee);

@@ -2,7 +2,7 @@
 //! angle θ [rad], the femur fixed.
 //!
 //! The knee's landmarks are a [`KneeDimensions`] ([`KneeKinematics::new`] takes the
-//! default knee's, [`KneeKinematics::from_dimensions`] any knee's).
+//! procedural knee's, [`KneeKinematics::from_dimensions`] any knee's).
 //!
 //! **Tibiofemoral joint.** The tibia rotates by θ about the fixed flexion axis through
 //! the origin along −z (see [`super::dimensions`]): x_tibia(θ) = R_z(−θ) X.
@@ -120,9 +120,9 @@ pub struct KneeKinematics {
 }
 
 impl KneeKinematics {
-    /// Kinematics with the default knee's dimensions and the given quadriceps pulls.
+    /// Kinematics with the procedural knee's dimensions and the given quadriceps pulls.
     pub fn new(pulls: Vec<QuadricepsPull>) -> Self {
-        Self::from_dimensions(KneeDimensions::default_knee(), pulls)
+        Self::from_dimensions(KneeDimensions::procedural_knee(), pulls)
     }
 
     /// Kinematics of the knee of `dimensions` with the given quadriceps pulls, its
@@ -381,10 +381,10 @@ mod tests {
     }
 
     #[test]
-    fn the_default_dimensions_give_the_default_knee_bit_for_bit() {
+    fn the_default_dimensions_give_the_procedural_knee_bit_for_bit() {
         let pulls: Vec<QuadricepsPull> = Quadriceps::ALL.iter().map(|m| m.pull()).collect();
         let default = KneeKinematics::new(pulls.clone());
-        let from_data = KneeKinematics::from_dimensions(KneeDimensions::default_knee(), pulls);
+        let from_data = KneeKinematics::from_dimensions(KneeDimensions::procedural_knee(), pulls);
         assert_eq!(from_data.trochlea, default.trochlea);
         assert_eq!(from_data.tendon_length, default.tendon_length);
         for degrees in (0..=90).step_by(15) {

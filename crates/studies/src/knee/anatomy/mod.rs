@@ -1,4 +1,4 @@
-//! The default anatomy of the knee scene (issue 8), built into the program: rigid femur,
+//! The procedural anatomy of the knee scene (issue 8), built into the program: rigid femur,
 //! tibia and patella as closed triangle surfaces, the four quadriceps as hex8 meshes, the
 //! patellar tendon's attachments, and the knee's kinematics.
 //!
@@ -23,7 +23,7 @@
 //!   (committed data, issue #35; not yet part of the knee scene).
 //!
 //! Except for [`visible_human`]'s committed meshes, no data file is read: every number
-//! of the default knee is a documented constant (the Visible Human
+//! of the procedural knee is a documented constant (the Visible Human
 //! volumes and the OpenSim moment arms it was dimensioned from live in
 //! `../shared/data/knee_reference/` and are read only by the tests).
 //!
@@ -145,7 +145,7 @@ impl PatellarTendon {
     }
 }
 
-/// The default knee: bones, muscles, patellar tendon and kinematics, every part in its
+/// The procedural knee: bones, muscles, patellar tendon and kinematics, every part in its
 /// pose at 0° of flexion in the global frame of [`dimensions`].
 #[derive(Clone, Debug)]
 pub struct Anatomy {
@@ -166,9 +166,9 @@ impl Anatomy {
     /// The default right knee at `resolution`: the quadriceps' femur-fixed stations set
     /// the patella's equilibrium at 0°, which places the muscles' insertions; then the
     /// muscles are volume-matched and meshed, and the bones triangulated.
-    pub fn default_knee(resolution: Resolution) -> Result<Anatomy> {
+    pub fn procedural_knee(resolution: Resolution) -> Result<Anatomy> {
         let kinematics = KneeKinematics::from_dimensions(
-            KneeDimensions::default_knee(),
+            KneeDimensions::procedural_knee(),
             Quadriceps::ALL.iter().map(|m| m.pull()).collect(),
         );
         let reference = kinematics
@@ -200,7 +200,7 @@ impl Anatomy {
         self.muscles
             .iter()
             .find(|m| m.muscle == muscle)
-            .expect("the default knee has all four quadriceps")
+            .expect("the procedural knee has all four quadriceps")
     }
 
     /// The four muscles' meshes as one mesh, the bellies first, and every block's role

@@ -87,9 +87,9 @@ pub fn moment_arms_at(
 }
 
 /// How much hip flexion `hip` [rad] changes the musculotendon length of `muscle` [m]
-/// in the default knee ([`hip_length_change_in`] with [`KneeDimensions::default_knee`]).
+/// in the procedural knee ([`hip_length_change_in`] with [`KneeDimensions::procedural_knee`]).
 pub fn hip_length_change(muscle: &Muscle, hip: f64) -> f64 {
-    hip_length_change_in(&KneeDimensions::default_knee(), muscle, hip)
+    hip_length_change_in(&KneeDimensions::procedural_knee(), muscle, hip)
 }
 
 /// How much hip flexion `hip` [rad] changes the musculotendon length of `muscle` [m]

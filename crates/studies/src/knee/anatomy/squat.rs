@@ -97,7 +97,7 @@ pub struct BoneMotions {
 }
 
 impl Squat {
-    /// The default knee's squat: 0° → 90° → 0° in `duration` [s].
+    /// The procedural knee's squat: 0° → 90° → 0° in `duration` [s].
     pub fn to_ninety_degrees(duration: f64) -> Self {
         Self {
             duration,
@@ -201,7 +201,7 @@ mod tests {
 
     #[test]
     fn the_motions_place_the_bones_where_the_chain_says() {
-        let chain = ClosedChain::default_knee();
+        let chain = ClosedChain::procedural_knee();
         let squat = Squat::to_ninety_degrees(2.0);
         let motions = squat.motions(&chain).unwrap();
         for t in [0.0, 0.3, 1.0, 1.7] {

@@ -19,7 +19,7 @@
 //! (2010, J Biomech 43:1190: ultrasound of the tendon during ramped isometric knee
 //! extension; maximal tendon force 5453 N at 5.0 mm elongation). ε_l = 0.03 is
 //! Blankevoort's spread strain of the toe region. ℓ₀ is the knee's tendon length
-//! ([`KneeDimensions::patellar_tendon_length`]; the default knee's
+//! ([`KneeDimensions::patellar_tendon_length`]; the procedural knee's
 //! [`PATELLAR_TENDON_LENGTH`](super::dimensions::PATELLAR_TENDON_LENGTH)). At O'Brien's maximal force this spring is
 //! 6.6 mm longer than at rest, against the 5.0 ± 0.5 mm measured: the 3 % toe region
 //! adds 1.5 mm that the in-vivo measurement (which starts from a preloaded tendon) sees
@@ -46,9 +46,9 @@ pub struct TendonSpring {
 }
 
 impl TendonSpring {
-    /// The default knee's tendon.
-    pub fn default_knee() -> Self {
-        Self::from_dimensions(&KneeDimensions::default_knee())
+    /// The procedural knee's tendon.
+    pub fn procedural_knee() -> Self {
+        Self::from_dimensions(&KneeDimensions::procedural_knee())
     }
 
     /// The patellar tendon of the knee of `dimensions`: slack at its tendon length, with
@@ -97,7 +97,7 @@ mod tests {
 
     #[test]
     fn the_force_is_the_energys_slope_and_continuous_through_the_toe() {
-        let tendon = TendonSpring::default_knee();
+        let tendon = TendonSpring::procedural_knee();
         let l0 = tendon.slack_length;
         let h = 1e-7 * l0;
         for strain in [-0.02, 0.01, 0.03, 0.059, 0.061, 0.1, 0.2] {
@@ -130,7 +130,7 @@ mod tests {
 
     #[test]
     fn the_length_at_a_force_inverts_the_law() {
-        let tendon = TendonSpring::default_knee();
+        let tendon = TendonSpring::procedural_knee();
         for force in [0.0, 1.0, 500.0, 1600.0, 5453.0, 2.0e4] {
             let length = tendon.length_at_force(force);
             assert!(
@@ -152,7 +152,7 @@ mod tests {
         use musclefem_core::solver::Interaction;
         use nalgebra::Vector3;
 
-        let tendon = TendonSpring::default_knee();
+        let tendon = TendonSpring::procedural_knee();
         let strand = Strand {
             node_a: 0,
             node_b: 1,

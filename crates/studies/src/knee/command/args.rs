@@ -12,6 +12,20 @@ use crate::knee::simulation::interactions::InterfaceLaw;
 use crate::knee::simulation::visible_human::VISIBLE_HUMAN;
 use crate::knee::simulation::{Activation, SquatSettings};
 
+/// `--anatomy procedural`: the swept-solid knee.
+pub const PROCEDURAL: &str = "procedural";
+
+/// The knee a squat runs on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum KneeAnatomy {
+    /// The Visible Human Female's segmented quadriceps (the default).
+    VisibleHuman,
+    /// Swept elliptical bellies with tendon blocks (`crate::knee::anatomy::muscles`).
+    Procedural,
+    /// Muscles from the files of a directory, on the procedural knee's bones.
+    Files(PathBuf),
+}
+
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("activation").args(["passive", "active", "both"])))]
 pub struct KneeArgs {
@@ -24,27 +38,28 @@ pub struct KneeArgs {
     /// Both, side by side on two threads (the default).
     #[arg(long)]
     pub both: bool,
-    /// Solver: implicit (Newton with step cutting and the muscles' inertia, Newmark's
-    /// trapezoidal rule; the default knee's default) or explicit (central differences
-    /// with mass scaling, the paper's method; the default with `--anatomy
-    /// visible-human`, whose 78 k unknowns make each Newton iteration take about a
-    /// minute on 2 cores). On the coarse default knee both give the same vm95 within
-    /// 2 %, and the implicit one is faster (see the README).
+    /// Solver: explicit (central differences with mass scaling, the paper's method; the
+    /// default on the Visible Human knee, whose 78 k unknowns make each Newton iteration
+    /// take about a minute on 2 cores) or implicit (Newton with step cutting and the
+    /// muscles' inertia, Newmark's trapezoidal rule; the default on the procedural knee
+    /// and anatomy directories, where it is the faster: see the README).
     #[arg(long, value_enum)]
     pub solver: Option<Solver>,
-    /// The muscles' hexahedra: hex8-fbar (2×2×2 points, mean dilatation) or
-    /// hex8-one-point (one point, hourglass control).
-    #[arg(long, value_enum, default_value = "hex8-fbar")]
-    pub element: ElementChoice,
-    /// Mesh resolution of the default anatomy (coarse, the default: 384 hex8 per muscle
-    /// belly, both squats in about 14 minutes on 2 cores; medium: 2352, hours, not yet run
-    /// to the end on the closed-chain model; fine: 8960).
+    /// The hexahedra of the procedural knee and of an anatomy directory: hex8-fbar (the
+    /// default; 2×2×2 points, mean dilatation) or hex8-one-point (one point, hourglass
+    /// control). The Visible Human knee is meshed with tet10-fbar and refuses it.
+    #[arg(long, value_enum)]
+    pub element: Option<ElementChoice>,
+    /// Mesh resolution (coarse, the default). The Visible Human knee: coarse (13 447
+    /// tet10 in its muscles) or medium. The procedural knee: coarse (384 hex8 per
+    /// muscle belly), medium (2352) or fine (8960).
     #[arg(long, value_enum, default_value = "coarse")]
     pub resolution: Resolution,
-    /// Choose solver, element, resolution and step as the cheapest whose measured vm95
-    /// error (passive squat, against the medium mesh) is at most this [%]: from the knee
-    /// rows of --bench-table when it has some, else from the chart measured with the
-    /// program; medium (the reference) when none is within it.
+    /// On the procedural knee (which it implies): choose solver, element, resolution and
+    /// step as the cheapest whose measured vm95 error (passive squat, against the medium
+    /// mesh) is at most this [%]: from the knee rows of --bench-table when it has some,
+    /// else from the chart measured with the program; medium (the reference) when none is
+    /// within it.
     #[arg(
         long,
         value_name = "PERCENT",
@@ -53,14 +68,15 @@ pub struct KneeArgs {
     pub tolerance: Option<f64>,
     #[command(flatten)]
     pub bench_table: crate::bench::BenchTable,
-    /// `visible-human`: the Visible Human Female's segmented quadriceps (tet10, coarse or
-    /// medium), bones and landmarks, with tendon strands to the patella (shipped with the
-    /// program). Or muscles from files instead of the default anatomy: DIR/muscles.msh or
-    /// DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF or
-    /// vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion;
-    /// DIR/femur.stl replaces the default femur if present. The bones move as in the
-    /// default knee.
-    #[arg(long, value_name = "DIR")]
+    /// `visible-human` (the default): the Visible Human Female's segmented quadriceps
+    /// (tet10, coarse or medium), bones and landmarks, with tendon strands to the patella
+    /// (shipped with the program). `procedural`: swept elliptical bellies sized to the
+    /// Visible Human Male's volumes, with tendon blocks (hex8; a squat in minutes, but its
+    /// active stresses exceed what muscle carries: see the README). Or muscles from files:
+    /// DIR/muscles.msh or DIR/muscles.inp with one block per muscle (named VI, VL, VM, RF
+    /// or vastus_intermedius, ...) and node sets <block>_origin and <block>_insertion,
+    /// with the procedural knee's bones; DIR/femur.stl replaces its femur if present.
+    #[arg(long, value_name = "visible-human|procedural|DIR")]
     pub anatomy: Option<PathBuf>,
     /// How the bonded muscle–muscle and muscle–femur interfaces resist a slide: sliding
     /// (the default: they resist opening and interpenetration, not a slide) or
@@ -111,7 +127,7 @@ impl KneeArgs {
             }
             None => {
                 let mut settings = SquatSettings::recommended(self.solver());
-                settings.element = self.element;
+                settings.element = self.element();
                 if let Some(step) = self.time_step {
                     settings.time_step = step;
                 }
@@ -124,9 +140,26 @@ impl KneeArgs {
         Ok((settings, resolution, why))
     }
 
+    /// The knee the squat runs on: `--anatomy`, else the Visible Human's, or the
+    /// procedural one that `--tolerance` chooses among.
+    pub fn knee_anatomy(&self) -> KneeAnatomy {
+        match self.anatomy.as_deref() {
+            None if self.tolerance.is_some() => KneeAnatomy::Procedural,
+            None => KneeAnatomy::VisibleHuman,
+            Some(name) if name.as_os_str() == VISIBLE_HUMAN => KneeAnatomy::VisibleHuman,
+            Some(name) if name.as_os_str() == PROCEDURAL => KneeAnatomy::Procedural,
+            Some(directory) => KneeAnatomy::Files(directory.to_path_buf()),
+        }
+    }
+
     /// Whether the squat runs on the Visible Human knee.
     pub(super) fn is_visible_human(&self) -> bool {
-        self.anatomy.as_deref() == Some(std::path::Path::new(VISIBLE_HUMAN))
+        self.knee_anatomy() == KneeAnatomy::VisibleHuman
+    }
+
+    /// The hexahedron given, or hex8-fbar.
+    pub(super) fn element(&self) -> ElementChoice {
+        self.element.unwrap_or(ElementChoice::Hex8Fbar)
     }
 
     /// The solver given, or the anatomy's default: explicit on the Visible Human knee,
@@ -160,20 +193,46 @@ mod tests {
         knee: KneeArgs,
     }
 
-    /// `musclefem knee` without options runs both squats with the implicit solver on the
-    /// coarse mesh: the closed-chain model's medium mesh takes hours on 2 cores (see the
-    /// README), too long for the program's first command.
+    /// `musclefem knee` without options runs both squats explicitly on the Visible
+    /// Human knee's coarse mesh: the anatomy whose stresses meet issue #29's bounds (see
+    /// the README); its medium mesh has not been run to the end.
     #[test]
-    fn the_default_run_is_both_squats_implicit_on_the_coarse_mesh() {
+    fn the_default_run_is_both_squats_explicit_on_the_coarse_visible_human_knee() {
         let args = Command::try_parse_from(["knee"]).unwrap().knee;
         let (settings, resolution, why) = args.settings().unwrap();
         assert_eq!(why, None);
+        assert_eq!(args.knee_anatomy(), KneeAnatomy::VisibleHuman);
         assert_eq!(resolution, Resolution::Coarse);
-        assert_eq!(settings.solver, Solver::Implicit);
+        assert_eq!(settings.solver, Solver::Explicit);
         assert_eq!(
             args.activations(),
             vec![Activation::Passive, Activation::Active]
         );
+    }
+
+    /// The procedural knee, named or implied by `--tolerance`, runs implicitly with
+    /// hex8-fbar unless told otherwise; any other name is a directory of muscles.
+    #[test]
+    fn the_procedural_knee_runs_implicitly_and_a_directory_is_read_from_files() {
+        let args = Command::try_parse_from(["knee", "--anatomy", "procedural"])
+            .unwrap()
+            .knee;
+        assert_eq!(args.knee_anatomy(), KneeAnatomy::Procedural);
+        let (settings, _, _) = args.settings().unwrap();
+        assert_eq!(settings.solver, Solver::Implicit);
+        assert_eq!(settings.element, ElementChoice::Hex8Fbar);
+        let args = Command::try_parse_from(["knee", "--tolerance", "20"])
+            .unwrap()
+            .knee;
+        assert_eq!(args.knee_anatomy(), KneeAnatomy::Procedural);
+        let args = Command::try_parse_from(["knee", "--anatomy", "my/muscles"])
+            .unwrap()
+            .knee;
+        assert_eq!(
+            args.knee_anatomy(),
+            KneeAnatomy::Files(PathBuf::from("my/muscles"))
+        );
+        assert_eq!(args.settings().unwrap().0.solver, Solver::Implicit);
     }
 
     /// On the Visible Human knee the default solver is the explicit one, and a solver

@@ -1,5 +1,5 @@
 //! `musclefem knee --anatomy DIR`: the quadriceps from a mesh file instead of the default
-//! anatomy, with the default knee's bones and motions.
+//! anatomy, with the procedural knee's bones and motions.
 //!
 //! DIR holds `muscles.msh` (Gmsh 4.1) or `muscles.inp` (Abaqus) with one element block
 //! per muscle, named `VI`, `VL`, `VM`, `RF` or `vastus_intermedius`, `vastus_lateralis`,
@@ -8,7 +8,7 @@
 //! patella). Tendon blocks `<block>_tendon` (tendon material, no fibers from the flow)
 //! may follow the muscles' blocks; a muscle with one names where its belly ends in the
 //! node set `<block>_belly_end` (the flow's outlet; its insertion otherwise). `DIR/femur.stl`, if present, replaces the default femur (the surface the
-//! muscles bond to and may not enter). Coordinates are in metres, in the default knee's
+//! muscles bond to and may not enter). Coordinates are in metres, in the procedural knee's
 //! frame: x anterior, y proximal, z lateral, the flexion axis through the origin along z.
 
 use std::path::Path;
@@ -86,7 +86,7 @@ pub fn geometry_from_directory(
     if muscles.is_empty() {
         bail!("{}: no element block", path.display());
     }
-    let mut geometry = KneeGeometry::default_knee(anatomy, squat)?;
+    let mut geometry = KneeGeometry::procedural_knee(anatomy, squat)?;
     geometry.mesh = imported.mesh;
     geometry.fiber_reference = vec![FiberReference::paper(); muscles.len()];
     geometry.muscles = muscles;

@@ -7,13 +7,13 @@
 //!   "pelvis", or "pelvis-pin" with `pin` [m], a point carried with the pelvis without
 //!   turning), `duration` T [s], `peak_flexion` θ_peak [rad], `ankle` (the pin at the
 //!   tibia's distal end) and `hip` (the hip centre in the femur's frame) [m], both
-//!   defaulting to the default knee's (they set the segment lengths).
+//!   defaulting to the procedural knee's (they set the segment lengths).
 //! - `knee-patella`: the patella held by the patellar tendon against the pull of the ties
 //!   it moves (or of the ties `pulled_by` names) ([`TendonPatella`]), posed from the
 //!   equilibrium table `table` (a CSV file beside the scene, [`PatellaTable::read_csv`]).
 //!   Parameters: `table`, `duration`, `peak_flexion`, `ankle`, `hip` as above, the tendon
 //!   `tendon_slack_length` [m], `tendon_stiffness` [N/m], `tendon_toe_strain` (defaults:
-//!   the default knee's), and `pulled_by` (tie names).
+//!   the procedural knee's), and `pulled_by` (tie names).
 //!
 //! [`closed_chain_motion`] and [`patella_motion`] write the `motion` tables a scene takes.
 
@@ -48,11 +48,11 @@ const SQUAT_PARAMETERS: [FollowerParameter; 4] = [
     },
     FollowerParameter {
         name: "ankle",
-        description: "the pin at the tibia's distal end [m]; default the default knee's",
+        description: "the pin at the tibia's distal end [m]; default the procedural knee's",
     },
     FollowerParameter {
         name: "hip",
-        description: "the hip centre in the femur's frame [m]; default the default knee's",
+        description: "the hip centre in the femur's frame [m]; default the procedural knee's",
     },
 ];
 
@@ -82,15 +82,15 @@ const PATELLA_PARAMETERS: [FollowerParameter; 9] = [
     SQUAT_PARAMETERS[3],
     FollowerParameter {
         name: "tendon_slack_length",
-        description: "the patellar tendon's slack length [m]; default the default knee's",
+        description: "the patellar tendon's slack length [m]; default the procedural knee's",
     },
     FollowerParameter {
         name: "tendon_stiffness",
-        description: "its linear-region stiffness [N/m]; default the default knee's",
+        description: "its linear-region stiffness [N/m]; default the procedural knee's",
     },
     FollowerParameter {
         name: "tendon_toe_strain",
-        description: "its toe region's spread strain; default the default knee's",
+        description: "its toe region's spread strain; default the procedural knee's",
     },
     FollowerParameter {
         name: "pulled_by",
@@ -133,7 +133,7 @@ fn squat_and_chain(p: &FollowerParameters<'_>) -> Result<(Squat, ClosedChain), S
             format!("{} rad must be in (0, 150°]", squat.peak_flexion),
         ));
     }
-    let default = ClosedChain::default_knee();
+    let default = ClosedChain::procedural_knee();
     let chain = ClosedChain {
         ankle: Vector3::from(p.vector_or("ankle", default.ankle.into())?),
         hip: Vector3::from(p.vector_or("hip", default.hip.into())?),
@@ -166,7 +166,7 @@ fn build_closed_chain(p: &FollowerParameters<'_>) -> Result<Arc<dyn PoseFollower
 
 fn build_patella(p: &FollowerParameters<'_>) -> Result<Arc<dyn PoseFollower>, SceneError> {
     let (squat, chain) = squat_and_chain(p)?;
-    let default = TendonSpring::default_knee();
+    let default = TendonSpring::procedural_knee();
     let tendon = TendonSpring {
         slack_length: p.number_or("tendon_slack_length", default.slack_length)?,
         stiffness: p.number_or("tendon_stiffness", default.stiffness)?,
@@ -271,7 +271,12 @@ mod tests {
     /// A shallow squat's table (0° … 6°).
     fn table() -> PatellaTable {
         let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
-        PatellaTable::new(&kinematics, TendonSpring::default_knee(), 5f64.to_radians()).unwrap()
+        PatellaTable::new(
+            &kinematics,
+            TendonSpring::procedural_knee(),
+            5f64.to_radians(),
+        )
+        .unwrap()
     }
 
     fn squat() -> Squat {
@@ -288,7 +293,7 @@ mod tests {
         let pin = Vector3::new(0.01, 0.3, 0.0);
         let patella = patella_motion(
             "patella_table.csv",
-            &TendonSpring::default_knee(),
+            &TendonSpring::procedural_knee(),
             chain,
             &squat,
         );
@@ -395,7 +400,7 @@ mod tests {
 
     #[test]
     fn a_bad_kind_or_parameter_names_the_file_the_line_and_the_key() {
-        let chain = ClosedChain::default_knee();
+        let chain = ClosedChain::procedural_knee();
         let text = scene_text(&chain);
         let line_of = |fragment: &str| text.lines().position(|l| l.contains(fragment)).unwrap() + 1;
         let folder = folder("bad");

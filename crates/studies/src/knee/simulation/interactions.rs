@@ -3,7 +3,7 @@
 //! its neighbours and out of the femur.
 //!
 //! - **Which surfaces bond.** Every pair of muscles whose surfaces come within
-//!   [`BOND_TOLERANCE`] of each other at 0° bonds there (in the default knee: VI with VL,
+//!   [`BOND_TOLERANCE`] of each other at 0° bonds there (in the procedural knee: VI with VL,
 //!   VM and RF), and so does every muscle that comes within it of the femur's shaft
 //!   between [`FEMUR_BOND_HEIGHTS`] (VI, VL, VM). The bonds form stress-free: the initial
 //!   gaps (1–4 mm between the faceted muscles of the coarse mesh) are their rest state.

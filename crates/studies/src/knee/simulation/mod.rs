@@ -3,7 +3,7 @@
 //! on each other and on the femur, stretched by the closed-chain squat 0° → 90° → 0°,
 //! passive or activated to 50 % from 35° of flexion on.
 //!
-//! - [`model`]: the geometry (default anatomy or user meshes), the fibers, the Hill
+//! - [`model`]: the geometry (procedural anatomy or user meshes), the fibers, the Hill
 //!   muscle parts, the tendon parts and the bone ties;
 //! - [`files`]: the muscles from a mesh file (`--anatomy DIR`);
 //! - [`interactions`]: cohesive interfaces (sliding by default) and penalty contact;

@@ -47,7 +47,7 @@ pub const ACTIVATION_FLEXION: f64 = 35.0 * std::f64::consts::PI / 180.0;
 pub use crate::activation::Activation;
 
 /// The geometry a squat runs on: the muscles' mesh, the bones and their motions. Built
-/// from the default anatomy ([`KneeGeometry::default_knee`]) or read from files.
+/// from the procedural anatomy ([`KneeGeometry::procedural_knee`]) or read from files.
 #[derive(Clone, Debug)]
 pub struct KneeGeometry {
     /// The bellies first, one block per muscle in the order of `muscles` (block `b` is
@@ -62,7 +62,7 @@ pub struct KneeGeometry {
     /// The femur at 0° of flexion: the muscles slide on it and may not enter it.
     pub femur: TriangleSurface,
     /// The femur's outward normals at its vertices where its shape gives them (the
-    /// default anatomy's implicit femur), else `None` (the facets' are averaged).
+    /// procedural anatomy's implicit femur), else `None` (the facets' are averaged).
     pub femur_normals: Option<Vec<nalgebra::Vector3<f64>>>,
     /// The tibia and patella at 0° (for the frames of the bones).
     pub tibia: TriangleSurface,
@@ -72,7 +72,7 @@ pub struct KneeGeometry {
     pub dimensions: KneeDimensions,
     /// The squat's bone motions (the closed chain).
     pub motions: BoneMotions,
-    /// Where each muscle's fiber laws start (in `muscles` order): the default knee's
+    /// Where each muscle's fiber laws start (in `muscles` order): the procedural knee's
     /// parallel element slack up to the mean fiber stretch its belly reaches at
     /// [`PASSIVE_SLACK_FLEXION`] of knee flexion in the squat, the Visible Human's whole
     /// fiber-direction law from the stretch where its fibers reach optimal length
@@ -84,13 +84,13 @@ pub struct KneeGeometry {
     pub patella_table: Arc<PatellaTable>,
     /// Tendon strands from the muscles' fiber outlets to their attachment nodes on the
     /// patella (the Visible Human knee's tendinous tissue); none where the tendons are
-    /// element blocks (the default anatomy).
+    /// element blocks (the procedural anatomy).
     pub strands: Vec<TendonStrand>,
 }
 
 impl KneeGeometry {
-    /// The default knee at the anatomy's resolution, squatting `squat`.
-    pub fn default_knee(anatomy: &Anatomy, squat: &Squat) -> Result<Self> {
+    /// The procedural knee at the anatomy's resolution, squatting `squat`.
+    pub fn procedural_knee(anatomy: &Anatomy, squat: &Squat) -> Result<Self> {
         let dimensions = *anatomy.dimensions();
         let motions = squat
             .motions(&ClosedChain::from_dimensions(&dimensions))
@@ -286,7 +286,7 @@ impl FiberReference {
         }
     }
 
-    /// The paper's with the parallel element slack up to `slack` (the default knee).
+    /// The paper's with the parallel element slack up to `slack` (the procedural knee).
     pub fn parallel_slack(slack: f64) -> Self {
         FiberReference {
             parallel_slack: slack,
@@ -339,7 +339,7 @@ pub fn muscle_parameters(
 }
 
 /// The name of the surface of block `block` that the knee's interactions act on: its
-/// `<block>_lateral` surface (the default anatomy's: the sides without the end faces)
+/// `<block>_lateral` surface (the procedural anatomy's: the sides without the end faces)
 /// when `mesh` has one, else `<block>_outer` ([`KneeGeometry::name_outer_surfaces`]).
 pub fn muscle_surface_name(mesh: &Mesh, block: &str) -> Result<String> {
     for name in [format!("{block}_lateral"), format!("{block}_outer")] {
@@ -351,7 +351,7 @@ pub fn muscle_surface_name(mesh: &Mesh, block: &str) -> Result<String> {
 }
 
 /// The element of a block of `shape`: `element` (a hexahedron) for the hex8 blocks of
-/// the default anatomy, the quadratic tetrahedron with the element's mean dilatation
+/// the procedural anatomy, the quadratic tetrahedron with the element's mean dilatation
 /// (F-bar: muscle is nearly incompressible, K/μ ≈ 10⁴, where the plain tet10's pressure
 /// oscillates) for the Visible Human's tet10 meshes.
 pub fn block_element(element: ElementChoice, shape: ElementShape) -> Result<ElementChoice> {

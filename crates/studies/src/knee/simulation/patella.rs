@@ -408,7 +408,7 @@ mod tests {
             Arc::new(
                 PatellaTable::new(
                     &kinematics(),
-                    TendonSpring::default_knee(),
+                    TendonSpring::procedural_knee(),
                     std::f64::consts::FRAC_PI_2,
                 )
                 .unwrap(),
@@ -418,7 +418,7 @@ mod tests {
 
     /// Π(ℓ) = T W*(θ, ℓ) + E_t(ℓ) from the kinematics themselves (no table).
     fn potential(kinematics: &KneeKinematics, angle: f64, tension: f64, length: f64) -> f64 {
-        let tendon = TendonSpring::default_knee();
+        let tendon = TendonSpring::procedural_knee();
         let knee = kinematics.with_tendon_length(length);
         let total: f64 = knee.pulls.iter().map(|p| p.weight).sum();
         let pose = knee.patella_pose(angle).unwrap();
@@ -428,7 +428,7 @@ mod tests {
     #[test]
     fn the_tables_equilibrium_minimises_the_potential_of_the_pull_and_the_tendon() {
         let kinematics = kinematics();
-        let l0 = TendonSpring::default_knee().slack_length;
+        let l0 = TendonSpring::procedural_knee().slack_length;
         for degrees in [20.0, 60.0, 90.0] {
             let angle = f64::to_radians(degrees);
             for tension in [500.0, 3000.0, 8000.0] {
@@ -491,7 +491,7 @@ mod tests {
         let patella = TendonPatella::new(
             table().clone(),
             Squat::to_ninety_degrees(2.0),
-            ClosedChain::default_knee(),
+            ClosedChain::procedural_knee(),
         );
         let iso = patella.isometry_at(0.0);
         assert!(iso.translation.vector.norm() < 1e-15);
@@ -511,7 +511,7 @@ mod tests {
         let patella = TendonPatella::new(
             table().clone(),
             Squat::to_ninety_degrees(2.0),
-            ClosedChain::default_knee(),
+            ClosedChain::procedural_knee(),
         );
         assert_eq!(patella.tension_at(0.3), 0.0);
         let tau = PULL_RELAXATION_TIME;

@@ -122,9 +122,9 @@ mod tests {
 
     #[test]
     fn a_node_inside_the_moved_patella_is_found_at_its_depth() {
-        let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
-        let geometry = KneeGeometry::default_knee(&anatomy, &Squat::to_ninety_degrees(2.0))
-            .expect("the default knee");
+        let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
+        let geometry = KneeGeometry::procedural_knee(&anatomy, &Squat::to_ninety_degrees(2.0))
+            .expect("the procedural knee");
         let rest = |n: usize| geometry.mesh.nodes.position(n);
         // At rest every node but the insertions' is outside the patella.
         let mut clearance = PatellaClearance::new(&geometry).unwrap();

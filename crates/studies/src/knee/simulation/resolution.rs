@@ -1,4 +1,4 @@
-//! Which resolution of the default knee meets an accuracy (`musclefem knee --tolerance`),
+//! Which resolution of the procedural knee meets an accuracy (`musclefem knee --tolerance`),
 //! from the resolutions' measured costs and errors, and what each costs
 //! ([`resolution_rationale`], printed with every run).
 //!
@@ -91,7 +91,7 @@ pub fn resolution_within(percent: f64) -> Result<(Resolution, String)> {
     ))
 }
 
-/// What a resolution of the default knee costs and how far its answer is from a finer
+/// What a resolution of the procedural knee costs and how far its answer is from a finer
 /// one, as measured (README, "The knee"): printed with every run.
 pub fn resolution_rationale(resolution: Resolution) -> &'static str {
     match resolution {

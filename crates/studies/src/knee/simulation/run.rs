@@ -129,10 +129,9 @@ pub fn solver_rationale(solver: Solver, visible_human: bool) -> &'static str {
     match (solver, visible_human) {
         (Solver::Explicit, true) => {
             "the default on the Visible Human knee (the paper's method): central \
-             differences, mass scaling to a 2e-5 s step; the coarse mesh's 10° squat \
-             (0.2 s) took 286 s alone on 2 cores, and the 90° squat's two runs side by \
-             side reached t = 0.43 s of 2 s in 17 minutes (2026-11-27): expect over an \
-             hour for both"
+             differences, mass scaling to a 2e-5 s step; the coarse squat's two runs side \
+             by side took 8.3 and 8.5 ks on 2 cores (2026-11-27), one alone about an hour: \
+             expect about two hours for both (--anatomy procedural: minutes)"
         }
         (Solver::Implicit, true) => {
             "chosen: on the Visible Human knee (78 k unknowns, coarse) one Newton \
@@ -140,7 +139,8 @@ pub fn solver_rationale(solver: Solver, visible_human: bool) -> &'static str {
              increment, 11 iterations, in 10 minutes), so the 90° squat takes many hours"
         }
         (Solver::Implicit, false) => {
-            "the default: on the coarse closed-chain knee (2026-11-26) passive and active \
+            "the default off the Visible Human knee: on the coarse procedural knee \
+             (2026-11-26) passive and active \
              ran side by side to the end in 14 minutes on a 2-core machine (511 and 312 \
              increments), the active vm95 at 90° within 10 % of the explicit solver's"
         }

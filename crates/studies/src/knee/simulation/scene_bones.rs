@@ -128,9 +128,9 @@ mod tests {
 
     #[test]
     fn the_knees_bones_read_back_as_rigid_bodies_bit_for_bit() {
-        let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+        let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
         let squat = Squat::to_ninety_degrees(2.0);
-        let geometry = KneeGeometry::default_knee(&anatomy, &squat).unwrap();
+        let geometry = KneeGeometry::procedural_knee(&anatomy, &squat).unwrap();
         let directory =
             std::env::temp_dir().join(format!("musclefem-knee-bones-{}", std::process::id()));
         std::fs::create_dir_all(&directory).unwrap();

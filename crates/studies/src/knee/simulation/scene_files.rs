@@ -87,12 +87,12 @@ mod tests {
 
     #[test]
     fn the_knees_mesh_fibers_and_table_read_back_bit_for_bit() {
-        let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+        let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
         let squat = Squat {
             duration: 0.2,
             peak_flexion: 10f64.to_radians(),
         };
-        let geometry = KneeGeometry::default_knee(&anatomy, &squat).unwrap();
+        let geometry = KneeGeometry::procedural_knee(&anatomy, &squat).unwrap();
         let fibers = geometry.fibers().unwrap();
         let mesh = geometry.fibered_mesh(&fibers).unwrap();
         let directory =

@@ -65,7 +65,7 @@ mod tests {
 
     #[test]
     fn the_scenes_analysis_is_the_squats_bit_for_bit() {
-        let chain = ClosedChain::default_knee();
+        let chain = ClosedChain::procedural_knee();
         for solver in [Solver::Implicit, Solver::Explicit] {
             for inertia in [true, false] {
                 let mut settings = SquatSettings::recommended(solver);

@@ -29,12 +29,12 @@ use crate::knee::anatomy::{Anatomy, Resolution, Squat};
 /// The coarse knee of a 10° squat for the scene tests: its geometry, its model (active),
 /// the squat's settings (implicit).
 fn coarse_knee() -> (KneeGeometry, KneeModel, SquatSettings) {
-    let anatomy = Anatomy::default_knee(Resolution::Coarse).unwrap();
+    let anatomy = Anatomy::procedural_knee(Resolution::Coarse).unwrap();
     let squat = Squat {
         duration: 0.2,
         peak_flexion: 10f64.to_radians(),
     };
-    let geometry = KneeGeometry::default_knee(&anatomy, &squat).unwrap();
+    let geometry = KneeGeometry::procedural_knee(&anatomy, &squat).unwrap();
     let fibers = geometry.fibers().unwrap();
     let knee = KneeModel::new(
         &geometry,

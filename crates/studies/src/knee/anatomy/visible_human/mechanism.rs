@@ -1,4 +1,4 @@
-//! The Visible Human knee's mechanism: the default knee's planar tibiofemoral and
+//! The Visible Human knee's mechanism: the procedural knee's planar tibiofemoral and
 //! patellofemoral model ([`super::super::kinematics`]) on the Visible Human's landmarks,
 //! and each muscle's line of action, from which its moment arm and its passive slack
 //! follow.
@@ -8,7 +8,7 @@
 //! lateral offsets (the planar model keeps the patella's and the tibia's z, so the
 //! patellar tendon's length is the 3-D apex–tuberosity distance in the data's pose); the
 //! hip centre and the ankle pin as fitted; the condyle radius the mean of the two
-//! condyles' spheres and the joint line 2 mm below it (as the default knee). The planar
+//! condyles' spheres and the joint line 2 mm below it (as the procedural knee). The planar
 //! model describes the patella by the ellipsoid whose sagittal osculating circle at its
 //! posterior pole is its articular ridge: the fitted ridge radius ρ and the ridge
 //! centre's distance d in front of the patella's centre (the bone's volume centroid)
@@ -28,7 +28,7 @@
 //! **Moment arms** ([`moment_arms_at`]). r = dL/dθ (central differences of
 //! [`super::super::moment_arms::DIFFERENCE_STEP`]), L the length from the release point
 //! to the attachment (wrapped over the trochlea) and on through the patellar tendon,
-//! as for the default knee.
+//! as for the procedural knee.
 //!
 //! **Fiber reference.** Where the muscles' fiber laws start is not the mechanism's: the
 //! squat measures it (`crate::knee::simulation::visible_human::fiber_rest_stretch`).
@@ -48,7 +48,7 @@ use super::super::moment_arms::DIFFERENCE_STEP;
 use super::super::path::free_path;
 use super::knee::{VisibleHumanKnee, patellar_tendon_length};
 
-/// Height of the tibial plateau below the condyles' circle [m], as the default knee's
+/// Height of the tibial plateau below the condyles' circle [m], as the procedural knee's
 /// (cartilage and menisci left out of the rigid bones).
 const JOINT_GAP: f64 = 0.002;
 
@@ -93,7 +93,7 @@ pub fn dimensions(knee: &VisibleHumanKnee) -> Result<KneeDimensions> {
         apex: at(&landmarks.patella_apex) - centre,
         tuberosity: at(&landmarks.tibial_tuberosity),
         patellar_tendon_length: patellar_tendon_length(landmarks),
-        tendon_wrap_offset: KneeDimensions::default_knee().tendon_wrap_offset,
+        tendon_wrap_offset: KneeDimensions::procedural_knee().tendon_wrap_offset,
         hip_centre: at(&landmarks.femoral_head),
         ankle: at(&landmarks.ankle),
     })

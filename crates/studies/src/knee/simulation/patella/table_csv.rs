@@ -137,7 +137,12 @@ mod tests {
 
     fn table() -> PatellaTable {
         let kinematics = KneeKinematics::new(Quadriceps::ALL.iter().map(|m| m.pull()).collect());
-        PatellaTable::new(&kinematics, TendonSpring::default_knee(), 4f64.to_radians()).unwrap()
+        PatellaTable::new(
+            &kinematics,
+            TendonSpring::procedural_knee(),
+            4f64.to_radians(),
+        )
+        .unwrap()
     }
 
     #[test]
@@ -166,7 +171,7 @@ mod tests {
     #[test]
     fn a_table_off_the_grid_or_with_a_bad_field_names_the_line() {
         let text = table().csv_text();
-        let tendon = TendonSpring::default_knee();
+        let tendon = TendonSpring::procedural_knee();
         let error = |text: &str| {
             format!(
                 "{:#}",
