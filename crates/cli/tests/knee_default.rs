@@ -107,8 +107,8 @@ fn the_default_knee_is_the_visible_human_and_its_first_degrees_run_explicitly() 
     // intermedius at a tendon strand's end turns a corner inside out at 4.5° (ratio
     // −0.03, its centre 0.99). The coarse mesh has curved tet10 whose corners start at a
     // Jacobian ratio of 0.07–0.2 (71 of 13 447), and the 2 s squat turns the corners of
-    // five of them inside out by 90° while their centres stay above 0.94: a defect of the
-    // mesh recorded in docs/knee-model.md, not asserted away.
+    // two to five of them inside out from 30° to 81° while their centres stay above
+    // 0.94: a defect of the mesh recorded in docs/knee-model.md, not asserted away.
 
     // Stretched, the muscles carry some stress by the peak.
     let at_peak = rows
