@@ -8,24 +8,8 @@
 
 mod support;
 
-use std::path::Path;
-
+use support::csv::{number, read_csv};
 use support::run::{musclefem, test_dir, text};
-
-/// A CSV file's header names and its rows of fields, as text.
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let split = |line: &str| line.split(',').map(str::to_string).collect::<Vec<_>>();
-    let header = split(lines.next().unwrap_or_default());
-    (header, lines.map(split).collect())
-}
-
-fn number(field: &str) -> f64 {
-    field
-        .parse()
-        .unwrap_or_else(|e| panic!("'{field}' is not a number: {e}"))
-}
 
 #[test]
 fn the_default_knee_is_the_visible_human_and_its_first_degrees_run_explicitly() {

@@ -4,8 +4,7 @@
 
 mod support;
 
-use std::path::Path;
-
+use support::csv::{number, read_csv};
 use support::run::{musclefem, test_dir, text};
 
 use musclefem_studies::knee::simulation::peak_stress::{
@@ -13,21 +12,6 @@ use musclefem_studies::knee::simulation::peak_stress::{
 };
 use musclefem_studies::knee::simulation::{Activation, KneeGeometry};
 use musclefem_studies::knee::{Anatomy, Resolution, Squat};
-
-/// A CSV file's header names and its rows of fields, as text.
-fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let split = |line: &str| line.split(',').map(str::to_string).collect::<Vec<_>>();
-    let header = split(lines.next().unwrap_or_default());
-    (header, lines.map(split).collect())
-}
-
-fn number(field: &str) -> f64 {
-    field
-        .parse()
-        .unwrap_or_else(|e| panic!("'{field}' is not a number: {e}"))
-}
 
 /// The shallow passive squat (10° in 0.2 s, coarse, a frame every 0.05 s; about a
 /// minute in release on 2 cores) writes its scene into `OUT/passive`; `musclefem run` on

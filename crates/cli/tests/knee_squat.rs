@@ -9,21 +9,11 @@ mod support;
 
 use std::collections::HashMap;
 
+use support::csv::read_csv;
 use support::run::{musclefem, test_dir, text};
 
 use musclefem_studies::knee::anatomy::TendonSpring;
 use musclefem_studies::knee::simulation::patella::TENDON_CSV_HEADER;
-
-/// The rows of a CSV as (header fields, rows of fields).
-fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let content = std::fs::read_to_string(path).unwrap();
-    let mut lines = content.lines();
-    let header = lines.next().unwrap().split(',').map(String::from).collect();
-    let rows = lines
-        .map(|l| l.split(',').map(String::from).collect())
-        .collect();
-    (header, rows)
-}
 
 /// The vm95 of (muscle, angle, phase, activation).
 type Vm95Table = HashMap<(String, String, String, String), f64>;
