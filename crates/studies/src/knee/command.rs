@@ -161,26 +161,27 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             }
         }
     }
-    let anatomy = match &knee_anatomy {
-        KneeAnatomy::VisibleHuman => None,
-        _ => Some(Anatomy::procedural_knee(resolution).context("the procedural knee")?),
-    };
-    let geometry = match (&knee_anatomy, &anatomy) {
-        (KneeAnatomy::Procedural, Some(anatomy)) => {
-            KneeGeometry::procedural_knee(anatomy, &settings.squat)?
+    // The procedural anatomy, kept to be written out, and the squat's geometry.
+    let procedural_knee = || Anatomy::procedural_knee(resolution).context("the procedural knee");
+    let (geometry, procedural) = match &knee_anatomy {
+        KneeAnatomy::VisibleHuman => (visible_human_geometry(resolution, &settings.squat)?, None),
+        KneeAnatomy::Procedural => {
+            let anatomy = procedural_knee()?;
+            let geometry = KneeGeometry::procedural_knee(&anatomy, &settings.squat)?;
+            (geometry, Some(anatomy))
         }
-        (KneeAnatomy::Files(directory), Some(anatomy)) => {
-            crate::knee::simulation::files::geometry_from_directory(
+        KneeAnatomy::Files(directory) => {
+            let geometry = crate::knee::simulation::files::geometry_from_directory(
                 directory,
-                anatomy,
+                &procedural_knee()?,
                 &settings.squat,
-            )?
+            )?;
+            (geometry, None)
         }
-        _ => visible_human_geometry(resolution, &settings.squat)?,
     };
     // Nothing is written before the output directory is this run's alone.
     let _lock = musclefem_io::output::OutputLock::acquire(&args.out)?;
-    if let (KneeAnatomy::Procedural, Some(anatomy)) = (&knee_anatomy, &anatomy) {
+    if let Some(anatomy) = &procedural {
         write_anatomy(anatomy, &args.out.join("anatomy"), &TABLE_ANGLES_DEGREES)
             .context("writing the anatomy")?;
     }
