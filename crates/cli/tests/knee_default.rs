@@ -93,7 +93,10 @@ fn the_default_knee_is_the_visible_human_and_its_first_degrees_run_explicitly() 
     // docs/knee-model.md, "Curved tet10 that invert".
     for row in &rows {
         let ratio = number(&row[6]);
-        assert!(ratio > 0.0, "an element turned a corner inside out: {row:?}");
+        assert!(
+            ratio > 0.0,
+            "an element turned a corner inside out: {row:?}"
+        );
     }
 
     // Stretched, the muscles carry some stress by the peak.
