@@ -307,6 +307,25 @@ impl<'a> PartRun<'a> {
         }
     }
 
+    /// Add the part's element forces to the nodal forces `force` [N] slot by slot
+    /// (element × nodes per element + local node, the order they are stored in), so each
+    /// node's in ascending element order, as [`Self::add_node_forces`] adds them.
+    fn scatter_node_forces(&self, connectivity: &[u32], force: &mut [Vector3<f64>]) {
+        let mut add = |slots: &mut dyn Iterator<Item = &Vector3<f64>>| {
+            for (&node, f) in connectivity.iter().zip(slots) {
+                force[node as usize] += f;
+            }
+        };
+        match &self.elements {
+            PartElements::OnePointHex { forces, .. } => add(&mut forces.iter()),
+            PartElements::General { chunks, .. } => {
+                add(&mut chunks.iter().flat_map(|c| c.forces.iter()));
+            }
+            // Added by its own passes in `internal_forces`.
+            PartElements::NodalAverage { .. } => {}
+        }
+    }
+
     /// Hourglass energy Σ ½ k |q|² of the part's one-point hex8 elements at `positions`
     /// [J] (zero for other technologies). Chunks in parallel, summed in chunk order.
     fn hourglass_energy(&self, mesh: &Mesh, positions: &[Vector3<f64>]) -> f64 {
@@ -402,15 +421,25 @@ pub(super) fn internal_forces<'a>(
         }
     }
     let parts = &*runs;
-    force
-        .par_chunks_mut(NODES_PER_TASK)
-        .enumerate()
-        .for_each(|(task, out)| {
-            out.fill(Vector3::zeros());
-            parts
-                .iter()
-                .for_each(|run| run.add_node_forces(task * NODES_PER_TASK, out));
-        });
+    if rayon::current_num_threads() == 1 {
+        // One thread: the same additions in the same order as the gather below (each
+        // node's forces part by part, in element order), but reading the element forces
+        // in the order they are stored rather than node by node across the chunks.
+        force.fill(Vector3::zeros());
+        for run in parts {
+            run.scatter_node_forces(&mesh.blocks[run.block].connectivity, force);
+        }
+    } else {
+        force
+            .par_chunks_mut(NODES_PER_TASK)
+            .enumerate()
+            .for_each(|(task, out)| {
+                out.fill(Vector3::zeros());
+                parts
+                    .iter()
+                    .for_each(|run| run.add_node_forces(task * NODES_PER_TASK, out));
+            });
+    }
     for run in runs.iter_mut() {
         let block = &mesh.blocks[run.block];
         if let PartElements::NodalAverage { kernel, averaged } = &mut run.elements {

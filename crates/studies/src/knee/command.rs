@@ -240,8 +240,11 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
             resolution_rationale(resolution)
         ));
     }
-    // The runs go side by side: each one's sparse factorizations are serial, so on two
-    // cores the other run's element updates fill the idle one.
+    // The runs go side by side, each on its own share of the cores in a pool of its own
+    // (`squat_pool`): one squat's element loops then never wait for a thread that is busy
+    // with the other's, and its sparse factorizations, serial, keep their core busy.
+    let threads_per_squat = (rayon::current_num_threads() / activations.len()).max(1);
+    let side_by_side = activations.len() > 1;
     let bars = MultiProgress::with_draw_target(if view.bars {
         ProgressDrawTarget::stderr()
     } else {
@@ -261,7 +264,12 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
                         activation,
                         settings,
                     };
-                    let outcome = run_one(args, &squat, start, &bar, stop, say);
+                    let run = || run_one(args, &squat, start, &bar, stop, say);
+                    let outcome = if side_by_side {
+                        squat_pool(threads_per_squat).and_then(|pool| pool.install(run))
+                    } else {
+                        run()
+                    };
                     if outcome.is_err() {
                         // The other run stops at its next recorded instant.
                         stop.store(true, Ordering::Relaxed);
@@ -469,4 +477,15 @@ peak_flexion_deg = {}
     let summary = run_summary(&run, &geometry.muscles);
     bar.suspend(|| say(&summary));
     Ok(run)
+}
+
+/// A pool of `threads` worker threads for one of the squats that run side by side. The
+/// results do not depend on it: every parallel loop gives the same bits on any number of
+/// threads.
+fn squat_pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("squat-worker-{i}"))
+        .build()
+        .context("starting a squat's worker threads")
 }
