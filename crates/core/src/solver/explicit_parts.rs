@@ -311,15 +311,12 @@ impl<'a> PartRun<'a> {
     /// (element × nodes per element + local node, the order they are stored in), so each
     /// node's in ascending element order, as [`Self::add_node_forces`] adds them.
     fn scatter_node_forces(&self, connectivity: &[u32], force: &mut [Vector3<f64>]) {
-        let mut add = |slots: &mut dyn Iterator<Item = &Vector3<f64>>| {
-            for (&node, f) in connectivity.iter().zip(slots) {
-                force[node as usize] += f;
-            }
-        };
         match &self.elements {
-            PartElements::OnePointHex { forces, .. } => add(&mut forces.iter()),
+            PartElements::OnePointHex { forces, .. } => {
+                scatter_slots(connectivity, forces.iter(), force);
+            }
             PartElements::General { chunks, .. } => {
-                add(&mut chunks.iter().flat_map(|c| c.forces.iter()));
+                scatter_slots(connectivity, chunks.iter().flat_map(|c| &c.forces), force);
             }
             // Added by its own passes in `internal_forces`.
             PartElements::NodalAverage { .. } => {}
@@ -350,6 +347,17 @@ impl<'a> PartRun<'a> {
             _ => Vec::new(),
         };
         energies.iter().sum()
+    }
+}
+
+/// Add the force of each slot to its node, `connectivity[slot]`, in slot order.
+fn scatter_slots<'f>(
+    connectivity: &[u32],
+    slots: impl Iterator<Item = &'f Vector3<f64>>,
+    force: &mut [Vector3<f64>],
+) {
+    for (&node, f) in connectivity.iter().zip(slots) {
+        force[node as usize] += f;
     }
 }
 
