@@ -6,7 +6,8 @@
 //!
 //! `cargo run --release -p musclefem-core --example cube_scaling -- 20 0.3 amg_cg`
 //! (solvers: direct, amg_cg, amg_cg_every: a numeric set-up for every tangent;
-//! an optional fourth argument is AMG-CG's tolerance). Prints one line
+//! an optional fourth argument is AMG-CG's tolerance, a fifth `exact` turns Newton's
+//! forcing term and the extrapolated first guess off, `noextrapolate` only the latter). Prints one line
 //! of `key=value`.
 
 use std::time::Instant;
@@ -27,6 +28,13 @@ fn main() {
     let model = cube.model();
     let mut settings = cube.settings();
     settings.amg_cg.tolerance = tolerance;
+    if args.get(5).is_some_and(|a| a == "exact") {
+        settings.forcing = None;
+        settings.extrapolate = false;
+    }
+    if args.get(5).is_some_and(|a| a == "noextrapolate") {
+        settings.extrapolate = false;
+    }
     match solver {
         "direct" => {}
         "amg_cg" => settings.linear_solver = LinearSolver::AmgCg,
@@ -71,9 +79,12 @@ fn main() {
     println!("  displacement_checksum={checksum:016x}");
     let e = &result.evaluation_times;
     println!(
-        "  elements={:.2} assembly={:.2} symbolic={:.2} numeric={:.2} substitution={:.2} \
-         krylov_solves={} krylov_iterations={}",
+        "  evaluations={} stiffness_builds={} elements={:.2} (stiffness {:.2}) assembly={:.2} \
+         symbolic={:.2} numeric={:.2} substitution={:.2} krylov_solves={} krylov_iterations={}",
+        e.evaluations,
+        e.stiffness_builds,
         e.element_seconds,
+        e.stiffness_seconds,
         e.assembly_seconds,
         s.symbolic_seconds,
         s.numeric_seconds,

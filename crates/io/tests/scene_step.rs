@@ -54,7 +54,8 @@ fn the_knees_newton_and_newmark_settings_are_scene_keys() {
         "keys",
         "increments = 100, dynamic = true, numerical_dissipation = 0.1, \
          residual_tolerance = 1e-6, correction_tolerance = 1e-5, line_search_cuts = 3, \
-         max_iterations = 30, factor_reuse = false, predictor_frame = \"ball\"",
+         max_iterations = 30, factor_reuse = false, inexact_newton = false, extrapolate = false, \
+         predictor_frame = \"ball\"",
     )
     .unwrap();
     let Analysis::Implicit(settings) = &model.analysis else {
@@ -69,6 +70,8 @@ fn the_knees_newton_and_newmark_settings_are_scene_keys() {
     assert_eq!(settings.line_search_cuts, 3);
     assert_eq!(settings.max_iterations, 30);
     assert!(settings.factor_reuse.is_none());
+    assert!(settings.forcing.is_none());
+    assert!(!settings.extrapolate);
     let frame = settings.predictor_frame.as_ref().unwrap();
     // The sphere's motion: 10 mm along y over the second.
     let moved = frame.isometry_at(1.0).translation.vector;
@@ -82,6 +85,7 @@ fn the_knees_newton_and_newmark_settings_are_scene_keys() {
     };
     assert!(defaults.dynamics.is_none() && defaults.predictor_frame.is_none());
     assert!(defaults.factor_reuse.is_some());
+    assert!(defaults.forcing.is_some() && defaults.extrapolate);
 }
 
 #[test]

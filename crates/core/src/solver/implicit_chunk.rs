@@ -62,9 +62,10 @@ impl ImplicitChunk {
     }
 
     /// Material update at the current `positions` over the step of `dt` ending at `time`
-    /// (state at the start of the step from the last `commit`), the internal nodal forces
-    /// and, with `with_stiffness`, the element stiffness matrices. On a material error,
-    /// returns the element (of the block) and the error.
+    /// (state at the start of the step from the last `commit`) and the internal nodal
+    /// forces, with the material tangents when `with_tangents` (for
+    /// [`Self::compute_stiffness`]). On a material error, returns the element (of the
+    /// block) and the error.
     pub fn update(
         &mut self,
         kernel: &BlockKernel,
@@ -73,63 +74,70 @@ impl ImplicitChunk {
         positions: &[Vector3<f64>],
         time: f64,
         dt: f64,
-        with_stiffness: bool,
+        with_tangents: bool,
     ) -> Result<(), (usize, MaterialError)> {
         self.chunk
-            .update(kernel, block, material, positions, time, dt, with_stiffness)?;
-        if with_stiffness {
-            let ppe = kernel.points_per_element();
-            let size = kernel.element_dofs().pow(2);
-            let tangents = self.chunk.tangents();
-            let stresses = self.chunk.stresses();
-            let deformation_gradients = self.chunk.deformation_gradients();
-            self.stiffness.fill(0.0);
-            let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
-            let npe = kernel.nodes_per_element();
-            // The stresses and tangents of an element shifted to its mixed pressure.
-            let mut shifted_stress = [VoigtStress::zeros(); MAX_POINTS_PER_ELEMENT];
-            let mut shifted = [Tangent::zeros(); MAX_POINTS_PER_ELEMENT];
-            self.symmetric = true;
-            for (local, element) in self.chunk.elements.clone().enumerate() {
-                for (x, &id) in element_positions
-                    .iter_mut()
-                    .zip(block.element_nodes(element))
-                {
-                    *x = positions[id as usize];
-                }
-                let points = local * ppe..(local + 1) * ppe;
-                let symmetric = tangents[points.clone()].iter().all(has_major_symmetry);
-                self.symmetric &= symmetric;
-                let (stress, tangent) = match &mut self.mixed {
-                    Some(mixed) => {
-                        let (stress, tangent) = (&mut shifted_stress[..ppe], &mut shifted[..ppe]);
-                        stress.copy_from_slice(&stresses[points.clone()]);
-                        tangent.copy_from_slice(&tangents[points.clone()]);
-                        mixed.shift_to_mixed_pressure(
-                            local,
-                            kernel,
-                            element,
-                            &element_positions[..npe],
-                            &deformation_gradients[points],
-                            stress,
-                            tangent,
-                        );
-                        (&*stress, &*tangent)
-                    }
-                    None => (&stresses[points.clone()], &tangents[points]),
-                };
-                let added = kernel.add_element_stiffness_with(
-                    element,
-                    &element_positions[..npe],
-                    stress,
-                    tangent,
-                    &mut self.stiffness[local * size..(local + 1) * size],
-                    symmetric,
-                );
-                debug_assert!(added, "checked when the part was prepared");
+            .update(kernel, block, material, positions, time, dt, with_tangents)
+    }
+
+    /// The element stiffness matrices at `positions`, from the stresses and tangents of
+    /// the last [`Self::update`] (which must have been at these positions, with tangents).
+    pub fn compute_stiffness(
+        &mut self,
+        kernel: &BlockKernel,
+        block: &ElementBlock,
+        positions: &[Vector3<f64>],
+    ) {
+        let ppe = kernel.points_per_element();
+        let size = kernel.element_dofs().pow(2);
+        let tangents = self.chunk.tangents();
+        let stresses = self.chunk.stresses();
+        let deformation_gradients = self.chunk.deformation_gradients();
+        self.stiffness.fill(0.0);
+        let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+        let npe = kernel.nodes_per_element();
+        // The stresses and tangents of an element shifted to its mixed pressure.
+        let mut shifted_stress = [VoigtStress::zeros(); MAX_POINTS_PER_ELEMENT];
+        let mut shifted = [Tangent::zeros(); MAX_POINTS_PER_ELEMENT];
+        self.symmetric = true;
+        for (local, element) in self.chunk.elements.clone().enumerate() {
+            for (x, &id) in element_positions
+                .iter_mut()
+                .zip(block.element_nodes(element))
+            {
+                *x = positions[id as usize];
             }
+            let points = local * ppe..(local + 1) * ppe;
+            let symmetric = tangents[points.clone()].iter().all(has_major_symmetry);
+            self.symmetric &= symmetric;
+            let (stress, tangent) = match &mut self.mixed {
+                Some(mixed) => {
+                    let (stress, tangent) = (&mut shifted_stress[..ppe], &mut shifted[..ppe]);
+                    stress.copy_from_slice(&stresses[points.clone()]);
+                    tangent.copy_from_slice(&tangents[points.clone()]);
+                    mixed.shift_to_mixed_pressure(
+                        local,
+                        kernel,
+                        element,
+                        &element_positions[..npe],
+                        &deformation_gradients[points],
+                        stress,
+                        tangent,
+                    );
+                    (&*stress, &*tangent)
+                }
+                None => (&stresses[points.clone()], &tangents[points]),
+            };
+            let added = kernel.add_element_stiffness_with(
+                element,
+                &element_positions[..npe],
+                stress,
+                tangent,
+                &mut self.stiffness[local * size..(local + 1) * size],
+                symmetric,
+            );
+            debug_assert!(added, "checked when the part was prepared");
         }
-        Ok(())
     }
 
     /// The last stiffness computed is being solved with (see [`MixedPressure::promote`]).

@@ -77,6 +77,12 @@ pub(super) struct Model<'a> {
     pub coupled_pairs: Vec<(u32, u32)>,
     /// Threshold of parallel factorizations [unknowns] (kept for rebuilding the system).
     pub parallel_factorization_unknowns: usize,
+    /// Whether the last evaluation asked for the stiffness and it is not built yet.
+    stiffness_due: bool,
+    /// Positions [m] and prescribed increments Δū [m] (the predictor's) of the last
+    /// evaluation with stiffness.
+    stiffness_positions: Vec<Vector3<f64>>,
+    stiffness_delta: Option<Vec<f64>>,
 }
 
 /// Counts and wall-clock times [s] of a run's evaluations.
@@ -84,9 +90,15 @@ pub(super) struct Model<'a> {
 pub struct EvaluationTimes {
     /// Evaluations of the internal forces (with or without stiffness).
     pub evaluations: usize,
+    /// Stiffness matrices built (at most one per evaluation; none at the evaluations
+    /// where Newton converged).
+    pub stiffness_builds: usize,
     /// Element updates in parallel: deformation, material (with tangents), nodal forces,
     /// element stiffness.
     pub element_seconds: f64,
+    /// Of `element_seconds`, the element stiffness matrices (the rest: deformation,
+    /// material, forces).
+    pub stiffness_seconds: f64,
     /// Serial gathering of the forces and scattering of the stiffness into the matrix.
     pub assembly_seconds: f64,
 }
@@ -250,6 +262,9 @@ impl<'a> Model<'a> {
             interactions,
             coupled_pairs: Vec::new(),
             parallel_factorization_unknowns,
+            stiffness_due: false,
+            stiffness_positions: Vec::new(),
+            stiffness_delta: None,
         };
         model
             .build_system()
@@ -289,10 +304,16 @@ impl<'a> Model<'a> {
         Ok(())
     }
 
-    /// Internal forces (and with `with_stiffness` the stiffness of the free degrees of
-    /// freedom, and with `delta` the lift K_fp Δū) at `positions`, materials updated over
-    /// the step of `dt` ending at `time`. Elements update in parallel chunks; everything is
-    /// gathered serially in element order.
+    /// Internal forces at `positions`, materials updated over the step of `dt` ending at
+    /// `time`. With `with_stiffness` the materials' tangents are kept and the stiffness of
+    /// the free degrees of freedom (with `delta`, also the lift K_fp Δū) at these positions
+    /// becomes due: [`Self::ensure_stiffness`] builds it when a solve or a round-off test
+    /// needs it, so that the evaluation at which Newton converges builds none. With
+    /// interactions it is built at once (their search and forces go with it). Elements
+    /// update in parallel chunks; everything is gathered serially in element order.
+    ///
+    /// The returned norms' round-off floor is that of the last stiffness built: call
+    /// [`Self::ensure_stiffness`] and [`Self::norms`] before testing against it.
     pub fn evaluate(
         &mut self,
         positions: &[Vector3<f64>],
@@ -303,13 +324,10 @@ impl<'a> Model<'a> {
     ) -> Result<Norms, SolverError> {
         self.force.fill(Vector3::zeros());
         self.lift.fill(0.0);
-        if with_stiffness {
-            self.system.clear();
-            self.symmetric = true;
-        }
+        self.stiffness_due = false;
         let mesh = self.mesh;
-        let mut element_seconds = 0.0;
         let start = Instant::now();
+        let mut element_seconds = 0.0;
         for run in &mut self.runs {
             let update_start = Instant::now();
             let block = &mesh.blocks[run.block];
@@ -327,7 +345,6 @@ impl<'a> Model<'a> {
                 })?;
             element_seconds += update_start.elapsed().as_secs_f64();
             let npe = kernel.nodes_per_element();
-            let dofs = kernel.element_dofs();
             for chunk in &run.chunks {
                 for (local, element) in chunk.elements().enumerate() {
                     let ids = block.element_nodes(element);
@@ -337,9 +354,87 @@ impl<'a> Model<'a> {
                     {
                         self.force[id as usize] += f;
                     }
-                    if !with_stiffness {
-                        continue;
-                    }
+                }
+            }
+        }
+        self.times.element_seconds += element_seconds;
+        self.times.assembly_seconds += start.elapsed().as_secs_f64() - element_seconds;
+        if with_stiffness {
+            self.stiffness_positions.clear();
+            self.stiffness_positions.extend_from_slice(positions);
+            self.stiffness_delta = delta.map(<[f64]>::to_vec);
+            self.stiffness_due = true;
+        }
+        let start = Instant::now();
+        if !self.interactions.is_empty() {
+            if with_stiffness {
+                self.scatter_element_stiffness();
+            }
+            if !self.add_interactions(positions, time, with_stiffness, delta)? {
+                // New node pairs were coupled: evaluate again on the grown pattern.
+                return self.evaluate(positions, time, dt, with_stiffness, delta);
+            }
+            if with_stiffness {
+                self.finish_stiffness();
+            }
+        }
+        if let Some(inertia) = &self.inertia {
+            for (node, (f, (x, x0))) in self
+                .inertial
+                .iter_mut()
+                .zip(positions.iter().zip(&self.reference))
+                .enumerate()
+            {
+                *f = inertia.force(node, &(x - x0));
+            }
+        }
+        for (d, &eq) in self.equation.iter().enumerate() {
+            if eq != PRESCRIBED {
+                self.residual[eq as usize] = self.force[d / 3][d % 3] + self.inertial[d / 3][d % 3]
+                    - self.external[d / 3][d % 3];
+            }
+        }
+        self.position_scale = positions.iter().fold(0.0, |m, x| m.max(x.amax()));
+        self.times.evaluations += 1;
+        self.times.assembly_seconds += start.elapsed().as_secs_f64();
+        Ok(self.norms())
+    }
+
+    /// Builds the stiffness due since the last evaluation with stiffness, if it is not
+    /// built yet (see [`Self::evaluate`]).
+    pub fn ensure_stiffness(&mut self) {
+        if self.stiffness_due {
+            self.scatter_element_stiffness();
+            self.finish_stiffness();
+        }
+    }
+
+    /// The elements' stiffness at the positions of the last evaluation with stiffness,
+    /// computed in parallel chunks and scattered serially in element order into the
+    /// cleared matrix (and K_fp Δū into the cleared lift).
+    fn scatter_element_stiffness(&mut self) {
+        let mesh = self.mesh;
+        let update_start = Instant::now();
+        self.system.clear();
+        self.lift.fill(0.0);
+        self.symmetric = true;
+        let positions = &self.stiffness_positions;
+        for run in &mut self.runs {
+            let block = &mesh.blocks[run.block];
+            let kernel = &run.kernel;
+            run.chunks
+                .par_iter_mut()
+                .for_each(|chunk| chunk.compute_stiffness(kernel, block, positions));
+        }
+        let element_seconds = update_start.elapsed().as_secs_f64();
+        let delta = self.stiffness_delta.as_deref();
+        for run in &self.runs {
+            let block = &mesh.blocks[run.block];
+            let npe = run.kernel.nodes_per_element();
+            let dofs = run.kernel.element_dofs();
+            for chunk in &run.chunks {
+                for (local, element) in chunk.elements().enumerate() {
+                    let ids = block.element_nodes(element);
                     let k = &chunk.stiffness[local * dofs * dofs..(local + 1) * dofs * dofs];
                     let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
                     let values = self.system.values_mut();
@@ -365,54 +460,35 @@ impl<'a> Model<'a> {
                         }
                     }
                 }
-                self.symmetric &= !with_stiffness || chunk.symmetric;
+                self.symmetric &= chunk.symmetric;
             }
         }
-        if !self.interactions.is_empty()
-            && !self.add_interactions(positions, time, with_stiffness, delta)?
-        {
-            // New node pairs were coupled: evaluate again on the grown pattern.
-            return self.evaluate(positions, time, dt, with_stiffness, delta);
-        }
+        self.times.element_seconds += element_seconds;
+        self.times.stiffness_seconds += element_seconds;
+        self.times.assembly_seconds += update_start.elapsed().as_secs_f64() - element_seconds;
+    }
+
+    /// Completes the stiffness after the elements' (and the interactions') blocks: the
+    /// mass term of a dynamic run on the diagonal, and the scale max |K_ii|.
+    fn finish_stiffness(&mut self) {
         if let Some(inertia) = &self.inertia {
-            for (node, (f, (x, x0))) in self
-                .inertial
-                .iter_mut()
-                .zip(positions.iter().zip(&self.reference))
-                .enumerate()
-            {
-                *f = inertia.force(node, &(x - x0));
-            }
-            if with_stiffness {
-                let values = self.system.values_mut();
-                self.mass_diagonal.resize(self.diagonal.len(), 0.0);
-                for (d, &eq) in self.equation.iter().enumerate() {
-                    if eq != PRESCRIBED {
-                        let mass = inertia.mass[d / 3] * inertia.coefficient;
-                        values[self.diagonal[eq as usize]] += mass;
-                        self.mass_diagonal[eq as usize] = mass;
-                    }
+            let values = self.system.values_mut();
+            self.mass_diagonal.resize(self.diagonal.len(), 0.0);
+            for (d, &eq) in self.equation.iter().enumerate() {
+                if eq != PRESCRIBED {
+                    let mass = inertia.mass[d / 3] * inertia.coefficient;
+                    values[self.diagonal[eq as usize]] += mass;
+                    self.mass_diagonal[eq as usize] = mass;
                 }
             }
         }
-        for (d, &eq) in self.equation.iter().enumerate() {
-            if eq != PRESCRIBED {
-                self.residual[eq as usize] = self.force[d / 3][d % 3] + self.inertial[d / 3][d % 3]
-                    - self.external[d / 3][d % 3];
-            }
-        }
-        if with_stiffness {
-            let values = self.system.values_mut();
-            self.stiffness_scale = self
-                .diagonal
-                .iter()
-                .fold(0.0, |m, &p| m.max(values[p].abs()));
-        }
-        self.position_scale = positions.iter().fold(0.0, |m, x| m.max(x.amax()));
-        self.times.evaluations += 1;
-        self.times.element_seconds += element_seconds;
-        self.times.assembly_seconds += start.elapsed().as_secs_f64() - element_seconds;
-        Ok(self.norms())
+        let values = self.system.values_mut();
+        self.stiffness_scale = self
+            .diagonal
+            .iter()
+            .fold(0.0, |m, &p| m.max(values[p].abs()));
+        self.stiffness_due = false;
+        self.times.stiffness_builds += 1;
     }
 
     pub fn norms(&self) -> Norms {
@@ -441,13 +517,18 @@ impl<'a> Model<'a> {
         }
     }
 
-    /// Solve K x = `rhs` with the stiffness last evaluated, in place.
+    /// Solve K x = `rhs` with the stiffness last evaluated, in place; an iterative solve
+    /// may stop at the relative residual `forcing` (Newton's forcing term, 0: the
+    /// solver's own tolerance).
     pub fn solve(
         &mut self,
         rhs: &mut [f64],
         time: f64,
         settings: &ImplicitSettings,
+        forcing: f64,
     ) -> Result<super::sparse::Factorization, SolverError> {
+        self.ensure_stiffness();
+        self.system.set_forcing(forcing);
         let size = self.residual.len();
         let iterative = match settings.linear_solver {
             LinearSolver::Direct => None,

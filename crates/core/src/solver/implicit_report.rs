@@ -41,6 +41,13 @@ pub struct StepReport {
     pub line_search_cuts: usize,
     /// The factorization of the last solve.
     pub factorization: Factorization,
+    /// Whether Newton started from the extrapolated first guess
+    /// ([`super::implicit::ImplicitSettings::extrapolate`]) rather than the tangent
+    /// predictor.
+    pub extrapolated: bool,
+    /// ‖r_f + K_fp Δū‖ [N], the right-hand side of the tangent predictor (NaN when the
+    /// step started from the extrapolated guess).
+    pub predictor_residual: f64,
 }
 
 /// A step attempt that failed and was retried with half the increment.

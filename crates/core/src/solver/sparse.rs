@@ -115,6 +115,9 @@ pub(crate) struct SparseSystem {
     amg: Option<AmgCg>,
     /// AMG-CG ran out of iterations: the direct solver from then on.
     amg_given_up: bool,
+    /// Relative residual at which the next iterative solve may stop, when looser than
+    /// its own tolerance (Newton's forcing term, [`Self::set_forcing`]); 0: its own.
+    forcing: f64,
 }
 
 /// Reuse of the last Cholesky factor: while it is fresh, a symmetric system is solved by
@@ -124,12 +127,26 @@ pub(crate) struct SparseSystem {
 /// are those of the current tangent and its convergence stays quadratic. When the
 /// iterations do not converge within `max_iterations`, K is factorized afresh and solved
 /// directly; after a solve that took more than `refactor_above` iterations the next one
-/// factorizes afresh.
+/// factorizes afresh (for a solve stopped at a looser tolerance η by Newton's forcing
+/// term, more than `refactor_above` · ln η / ln `tolerance`, rounded up: the same mean
+/// reduction per iteration).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FactorReuse {
     pub tolerance: f64,
     pub max_iterations: usize,
     pub refactor_above: usize,
+}
+
+impl FactorReuse {
+    /// Iterations a solve to the relative residual `tolerance` may take for the factor to
+    /// stay fresh: `refactor_above` at [`FactorReuse::tolerance`], in proportion to
+    /// ln `tolerance` at a looser one.
+    pub fn iterations_allowed(&self, tolerance: f64) -> usize {
+        if tolerance <= self.tolerance {
+            return self.refactor_above;
+        }
+        (self.refactor_above as f64 * tolerance.ln() / self.tolerance.ln()).ceil() as usize
+    }
 }
 
 impl Default for FactorReuse {
@@ -267,6 +284,7 @@ impl SparseSystem {
             iterative: None,
             amg: None,
             amg_given_up: false,
+            forcing: 0.0,
         }
     }
 
@@ -351,12 +369,13 @@ impl SparseSystem {
         }
         if let (Some(reuse), true, true) = (reuse, symmetric, self.cholesky_is_fresh) {
             let start = Instant::now();
-            let outcome = self.cg_with_cholesky(rhs, reuse);
+            let tolerance = reuse.tolerance.max(self.forcing);
+            let outcome = self.cg_with_cholesky(rhs, reuse, tolerance);
             self.statistics.substitution_seconds += start.elapsed().as_secs_f64();
             if let Some(iterations) = outcome {
                 self.statistics.krylov_solves += 1;
                 self.statistics.krylov_iterations += iterations;
-                self.cholesky_is_fresh = iterations <= reuse.refactor_above;
+                self.cholesky_is_fresh = iterations <= reuse.iterations_allowed(tolerance);
                 return Ok(Factorization::Cholesky);
             }
             self.statistics.krylov_failures += 1;

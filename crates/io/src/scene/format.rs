@@ -433,6 +433,12 @@ pub struct ImplicitEntry {
     pub line_search_cuts: Option<Spanned<usize>>,
     /// Reuse the last factor as a conjugate-gradient preconditioner; default true.
     pub factor_reuse: Option<bool>,
+    /// Stop the iterative linear solves at Newton's forcing term (Eisenstat–Walker);
+    /// default true.
+    pub inexact_newton: Option<bool>,
+    /// Start each increment from the last one extrapolated when that guess is good;
+    /// default true.
+    pub extrapolate: Option<bool>,
     /// With `dynamic`: Newmark's numerical dissipation α ∈ [0, 0.5] (γ = ½ + α,
     /// β = (1 + α)²/4); default 0, the trapezoidal rule.
     pub numerical_dissipation: Option<Spanned<f64>>,

@@ -283,6 +283,12 @@ fn implicit_options(
     if implicit.factor_reuse == Some(false) {
         settings.factor_reuse = None;
     }
+    if implicit.inexact_newton == Some(false) {
+        settings.forcing = None;
+    }
+    if implicit.extrapolate == Some(false) {
+        settings.extrapolate = false;
+    }
     if let Some(name) = &implicit.linear_solver {
         const SOLVERS: [(&str, LinearSolver); 3] = [
             ("direct", LinearSolver::Direct),

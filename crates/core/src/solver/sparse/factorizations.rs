@@ -187,17 +187,19 @@ impl SparseSystem {
         Ok(())
     }
 
-    /// Conjugate gradients preconditioned with the Cholesky factor at hand.
+    /// Conjugate gradients preconditioned with the Cholesky factor at hand, to the
+    /// relative residual `tolerance`.
     pub(super) fn cg_with_cholesky(
         &mut self,
         rhs: &mut [f64],
         reuse: &FactorReuse,
+        tolerance: f64,
     ) -> Option<usize> {
         let (par, matrix) = (self.par, &self.matrix);
         let cholesky = self.llt.as_mut()?;
         preconditioned_cg(
             rhs,
-            reuse.tolerance,
+            tolerance,
             reuse.max_iterations,
             |x, y| multiply(matrix, x, y),
             |v| cholesky.solve_llt(v, par),

@@ -10,6 +10,13 @@ use crate::solver::amg_cg::{AmgCg, AmgCgFailure, AmgCgSettings};
 const KEPT_REASONS: usize = 8;
 
 impl SparseSystem {
+    /// The next iterative solves (AMG-CG, or CG with an earlier Cholesky factor) may stop
+    /// at the relative residual `forcing` when it is looser than their own tolerance
+    /// (Newton's forcing term; 0 for their own). Direct solves are exact either way.
+    pub fn set_forcing(&mut self, forcing: f64) {
+        self.forcing = forcing;
+    }
+
     /// Try AMG-CG on the next symmetric systems with `settings`, or not (`None`).
     pub fn set_iterative(&mut self, settings: Option<AmgCgSettings>) {
         self.iterative = settings.filter(|_| !self.amg_given_up);
@@ -20,9 +27,10 @@ impl SparseSystem {
     /// or when AMG-CG is off. After a solve that ran out of iterations AMG-CG is turned
     /// off for this system (the direct solver takes the rest of the run's solves).
     pub(super) fn try_amg_cg(&mut self, rhs: &mut [f64]) -> bool {
-        let Some(settings) = self.iterative.clone() else {
+        let Some(mut settings) = self.iterative.clone() else {
             return false;
         };
+        settings.tolerance = settings.tolerance.max(self.forcing);
         let start = Instant::now();
         let (coordinates, dofs, nodes) = &self.geometry;
         let amg = self
