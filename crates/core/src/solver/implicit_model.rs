@@ -78,11 +78,13 @@ pub(super) struct Model<'a> {
     /// Threshold of parallel factorizations [unknowns] (kept for rebuilding the system).
     pub parallel_factorization_unknowns: usize,
     /// Whether the last evaluation asked for the stiffness and it is not built yet.
-    stiffness_due: bool,
+    pub stiffness_due: bool,
     /// Positions [m] and prescribed increments Δū [m] (the predictor's) of the last
     /// evaluation with stiffness.
-    stiffness_positions: Vec<Vector3<f64>>,
-    stiffness_delta: Option<Vec<f64>>,
+    pub stiffness_positions: Vec<Vector3<f64>>,
+    pub stiffness_delta: Option<Vec<f64>>,
+    /// Where each column's entries start in the sparse values (column pointers).
+    pub column_starts: Vec<usize>,
 }
 
 /// Counts and wall-clock times [s] of a run's evaluations.
@@ -265,6 +267,7 @@ impl<'a> Model<'a> {
             stiffness_due: false,
             stiffness_positions: Vec::new(),
             stiffness_delta: None,
+            column_starts: Vec::new(),
         };
         model
             .build_system()
@@ -300,6 +303,7 @@ impl<'a> Model<'a> {
         self.diagonal = (0..self.residual.len())
             .map(|i| system.position(i, i))
             .collect();
+        self.column_starts = system.column_starts().to_vec();
         self.system = system;
         Ok(())
     }
@@ -398,97 +402,6 @@ impl<'a> Model<'a> {
         self.times.evaluations += 1;
         self.times.assembly_seconds += start.elapsed().as_secs_f64();
         Ok(self.norms())
-    }
-
-    /// Builds the stiffness due since the last evaluation with stiffness, if it is not
-    /// built yet (see [`Self::evaluate`]).
-    pub fn ensure_stiffness(&mut self) {
-        if self.stiffness_due {
-            self.scatter_element_stiffness();
-            self.finish_stiffness();
-        }
-    }
-
-    /// The elements' stiffness at the positions of the last evaluation with stiffness,
-    /// computed in parallel chunks and scattered serially in element order into the
-    /// cleared matrix (and K_fp Δū into the cleared lift).
-    fn scatter_element_stiffness(&mut self) {
-        let mesh = self.mesh;
-        let update_start = Instant::now();
-        self.system.clear();
-        self.lift.fill(0.0);
-        self.symmetric = true;
-        let positions = &self.stiffness_positions;
-        for run in &mut self.runs {
-            let block = &mesh.blocks[run.block];
-            let kernel = &run.kernel;
-            run.chunks
-                .par_iter_mut()
-                .for_each(|chunk| chunk.compute_stiffness(kernel, block, positions));
-        }
-        let element_seconds = update_start.elapsed().as_secs_f64();
-        let delta = self.stiffness_delta.as_deref();
-        for run in &self.runs {
-            let block = &mesh.blocks[run.block];
-            let npe = run.kernel.nodes_per_element();
-            let dofs = run.kernel.element_dofs();
-            for chunk in &run.chunks {
-                for (local, element) in chunk.elements().enumerate() {
-                    let ids = block.element_nodes(element);
-                    let k = &chunk.stiffness[local * dofs * dofs..(local + 1) * dofs * dofs];
-                    let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
-                    let values = self.system.values_mut();
-                    for (c, starts) in map.chunks_exact(npe).enumerate() {
-                        let dof = 3 * ids[c / 3] as usize + c % 3;
-                        let column = self.equation[dof];
-                        for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
-                            let rows = &self.equation[3 * id as usize..3 * id as usize + 3];
-                            let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
-                                continue;
-                            };
-                            for (i, &row) in rows.iter().enumerate() {
-                                if row == PRESCRIBED {
-                                    continue;
-                                }
-                                let value = k[(3 * a + i) * dofs + c];
-                                if column != PRESCRIBED {
-                                    values[(start + row - first) as usize] += value;
-                                } else if let Some(delta) = delta {
-                                    self.lift[row as usize] += value * delta[dof];
-                                }
-                            }
-                        }
-                    }
-                }
-                self.symmetric &= chunk.symmetric;
-            }
-        }
-        self.times.element_seconds += element_seconds;
-        self.times.stiffness_seconds += element_seconds;
-        self.times.assembly_seconds += update_start.elapsed().as_secs_f64() - element_seconds;
-    }
-
-    /// Completes the stiffness after the elements' (and the interactions') blocks: the
-    /// mass term of a dynamic run on the diagonal, and the scale max |K_ii|.
-    fn finish_stiffness(&mut self) {
-        if let Some(inertia) = &self.inertia {
-            let values = self.system.values_mut();
-            self.mass_diagonal.resize(self.diagonal.len(), 0.0);
-            for (d, &eq) in self.equation.iter().enumerate() {
-                if eq != PRESCRIBED {
-                    let mass = inertia.mass[d / 3] * inertia.coefficient;
-                    values[self.diagonal[eq as usize]] += mass;
-                    self.mass_diagonal[eq as usize] = mass;
-                }
-            }
-        }
-        let values = self.system.values_mut();
-        self.stiffness_scale = self
-            .diagonal
-            .iter()
-            .fold(0.0, |m, &p| m.max(values[p].abs()));
-        self.stiffness_due = false;
-        self.times.stiffness_builds += 1;
     }
 
     pub fn norms(&self) -> Norms {

@@ -45,9 +45,9 @@ pub struct StepReport {
     /// ([`super::implicit::ImplicitSettings::extrapolate`]) rather than the tangent
     /// predictor.
     pub extrapolated: bool,
-    /// ‖r_f + K_fp Δū‖ [N], the right-hand side of the tangent predictor (NaN when the
-    /// step started from the extrapolated guess).
-    pub predictor_residual: f64,
+    /// ‖r_f + K_fp Δū‖ [N], the right-hand side of the tangent predictor (`None` when
+    /// the step started from the extrapolated guess).
+    pub predictor_residual: Option<f64>,
 }
 
 /// A step attempt that failed and was retried with half the increment.

@@ -298,9 +298,9 @@ impl SparseSystem {
         self.matrix.symbolic().row_idx().len()
     }
 
-    /// Set every stored value to zero.
-    pub fn clear(&mut self) {
-        self.matrix.val_mut().fill(0.0);
+    /// Where each column's entries start in [`Self::values_mut`] (n + 1 of them).
+    pub fn column_starts(&self) -> &[usize] {
+        self.matrix.symbolic().col_ptr()
     }
 
     /// Where entry (`row`, `column`) is stored; it must be in the pattern.
