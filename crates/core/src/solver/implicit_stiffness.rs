@@ -105,6 +105,25 @@ impl Model<'_> {
     }
 }
 
+/// The element matrices of `run` in element order: (block element, its nodes, its matrix
+/// of `element_dofs()`² values, row-major).
+fn element_matrices<'r>(
+    run: &'r PartRun,
+    mesh: &'r crate::mesh::Mesh,
+) -> impl Iterator<Item = (usize, &'r [u32], &'r [f64])> {
+    let block = &mesh.blocks[run.block];
+    let size = run.kernel.element_dofs().pow(2);
+    run.chunks.iter().flat_map(move |chunk| {
+        chunk.elements().enumerate().map(move |(local, element)| {
+            (
+                element,
+                block.element_nodes(element),
+                &chunk.stiffness[local * size..(local + 1) * size],
+            )
+        })
+    })
+}
+
 /// Adds the element matrices of `run` to the entries of the free `columns` (equations),
 /// whose values start at position `offset` of the matrix's values, in element order.
 fn add_columns(
@@ -115,29 +134,24 @@ fn add_columns(
     offset: usize,
     values: &mut [f64],
 ) {
-    let block = &mesh.blocks[run.block];
     let npe = run.kernel.nodes_per_element();
     let dofs = run.kernel.element_dofs();
-    for chunk in &run.chunks {
-        for (local, element) in chunk.elements().enumerate() {
-            let ids = block.element_nodes(element);
-            let k = &chunk.stiffness[local * dofs * dofs..(local + 1) * dofs * dofs];
-            let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
-            for (c, starts) in map.chunks_exact(npe).enumerate() {
-                let column = equation[3 * ids[c / 3] as usize + c % 3];
-                if column == PRESCRIBED || !columns.contains(&(column as usize)) {
+    for (element, ids, k) in element_matrices(run, mesh) {
+        let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
+        for (c, starts) in map.chunks_exact(npe).enumerate() {
+            let column = equation[3 * ids[c / 3] as usize + c % 3];
+            if column == PRESCRIBED || !columns.contains(&(column as usize)) {
+                continue;
+            }
+            for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
+                let rows = &equation[3 * id as usize..3 * id as usize + 3];
+                let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
                     continue;
-                }
-                for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
-                    let rows = &equation[3 * id as usize..3 * id as usize + 3];
-                    let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
-                        continue;
-                    };
-                    for (i, &row) in rows.iter().enumerate() {
-                        if row != PRESCRIBED {
-                            values[(start + row - first) as usize - offset] +=
-                                k[(3 * a + i) * dofs + c];
-                        }
+                };
+                for (i, &row) in rows.iter().enumerate() {
+                    if row != PRESCRIBED {
+                        values[(start + row - first) as usize - offset] +=
+                            k[(3 * a + i) * dofs + c];
                     }
                 }
             }
@@ -153,24 +167,18 @@ fn add_lift(
     delta: &[f64],
     lift: &mut [f64],
 ) {
-    let block = &mesh.blocks[run.block];
-    let npe = run.kernel.nodes_per_element();
     let dofs = run.kernel.element_dofs();
-    for chunk in &run.chunks {
-        for (local, element) in chunk.elements().enumerate() {
-            let ids = block.element_nodes(element);
-            let k = &chunk.stiffness[local * dofs * dofs..(local + 1) * dofs * dofs];
-            for c in 0..dofs {
-                let dof = 3 * ids[c / 3] as usize + c % 3;
-                if equation[dof] != PRESCRIBED {
-                    continue;
-                }
-                for (a, &id) in ids.iter().enumerate().take(npe) {
-                    for i in 0..3 {
-                        let row = equation[3 * id as usize + i];
-                        if row != PRESCRIBED {
-                            lift[row as usize] += k[(3 * a + i) * dofs + c] * delta[dof];
-                        }
+    for (_, ids, k) in element_matrices(run, mesh) {
+        for c in 0..dofs {
+            let dof = 3 * ids[c / 3] as usize + c % 3;
+            if equation[dof] != PRESCRIBED {
+                continue;
+            }
+            for (a, &id) in ids.iter().enumerate() {
+                for i in 0..3 {
+                    let row = equation[3 * id as usize + i];
+                    if row != PRESCRIBED {
+                        lift[row as usize] += k[(3 * a + i) * dofs + c] * delta[dof];
                     }
                 }
             }
