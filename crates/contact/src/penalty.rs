@@ -359,6 +359,15 @@ impl PenaltyContact {
             .for_each(|(chunk, contacts)| {
                 for (k, contact) in contacts.iter_mut().enumerate() {
                     let i = chunk * EVALUATION_CHUNK + k;
+                    // Most nodes of a muscle's surface are nowhere near the main one: with
+                    // no candidate the result is the empty contact, which a node that had
+                    // none before already holds.
+                    if broadphase.candidates(i).is_empty() {
+                        if contact.triangle != u32::MAX {
+                            *contact = NodeContact::default();
+                        }
+                        continue;
+                    }
                     let node = nodes[i];
                     let x = positions[node as usize];
                     *contact = match (target, &frame) {
@@ -416,6 +425,11 @@ impl PenaltyContact {
                 .for_each(|(chunk, contacts)| {
                     for (k, contact) in contacts.iter_mut().enumerate() {
                         let i = chunk * EVALUATION_CHUNK + k;
+                        // No closest triangle: no contact, already held by a node that
+                        // had none before.
+                        if closest[i].triangle == u32::MAX && contact.triangle == u32::MAX {
+                            continue;
+                        }
                         let node = nodes[i];
                         *contact = SmoothContact::new(
                             field,
