@@ -83,20 +83,23 @@ pub(super) fn modify(kernel: &BlockKernel, element: usize, f: &mut [Matrix3<f64>
 }
 
 /// Add the element's F-bar internal forces (module docs) to `forces`, from its current
-/// `positions` and the Cauchy stresses at F̄.
+/// `positions` and the Cauchy stresses at F̄. Returns the current volume
+/// v = Σ_q w_q J_q [m³], and writes its gradient ∂v/∂x_a = Σ_q w_q J_q F_q⁻ᵀ ∇_X N_a(q)
+/// [m²] into `volume_gradient` when given (the forces need both).
 pub(super) fn add_element_forces(
     kernel: &BlockKernel,
     element: usize,
     positions: &[Vector3<f64>],
     stress: &[VoigtStress],
     forces: &mut [Vector3<f64>],
-) {
+    volume_gradient: Option<&mut [Vector3<f64>]>,
+) -> f64 {
     let forces_of = match kernel.technology() {
         Technology::Hex8FBar => element_forces::<8, 8>,
         Technology::Tet10FBar => element_forces::<4, 10>,
         other => unreachable!("{other:?} is not an F-bar technology"),
     };
-    forces_of(kernel, element, positions, stress, forces);
+    forces_of(kernel, element, positions, stress, forces, volume_gradient)
 }
 
 /// [`add_element_forces`] for elements of N nodes and P points.
@@ -106,7 +109,8 @@ fn element_forces<const P: usize, const N: usize>(
     positions: &[Vector3<f64>],
     stress: &[VoigtStress],
     forces: &mut [Vector3<f64>],
-) {
+    volume_gradient: Option<&mut [Vector3<f64>]>,
+) -> f64 {
     debug_assert_eq!(kernel.points_per_element(), P);
     debug_assert_eq!(kernel.nodes_per_element(), N);
     let mut f = [Matrix3::zeros(); P];
@@ -129,6 +133,9 @@ fn element_forces<const P: usize, const N: usize>(
         current_volume += jacobian * w;
         reference_volume += w;
     }
+    if let Some(out) = volume_gradient {
+        out[..N].copy_from_slice(&mean_gradient);
+    }
     for g in &mut mean_gradient {
         *g /= current_volume;
     }
@@ -142,6 +149,7 @@ fn element_forces<const P: usize, const N: usize>(
             forces[a] += (sigma * g + (mean_gradient[a] - g) * third_trace) * scale;
         }
     }
+    current_volume
 }
 
 /// Add the consistent stiffness K_ai,bk = ∂f_a,i/∂x_b,k [N/m] of the F-bar element (dense,

@@ -284,7 +284,7 @@ impl BlockKernel {
         let ppe = self.points_per_element;
         match self.technology {
             Technology::Hex8FBar | Technology::Tet10FBar => {
-                fbar::add_element_forces(self, element, positions, stress, forces);
+                fbar::add_element_forces(self, element, positions, stress, forces, None);
             }
             Technology::Hex8Full
             | Technology::Hex8OnePoint { .. }
@@ -301,6 +301,65 @@ impl BlockKernel {
                 self.add_hourglass_forces(element, positions, forces);
             }
         }
+    }
+
+    /// [`Self::add_element_forces`], and the element's current volume v = Σ_q w_q J_q
+    /// [m³] (returned) with its gradient ∂v/∂x_a [m²] into `volume_gradient`
+    /// ([`Self::volume_and_gradient`]): the explicit solver's bulk and shear viscosity
+    /// act through it. The F-bar kernels have both at hand; the others compute them
+    /// afterwards.
+    pub fn add_element_forces_and_volume_gradient(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+        material_f: &[Matrix3<f64>],
+        stress: &[musclefem_materials::VoigtStress],
+        forces: &mut [Vector3<f64>],
+        volume_gradient: &mut [Vector3<f64>],
+    ) -> f64 {
+        match self.technology {
+            Technology::Hex8FBar | Technology::Tet10FBar => fbar::add_element_forces(
+                self,
+                element,
+                positions,
+                stress,
+                forces,
+                Some(volume_gradient),
+            ),
+            _ => {
+                self.add_element_forces(element, positions, material_f, stress, forces);
+                self.volume_and_gradient(element, positions, volume_gradient)
+            }
+        }
+    }
+
+    /// Current volume v = Σ_q w_q J_q [m³] of `element` at its current `positions`, and
+    /// its gradient ∂v/∂x_a = Σ_q w_q J_q F_q⁻ᵀ ∇_X N_a(q) [m²] into `gradient` (one per
+    /// node).
+    pub fn volume_and_gradient(
+        &self,
+        element: usize,
+        positions: &[Vector3<f64>],
+        gradient: &mut [Vector3<f64>],
+    ) -> f64 {
+        gradient.iter_mut().for_each(|g| *g = Vector3::zeros());
+        let mut volume = 0.0;
+        for q in 0..self.points_per_element {
+            let point = element * self.points_per_element + q;
+            let f: Matrix3<f64> = self.deformation_gradient(point, positions);
+            let w = self.weight(point);
+            volume += w * f.determinant();
+            // J F⁻ᵀ is the cofactor of F, well defined even at J → 0.
+            let cofactor = Matrix3::from_columns(&[
+                f.column(1).cross(&f.column(2)),
+                f.column(2).cross(&f.column(0)),
+                f.column(0).cross(&f.column(1)),
+            ]);
+            for (g, grad_n) in gradient.iter_mut().zip(self.gradients(point)) {
+                *g += cofactor * grad_n * w;
+            }
+        }
+        volume
     }
 
     /// Add the hourglass forces f_a = k Σ_α q^α γ^α_a [N] of `element` at its current

@@ -31,13 +31,11 @@
 //!
 //! Not available for `Tet4NodalAverage` blocks yet (the solver refuses the combination).
 
-use std::ops::Range;
-
 use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::checkpoint::{CheckpointReader, CheckpointWriter};
-use super::chunk::{ElementChunk, chunk_ranges};
+use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk};
 use crate::element::BlockKernel;
 use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 
@@ -86,7 +84,6 @@ pub(super) struct ViscousBlock {
     volume_new: Vec<f64>,
     /// `nodes_per_element` forces per element [N].
     forces: Vec<Vector3<f64>>,
-    ranges: Vec<Range<usize>>,
 }
 
 impl ViscousBlock {
@@ -113,82 +110,24 @@ impl ViscousBlock {
             volume_old: volumes.clone(),
             volume_new: volumes,
             forces: vec![Vector3::zeros(); kernel.len() * kernel.nodes_per_element()],
-            ranges: chunk_ranges(kernel.len()).collect(),
         }
     }
 
-    /// Viscous element forces at `positions` after a step of `dt` [s] taken with the nodal
-    /// `velocities`, with `chunks` the explicit element chunks (reference lengths and
-    /// acoustic moduli) and `density[e]` the (possibly mass-scaled) density of element e
-    /// [kg/m³]. Elements in parallel.
-    #[allow(clippy::too_many_arguments)]
-    pub fn evaluate(
+    /// The accepted volumes (block-wide), and this block's new volumes and element
+    /// forces cut into the explicit element chunks' ranges, for [`chunk_forces`] in
+    /// parallel.
+    pub fn chunk_slices(
         &mut self,
-        viscosities: &Viscosities,
-        kernel: &BlockKernel,
-        block: &ElementBlock,
-        chunks: &[ElementChunk],
-        density: &[f64],
-        positions: &[Vector3<f64>],
-        velocities: &[Vector3<f64>],
-        dt: f64,
+        nodes_per_element: usize,
+    ) -> (
+        &[f64],
+        impl IndexedParallelIterator<Item = (&mut [f64], &mut [Vector3<f64>])>,
     ) {
-        let npe = kernel.nodes_per_element();
-        let ppe = kernel.points_per_element();
+        let volumes = self.volume_new.par_chunks_mut(ELEMENTS_PER_CHUNK);
         let forces = self
             .forces
-            .par_chunks_mut(super::chunk::ELEMENTS_PER_CHUNK * npe);
-        let volumes = self
-            .volume_new
-            .par_chunks_mut(super::chunk::ELEMENTS_PER_CHUNK);
-        forces
-            .zip(volumes)
-            .zip(chunks.par_iter())
-            .zip(self.ranges.par_iter())
-            .for_each(|(((forces, volumes), chunk), range)| {
-                let mut local = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
-                let mut local_velocity = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
-                let mut gradient = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
-                let lengths = chunk.reference_lengths();
-                let moduli = chunk.wave_moduli();
-                for (i, element) in range.clone().enumerate() {
-                    for ((x, v), &id) in (local.iter_mut())
-                        .zip(local_velocity.iter_mut())
-                        .zip(block.element_nodes(element))
-                    {
-                        *x = positions[id as usize];
-                        *v = velocities[id as usize];
-                    }
-                    let volume =
-                        volume_and_gradient(kernel, element, ppe, &local[..npe], &mut gradient);
-                    volumes[i] = volume;
-                    // Cauchy stress of the viscosities: −q I + σ_v.
-                    let mut stress = Matrix3::zeros();
-                    if let Some(bulk) = &viscosities.bulk {
-                        let old = self.volume_old[element];
-                        let rate = (volume - old) / (0.5 * (volume + old) * dt);
-                        let rho = density[element];
-                        let length = lengths[i];
-                        let speed = (moduli[i] / rho).sqrt();
-                        let mut q = -bulk.linear * rho * speed * length * rate;
-                        if rate < 0.0 {
-                            q += rho * (bulk.quadratic * length * rate).powi(2);
-                        }
-                        stress -= Matrix3::identity() * q;
-                    }
-                    if viscosities.shear > 0.0 && volume > 0.0 {
-                        stress += shear_stress(
-                            viscosities.shear,
-                            volume,
-                            &local_velocity[..npe],
-                            &gradient[..npe],
-                        );
-                    }
-                    for (f, g) in forces[i * npe..(i + 1) * npe].iter_mut().zip(&gradient) {
-                        *f = stress * g;
-                    }
-                }
-            });
+            .par_chunks_mut(ELEMENTS_PER_CHUNK * nodes_per_element);
+        (&self.volume_old, volumes.zip(forces))
     }
 
     /// Add the element forces of the last evaluation into the nodal `force`, serially in
@@ -211,6 +150,56 @@ impl ViscousBlock {
     }
 }
 
+/// The viscous element forces of `chunk` after a step of `dt` [s] taken with the nodal
+/// `velocities` [m/s], from the current volumes and volume gradients of its last update
+/// ([`ElementChunk::keep_volume_gradients`]), its reference lengths and acoustic moduli,
+/// `density[e]` the (possibly mass-scaled) density of element e of the block [kg/m³]
+/// and `volume_old` the block's accepted volumes; into the chunk's `volume_new` and
+/// `forces` (`nodes_per_element` per element).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn chunk_forces(
+    viscosities: &Viscosities,
+    chunk: &ElementChunk,
+    block: &ElementBlock,
+    density: &[f64],
+    velocities: &[Vector3<f64>],
+    dt: f64,
+    volume_old: &[f64],
+    (volume_new, forces): (&mut [f64], &mut [Vector3<f64>]),
+) {
+    let npe = block.shape.nodes_per_element();
+    let mut local_velocity = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
+    let (lengths, moduli) = (chunk.reference_lengths(), chunk.wave_moduli());
+    let gradients = chunk.volume_gradients();
+    for (i, (element, &volume)) in chunk.elements.clone().zip(chunk.volumes()).enumerate() {
+        let gradient = &gradients[i * npe..(i + 1) * npe];
+        for (v, &id) in local_velocity.iter_mut().zip(block.element_nodes(element)) {
+            *v = velocities[id as usize];
+        }
+        volume_new[i] = volume;
+        // Cauchy stress of the viscosities: −q I + σ_v.
+        let mut stress = Matrix3::zeros();
+        if let Some(bulk) = &viscosities.bulk {
+            let old = volume_old[element];
+            let rate = (volume - old) / (0.5 * (volume + old) * dt);
+            let rho = density[element];
+            let length = lengths[i];
+            let speed = (moduli[i] / rho).sqrt();
+            let mut q = -bulk.linear * rho * speed * length * rate;
+            if rate < 0.0 {
+                q += rho * (bulk.quadratic * length * rate).powi(2);
+            }
+            stress -= Matrix3::identity() * q;
+        }
+        if viscosities.shear > 0.0 && volume > 0.0 {
+            stress += shear_stress(viscosities.shear, volume, &local_velocity[..npe], gradient);
+        }
+        for (f, g) in forces[i * npe..(i + 1) * npe].iter_mut().zip(gradient) {
+            *f = stress * g;
+        }
+    }
+}
+
 /// The shear viscosity's Cauchy stress 2η dev D̄ [Pa] of an element of current `volume`
 /// whose nodes move at `velocities`, with `gradient` = ∂v/∂x_a (module documentation).
 fn shear_stress(
@@ -226,36 +215,6 @@ fn shear_stress(
     let rate = (velocity_gradient + velocity_gradient.transpose()) * (0.5 / volume);
     let deviator = rate - Matrix3::identity() * (rate.trace() / 3.0);
     deviator * (2.0 * eta)
-}
-
-/// Current volume v = Σ_p w_p J_p [m³] of `element` and its gradient
-/// ∂v/∂x_a = Σ_p w_p J_p F_p⁻ᵀ ∇_X N_a(p) [m²] into `gradient`.
-fn volume_and_gradient(
-    kernel: &BlockKernel,
-    element: usize,
-    points_per_element: usize,
-    positions: &[Vector3<f64>],
-    gradient: &mut [Vector3<f64>],
-) -> f64 {
-    gradient.iter_mut().for_each(|g| *g = Vector3::zeros());
-    let mut volume = 0.0;
-    for q in 0..points_per_element {
-        let point = element * points_per_element + q;
-        let f: Matrix3<f64> = kernel.deformation_gradient(point, positions);
-        let j = f.determinant();
-        let w = kernel.weight(point);
-        volume += w * j;
-        // J F⁻ᵀ is the cofactor of F, well defined even at J → 0.
-        let cofactor = Matrix3::from_columns(&[
-            f.column(1).cross(&f.column(2)),
-            f.column(2).cross(&f.column(0)),
-            f.column(0).cross(&f.column(1)),
-        ]);
-        for (g, grad_n) in gradient.iter_mut().zip(kernel.gradients(point)) {
-            *g += cofactor * grad_n * w;
-        }
-    }
-    volume
 }
 
 #[cfg(test)]
@@ -301,8 +260,7 @@ mod tests {
         for (technology, kernel, x) in deformed_elements() {
             let npe = kernel.nodes_per_element();
             let mut gradient = vec![Vector3::zeros(); npe];
-            let volume =
-                volume_and_gradient(&kernel, 0, kernel.points_per_element(), &x, &mut gradient);
+            let volume = kernel.volume_and_gradient(0, &x, &mut gradient);
             let spin = Vector3::new(0.3, -1.2, 0.7);
             let rigid: Vec<_> = x
                 .iter()
@@ -344,6 +302,53 @@ mod tests {
         }
     }
 
+    /// The F-bar kernels hand out v and ∂v/∂x_a with their forces (F⁻ᵀ J rather than the
+    /// cofactor): the same to round-off, and the same forces as without them.
+    #[test]
+    fn the_fbar_forces_carry_the_volume_gradient() {
+        for (technology, kernel, x) in deformed_elements() {
+            let fbar = match technology {
+                Technology::Hex8Full => Technology::Hex8FBar,
+                _ => Technology::Tet10FBar,
+            };
+            // The mesh of `deformed_elements`, again.
+            let mut mesh = match technology {
+                Technology::Hex8Full => box_of_hexes([1.0; 3], [2; 3]),
+                _ => box_of_tets([1.0; 3], [1; 3], TetOrder::Quadratic),
+            }
+            .unwrap();
+            distort(&mut mesh, 0.15, 7).unwrap();
+            let kernel_fbar = BlockKernel::new(&mesh.nodes, &mesh.blocks[0], fbar).unwrap();
+            let (npe, ppe) = (kernel.nodes_per_element(), kernel.points_per_element());
+            let mut expected = vec![Vector3::zeros(); npe];
+            let volume = kernel.volume_and_gradient(0, &x, &mut expected);
+            let stress =
+                vec![musclefem_materials::VoigtStress::new(3.0, -1.0, 2.0, 0.5, -0.7, 0.2); ppe];
+            let f = vec![Matrix3::identity(); ppe];
+            let (mut forces, mut plain_forces) =
+                (vec![Vector3::zeros(); npe], vec![Vector3::zeros(); npe]);
+            let mut gradient = vec![Vector3::zeros(); npe];
+            let fbar_volume = kernel_fbar.add_element_forces_and_volume_gradient(
+                0,
+                &x,
+                &f,
+                &stress,
+                &mut forces,
+                &mut gradient,
+            );
+            kernel_fbar.add_element_forces(0, &x, &f, &stress, &mut plain_forces);
+            assert_eq!(forces, plain_forces, "{fbar:?}");
+            assert!((fbar_volume - volume).abs() < 1e-14 * volume, "{fbar:?}");
+            let scale = expected.iter().map(|g| g.norm()).fold(0.0, f64::max);
+            for (a, (g, e)) in gradient.iter().zip(&expected).enumerate() {
+                assert!(
+                    (g - e).norm() < 1e-13 * scale,
+                    "{fbar:?} node {a}: {g} vs {e}"
+                );
+            }
+        }
+    }
+
     /// ∂v/∂x_a against central differences of v on distorted, deformed elements.
     #[test]
     fn the_volume_gradient_is_the_derivative_of_the_volume() {
@@ -351,7 +356,7 @@ mod tests {
             let npe = kernel.nodes_per_element();
             let ppe = kernel.points_per_element();
             let mut gradient = vec![Vector3::zeros(); npe];
-            volume_and_gradient(&kernel, 0, ppe, &x, &mut gradient);
+            kernel.volume_and_gradient(0, &x, &mut gradient);
             let h = 1e-6;
             let mut scratch = vec![Vector3::zeros(); npe];
             for a in 0..npe {
@@ -360,8 +365,8 @@ mod tests {
                     plus[a][k] += h;
                     let mut minus = x.clone();
                     minus[a][k] -= h;
-                    let difference = (volume_and_gradient(&kernel, 0, ppe, &plus, &mut scratch)
-                        - volume_and_gradient(&kernel, 0, ppe, &minus, &mut scratch))
+                    let difference = (kernel.volume_and_gradient(0, &plus, &mut scratch)
+                        - kernel.volume_and_gradient(0, &minus, &mut scratch))
                         / (2.0 * h);
                     assert!(
                         (difference - gradient[a][k]).abs() < 1e-8,

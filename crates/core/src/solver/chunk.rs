@@ -48,6 +48,11 @@ pub(crate) struct ElementChunk {
     /// Largest acoustic modulus of each element at its first integration point, from the
     /// material tangent, refreshed by `refresh_wave_moduli` [Pa].
     wave_modulus: Vec<f64>,
+    /// Current volume v of each element at the last update [m³] and its gradient
+    /// ∂v/∂x_a, `nodes_per_element` per element [m²], kept for the explicit solver's
+    /// viscosities ([`Self::keep_volume_gradients`]; empty otherwise).
+    volume: Vec<f64>,
+    volume_gradient: Vec<Vector3<f64>>,
     positions: Vec<Vector3<f64>>,
 }
 
@@ -81,6 +86,8 @@ impl ElementChunk {
             forces: vec![Vector3::zeros(); elements.len() * npe],
             reference_length,
             wave_modulus: vec![0.0; elements.len()],
+            volume: Vec::new(),
+            volume_gradient: Vec::new(),
             positions: vec![Vector3::zeros(); npe],
             elements,
         }
@@ -135,18 +142,52 @@ impl ElementChunk {
             (element, error)
         })?;
         self.forces.fill(Vector3::zeros());
+        let keep_volumes = !self.volume.is_empty();
         for (local, element) in self.elements.clone().enumerate() {
             gather(&mut self.positions, block.element_nodes(element), positions);
             let points = local * ppe..(local + 1) * ppe;
-            kernel.add_element_forces(
-                element,
-                &self.positions,
-                &self.f_new[points.clone()],
-                &self.stress[points],
-                &mut self.forces[local * npe..(local + 1) * npe],
-            );
+            let nodes = local * npe..(local + 1) * npe;
+            if keep_volumes {
+                self.volume[local] = kernel.add_element_forces_and_volume_gradient(
+                    element,
+                    &self.positions,
+                    &self.f_new[points.clone()],
+                    &self.stress[points],
+                    &mut self.forces[nodes.clone()],
+                    &mut self.volume_gradient[nodes],
+                );
+            } else {
+                kernel.add_element_forces(
+                    element,
+                    &self.positions,
+                    &self.f_new[points.clone()],
+                    &self.stress[points],
+                    &mut self.forces[nodes],
+                );
+            }
         }
         Ok(())
+    }
+
+    /// From now on, every update also keeps each element's current volume and its
+    /// gradient ([`Self::volumes`], [`Self::volume_gradients`]), which the element forces
+    /// of the F-bar kernels compute anyway: the explicit solver's viscosities act through
+    /// them.
+    pub fn keep_volume_gradients(&mut self, nodes_per_element: usize) {
+        self.volume = vec![0.0; self.elements.len()];
+        self.volume_gradient = vec![Vector3::zeros(); self.elements.len() * nodes_per_element];
+    }
+
+    /// Current volume of each element at the last update [m³] (empty unless
+    /// [`Self::keep_volume_gradients`]).
+    pub fn volumes(&self) -> &[f64] {
+        &self.volume
+    }
+
+    /// ∂v/∂x_a of each element at the last update, `nodes_per_element` per element [m²]
+    /// (empty unless [`Self::keep_volume_gradients`]).
+    pub fn volume_gradients(&self) -> &[Vector3<f64>] {
+        &self.volume_gradient
     }
 
     /// Refresh each element's acoustic modulus from the material tangent ∂P/∂F at its

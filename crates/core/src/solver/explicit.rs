@@ -233,8 +233,9 @@ pub(super) fn explicit_run(
     loads.external_forces(0.0, &mut external);
 
     let mut time = 0.0;
-    let (mut stable_step, mut critical) =
-        internal_forces(mesh, &mut runs, &positions, time, 0.0, true, &mut force)?;
+    let (mut stable_step, mut critical) = internal_forces(
+        mesh, &mut runs, &positions, time, 0.0, true, None, &mut force,
+    )?;
     let mut step_factor = settings.safety_factor
         * settings
             .bulk_viscosity
@@ -561,18 +562,14 @@ pub(super) fn explicit_run(
             carrier.add_forces(time, &positions, &mut external);
         }
         let refresh = steps % MODULUS_REFRESH_INTERVAL == 0;
-        (stable_step, critical) =
-            internal_forces(mesh, &mut runs, &positions, time, dt, refresh, &mut force)?;
-        if settings.has_viscosity() {
-            viscous_forces(
-                mesh,
-                &mut runs,
-                &viscosities,
-                &positions,
-                &velocity,
-                dt,
-                &mut viscous_force,
-            );
+        let viscous = settings
+            .has_viscosity()
+            .then_some((&viscosities, velocity.as_slice()));
+        (stable_step, critical) = internal_forces(
+            mesh, &mut runs, &positions, time, dt, refresh, viscous, &mut force,
+        )?;
+        if viscous.is_some() {
+            viscous_forces(mesh, &mut runs, &mut viscous_force);
         }
         interaction_forces(interactions, time, &positions, &mut interaction_force)?;
         runs.iter_mut().for_each(PartRun::commit);

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use musclefem_materials::Material;
 
 use super::assembly::NodeAdjacency;
-use super::bulk_viscosity::{Viscosities, ViscousBlock};
+use super::bulk_viscosity::{Viscosities, ViscousBlock, chunk_forces};
 use super::checkpoint::{CheckpointReader, CheckpointWriter};
 use super::chunk::{ELEMENTS_PER_CHUNK, ElementChunk, chunk_ranges};
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
@@ -134,7 +134,13 @@ impl<'a> PartRun<'a> {
                     PartElements::NodalAverage { kernel, averaged }
                 } else {
                     let chunks = chunk_ranges(block.len())
-                        .map(|range| ElementChunk::new(range, &kernel, block, material))
+                        .map(|range| {
+                            let mut chunk = ElementChunk::new(range, &kernel, block, material);
+                            if viscosity {
+                                chunk.keep_volume_gradients(kernel.nodes_per_element());
+                            }
+                            chunk
+                        })
                         .collect();
                     PartElements::General { kernel, chunks }
                 }
@@ -384,6 +390,7 @@ fn add_chunk_forces<const NPE: usize>(
 /// is the same, bit for bit, on any number of threads. With `refresh`, the acoustic
 /// moduli and the stable steps are recomputed too. Returns the stable step and its
 /// (block, element).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn internal_forces<'a>(
     mesh: &Mesh,
     runs: &mut [PartRun<'a>],
@@ -391,6 +398,7 @@ pub(super) fn internal_forces<'a>(
     time: f64,
     dt: f64,
     refresh: bool,
+    viscous: Option<(&Viscosities, &[Vector3<f64>])>,
     force: &mut [Vector3<f64>],
 ) -> Result<(f64, (&'a str, usize)), SolverError> {
     for run in runs.iter_mut() {
@@ -405,16 +413,44 @@ pub(super) fn internal_forces<'a>(
         match &mut run.elements {
             PartElements::General { kernel, chunks } => {
                 let kernel = &*kernel;
-                chunks
-                    .par_iter_mut()
-                    .try_for_each(|chunk| {
-                        chunk.update(kernel, block, material, positions, time, dt, false)?;
-                        if refresh {
-                            chunk.refresh_wave_moduli(kernel, material, time, dt)?;
-                        }
-                        Ok(())
-                    })
-                    .map_err(material_error)?;
+                let update = |chunk: &mut ElementChunk| {
+                    chunk.update(kernel, block, material, positions, time, dt, false)?;
+                    if refresh {
+                        chunk.refresh_wave_moduli(kernel, material, time, dt)?;
+                    }
+                    Ok(())
+                };
+                match (run.viscous.as_mut(), viscous) {
+                    (Some(viscous_block), Some((viscosities, velocities))) => {
+                        // The viscous forces with the element forces, chunk by chunk:
+                        // they act through the volume gradients the update just made.
+                        let density = &run.element_density;
+                        let (volume_old, slices) =
+                            viscous_block.chunk_slices(kernel.nodes_per_element());
+                        chunks
+                            .par_iter_mut()
+                            .zip(slices)
+                            .try_for_each(|(chunk, slices)| {
+                                update(chunk)?;
+                                chunk_forces(
+                                    viscosities,
+                                    chunk,
+                                    block,
+                                    density,
+                                    velocities,
+                                    dt,
+                                    volume_old,
+                                    slices,
+                                );
+                                Ok(())
+                            })
+                            .map_err(material_error)?;
+                    }
+                    _ => chunks
+                        .par_iter_mut()
+                        .try_for_each(update)
+                        .map_err(material_error)?,
+                }
             }
             PartElements::OnePointHex { chunks, forces } => {
                 chunks
@@ -548,35 +584,18 @@ pub(super) fn smallest_impedance_length(runs: &[PartRun]) -> f64 {
     smallest
 }
 
-/// Bulk- and shear-viscosity forces at `positions` after a step of `dt` taken with
-/// `velocities` into `viscous_force` (elements in parallel, gathered in element order),
-/// volumes committed.
+/// The bulk- and shear-viscosity forces of the last [`internal_forces`] (which evaluates
+/// them with the element forces when given the viscosities and the velocities) into
+/// `viscous_force`, gathered serially in element order; volumes committed.
 pub(super) fn viscous_forces(
     mesh: &Mesh,
     runs: &mut [PartRun],
-    viscosities: &Viscosities,
-    positions: &[Vector3<f64>],
-    velocities: &[Vector3<f64>],
-    dt: f64,
     viscous_force: &mut [Vector3<f64>],
 ) {
     viscous_force.fill(Vector3::zeros());
     for run in runs.iter_mut() {
-        let block = &mesh.blocks[run.block];
-        if let (Some(viscous), PartElements::General { kernel, chunks }) =
-            (&mut run.viscous, &run.elements)
-        {
-            viscous.evaluate(
-                viscosities,
-                kernel,
-                block,
-                chunks,
-                &run.element_density,
-                positions,
-                velocities,
-                dt,
-            );
-            viscous.scatter(block, viscous_force);
+        if let Some(viscous) = &mut run.viscous {
+            viscous.scatter(&mesh.blocks[run.block], viscous_force);
             viscous.commit();
         }
     }
