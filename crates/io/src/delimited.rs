@@ -69,17 +69,29 @@ pub fn parse_delimited(text: &str) -> Result<DelimitedTable, DelimitedError> {
     // The line of a record from its byte offset: the csv crate's own line count skips
     // blank lines and miscounts Windows line ends, and a record's offset is that of the
     // blank lines before it.
-    let line_at = |p: &csv::Position| {
+    // Records come in the order of their offsets, so the newlines are counted once, from
+    // the last record's offset on (counting from the start each time took seconds on a
+    // knee's 30 000-row fiber table).
+    let mut counted = (0usize, 1usize);
+    let mut line_at = |p: &csv::Position| {
         let start = (p.byte() as usize).min(text.len());
         let skipped = text[start..].len() - text[start..].trim_start_matches(['\r', '\n']).len();
-        text[..start + skipped].matches('\n').count() + 1
+        let end = start + skipped;
+        let (from, line) = counted;
+        let line = if end >= from {
+            line + text[from..end].matches('\n').count()
+        } else {
+            text[..end].matches('\n').count() + 1
+        };
+        counted = (end, line);
+        line
     };
     for record in reader.records() {
         let record = record.map_err(|e| DelimitedError {
-            line: e.position().map_or(0, line_at),
+            line: e.position().map_or(0, &mut line_at),
             message: e.to_string(),
         })?;
-        let line = record.position().map_or(0, line_at);
+        let line = record.position().map_or(0, &mut line_at);
         if record.iter().all(str::is_empty) {
             continue;
         }
@@ -197,6 +209,27 @@ mod tests {
             let lines: Vec<usize> = table.rows.iter().map(|r| r.line).collect();
             assert_eq!(lines, [2, 4], "{text:?}");
         }
+    }
+
+    /// On a long table with blank lines here and there every row keeps its own line (the
+    /// lines are counted once, from one record to the next).
+    #[test]
+    fn a_long_table_numbers_its_lines() {
+        let mut text = String::from("x,y\n");
+        let mut expected = Vec::new();
+        let mut line = 1;
+        for k in 0..2000 {
+            if k % 7 == 3 {
+                text += "\r\n";
+                line += 1;
+            }
+            text += &format!("{k},{}\n", 2 * k);
+            line += 1;
+            expected.push(line);
+        }
+        let table = parse_delimited(&text).unwrap();
+        let lines: Vec<usize> = table.rows.iter().map(|r| r.line).collect();
+        assert_eq!(lines, expected);
     }
 
     /// A quoted name may hold the separator; a decimal comma is not read where the comma
