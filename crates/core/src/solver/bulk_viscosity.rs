@@ -77,6 +77,9 @@ pub struct Viscosities {
     pub shear: f64,
 }
 
+/// One element chunk's new volumes [m³] and viscous element forces [N].
+pub(super) type ChunkSlices<'a> = (&'a mut [f64], &'a mut [Vector3<f64>]);
+
 /// Per-element state of one block: current volumes at the last two steps and the viscous
 /// element forces of the last evaluation.
 pub(super) struct ViscousBlock {
@@ -119,10 +122,7 @@ impl ViscousBlock {
     pub fn chunk_slices(
         &mut self,
         nodes_per_element: usize,
-    ) -> (
-        &[f64],
-        impl IndexedParallelIterator<Item = (&mut [f64], &mut [Vector3<f64>])>,
-    ) {
+    ) -> (&[f64], impl IndexedParallelIterator<Item = ChunkSlices<'_>>) {
         let volumes = self.volume_new.par_chunks_mut(ELEMENTS_PER_CHUNK);
         let forces = self
             .forces
@@ -165,7 +165,7 @@ pub(super) fn chunk_forces(
     velocities: &[Vector3<f64>],
     dt: f64,
     volume_old: &[f64],
-    (volume_new, forces): (&mut [f64], &mut [Vector3<f64>]),
+    (volume_new, forces): ChunkSlices<'_>,
 ) {
     let npe = block.shape.nodes_per_element();
     let mut local_velocity = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
@@ -354,7 +354,6 @@ mod tests {
     fn the_volume_gradient_is_the_derivative_of_the_volume() {
         for (technology, kernel, x) in deformed_elements() {
             let npe = kernel.nodes_per_element();
-            let ppe = kernel.points_per_element();
             let mut gradient = vec![Vector3::zeros(); npe];
             kernel.volume_and_gradient(0, &x, &mut gradient);
             let h = 1e-6;
