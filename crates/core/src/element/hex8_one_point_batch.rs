@@ -343,7 +343,7 @@ mod tests {
             kernel.element_deformation_gradients(l, x, &mut expected_f);
             assert!((f - expected_f[0]).amax() < 1e-13, "{f} {}", expected_f[0]);
             let mut expected = [Vector3::zeros(); 8];
-            kernel.add_element_forces(l, x, &expected_f, &stress[l..l + 1], &mut expected);
+            kernel.add_element_forces(l, x, &expected_f, &stress[l..l + 1], &mut expected, None);
             let scale = expected.iter().map(|v| v.amax()).fold(0.0, f64::max);
             assert!(scale > 1e-3, "forces {scale} N");
             for (a, (got, want)) in forces[l * 8..(l + 1) * 8].iter().zip(&expected).enumerate() {

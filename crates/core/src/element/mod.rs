@@ -273,6 +273,12 @@ impl BlockKernel {
     /// [`Technology::Tet4NodalAverage`] couples neighbours and is evaluated block by block
     /// by the solvers (`tet4_nodal_average.rs`); element by element it gives the plain tet4
     /// forces, which are its forces under a homogeneous deformation.
+    ///
+    /// Given a `volume_gradient`, also returns the element's current volume
+    /// v = Σ_q w_q J_q [m³] and writes its gradient ∂v/∂x_a [m²] there
+    /// ([`Self::volume_and_gradient`]): the explicit solver's bulk and shear viscosity act
+    /// through it. The F-bar kernels have both at hand; the others compute them
+    /// afterwards.
     pub fn add_element_forces(
         &self,
         element: usize,
@@ -280,11 +286,21 @@ impl BlockKernel {
         material_f: &[Matrix3<f64>],
         stress: &[musclefem_materials::VoigtStress],
         forces: &mut [Vector3<f64>],
-    ) {
+        volume_gradient: Option<&mut [Vector3<f64>]>,
+    ) -> Option<f64> {
         let ppe = self.points_per_element;
         match self.technology {
             Technology::Hex8FBar | Technology::Tet10FBar => {
-                fbar::add_element_forces(self, element, positions, stress, forces, None);
+                let wanted = volume_gradient.is_some();
+                let volume = fbar::add_element_forces(
+                    self,
+                    element,
+                    positions,
+                    stress,
+                    forces,
+                    volume_gradient,
+                );
+                wanted.then_some(volume)
             }
             Technology::Hex8Full
             | Technology::Hex8OnePoint { .. }
@@ -299,36 +315,8 @@ impl BlockKernel {
                     self.add_internal_forces(element * ppe + q, &piola, forces);
                 }
                 self.add_hourglass_forces(element, positions, forces);
-            }
-        }
-    }
-
-    /// [`Self::add_element_forces`], and the element's current volume v = Σ_q w_q J_q
-    /// [m³] (returned) with its gradient ∂v/∂x_a [m²] into `volume_gradient`
-    /// ([`Self::volume_and_gradient`]): the explicit solver's bulk and shear viscosity
-    /// act through it. The F-bar kernels have both at hand; the others compute them
-    /// afterwards.
-    pub fn add_element_forces_and_volume_gradient(
-        &self,
-        element: usize,
-        positions: &[Vector3<f64>],
-        material_f: &[Matrix3<f64>],
-        stress: &[musclefem_materials::VoigtStress],
-        forces: &mut [Vector3<f64>],
-        volume_gradient: &mut [Vector3<f64>],
-    ) -> f64 {
-        match self.technology {
-            Technology::Hex8FBar | Technology::Tet10FBar => fbar::add_element_forces(
-                self,
-                element,
-                positions,
-                stress,
-                forces,
-                Some(volume_gradient),
-            ),
-            _ => {
-                self.add_element_forces(element, positions, material_f, stress, forces);
-                self.volume_and_gradient(element, positions, volume_gradient)
+                volume_gradient
+                    .map(|gradient| self.volume_and_gradient(element, positions, gradient))
             }
         }
     }

@@ -282,7 +282,7 @@ mod tests {
             };
             material.update(&points, &mut response).unwrap();
             let mut forces = vec![Vector3::zeros(); npe];
-            kernel.add_element_forces(element, x, &f, &stress, &mut forces);
+            kernel.add_element_forces(element, x, &f, &stress, &mut forces, None);
             (forces, stress)
         };
         let mut tangents = vec![Tangent::zeros(); ppe];

@@ -93,7 +93,7 @@ pub(super) fn element_forces(
     };
     material.update(&block, &mut response).unwrap();
     let mut forces = vec![Vector3::zeros(); kernel.nodes_per_element()];
-    kernel.add_element_forces(element, positions, &f, &stress, &mut forces);
+    kernel.add_element_forces(element, positions, &f, &stress, &mut forces, None);
     forces
 }
 

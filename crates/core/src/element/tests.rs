@@ -146,7 +146,7 @@ fn element_forces(
     };
     material.update(&block, &mut response).unwrap();
     let mut forces = vec![Vector3::zeros(); 8];
-    kernel.add_element_forces(element, positions, &f, &stress, &mut forces);
+    kernel.add_element_forces(element, positions, &f, &stress, &mut forces, None);
     forces
 }
 

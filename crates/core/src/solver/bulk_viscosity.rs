@@ -328,15 +328,12 @@ mod tests {
             let (mut forces, mut plain_forces) =
                 (vec![Vector3::zeros(); npe], vec![Vector3::zeros(); npe]);
             let mut gradient = vec![Vector3::zeros(); npe];
-            let fbar_volume = kernel_fbar.add_element_forces_and_volume_gradient(
-                0,
-                &x,
-                &f,
-                &stress,
-                &mut forces,
-                &mut gradient,
-            );
-            kernel_fbar.add_element_forces(0, &x, &f, &stress, &mut plain_forces);
+            let fbar_volume = kernel_fbar
+                .add_element_forces(0, &x, &f, &stress, &mut forces, Some(&mut gradient))
+                .unwrap();
+            let no_volume =
+                kernel_fbar.add_element_forces(0, &x, &f, &stress, &mut plain_forces, None);
+            assert_eq!(no_volume, None);
             assert_eq!(forces, plain_forces, "{fbar:?}");
             assert!((fbar_volume - volume).abs() < 1e-14 * volume, "{fbar:?}");
             let scale = expected.iter().map(|g| g.norm()).fold(0.0, f64::max);

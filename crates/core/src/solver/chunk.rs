@@ -147,23 +147,16 @@ impl ElementChunk {
             gather(&mut self.positions, block.element_nodes(element), positions);
             let points = local * ppe..(local + 1) * ppe;
             let nodes = local * npe..(local + 1) * npe;
-            if keep_volumes {
-                self.volume[local] = kernel.add_element_forces_and_volume_gradient(
-                    element,
-                    &self.positions,
-                    &self.f_new[points.clone()],
-                    &self.stress[points],
-                    &mut self.forces[nodes.clone()],
-                    &mut self.volume_gradient[nodes],
-                );
-            } else {
-                kernel.add_element_forces(
-                    element,
-                    &self.positions,
-                    &self.f_new[points.clone()],
-                    &self.stress[points],
-                    &mut self.forces[nodes],
-                );
+            let volume = kernel.add_element_forces(
+                element,
+                &self.positions,
+                &self.f_new[points.clone()],
+                &self.stress[points],
+                &mut self.forces[nodes.clone()],
+                keep_volumes.then(|| &mut self.volume_gradient[nodes]),
+            );
+            if let Some(volume) = volume {
+                self.volume[local] = volume;
             }
         }
         Ok(())

@@ -73,7 +73,7 @@ use super::explicit_parts::{
 };
 pub use super::explicit_settings::{ExplicitSettings, MAX_EXPLICIT_STEPS, MIN_MASS_SCALED_STEPS};
 use super::explicit_settings::{check_settings, check_step_budget};
-use super::interaction::{Interaction, InteractionReport, NodalField, interaction_forces};
+use super::interaction::{Interaction, InteractionReport, all_nodal_fields, interaction_forces};
 use super::nodal::{advance_positions, deterministic_sum, update_velocities};
 use super::observer::{NoObserver, Observer, Record, Snapshot};
 use super::rigid_motion::{observe_followers, restore_follower_states, save_follower_states};
@@ -581,23 +581,6 @@ pub(super) fn explicit_run(
         steps,
         added_mass_fraction: added_mass / physical_mass,
     })
-}
-
-/// The per-node fields of every interaction, each named `INTERACTION_FIELD` (so two
-/// interactions of one kind keep their fields apart).
-pub(super) fn all_nodal_fields(
-    interactions: &[Box<dyn Interaction>],
-    node_count: usize,
-) -> Vec<NodalField> {
-    interactions
-        .iter()
-        .flat_map(|i| {
-            i.nodal_fields(node_count).into_iter().map(|mut field| {
-                field.name = format!("{}_{}", i.name(), field.name);
-                field
-            })
-        })
-        .collect()
 }
 
 /// The output fields of every part at the last accepted step, ending at `time`.

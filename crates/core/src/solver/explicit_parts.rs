@@ -20,6 +20,9 @@ use super::{Part, SolverError};
 use crate::element::{BlockKernel, Technology};
 use crate::mesh::{ElementShape, MAX_NODES_PER_ELEMENT, Mesh};
 
+mod viscosity;
+pub(super) use viscosity::{smallest_impedance_length, viscous_forces};
+
 /// One part during a run.
 pub(super) struct PartRun<'a> {
     pub block: usize,
@@ -563,42 +566,6 @@ pub(super) fn scale_masses(
         run.refresh_stable_step();
     }
     added
-}
-
-/// Smallest L₀ √(ρ M) over the elements with viscous forces [Pa s]: the shear viscosity
-/// η adds (4/3) η / (L₀ √(ρ M)) to the damping ratio of an element's highest mode.
-pub(super) fn smallest_impedance_length(runs: &[PartRun]) -> f64 {
-    let mut smallest = f64::INFINITY;
-    for run in runs {
-        if let (Some(_), PartElements::General { chunks, .. }) = (&run.viscous, &run.elements) {
-            for chunk in chunks {
-                for (element, (length, modulus)) in (chunk.elements.clone())
-                    .zip(chunk.reference_lengths().iter().zip(chunk.wave_moduli()))
-                {
-                    let rho = run.element_density[element];
-                    smallest = smallest.min(length * (rho * modulus).sqrt());
-                }
-            }
-        }
-    }
-    smallest
-}
-
-/// The bulk- and shear-viscosity forces of the last [`internal_forces`] (which evaluates
-/// them with the element forces when given the viscosities and the velocities) into
-/// `viscous_force`, gathered serially in element order; volumes committed.
-pub(super) fn viscous_forces(
-    mesh: &Mesh,
-    runs: &mut [PartRun],
-    viscous_force: &mut [Vector3<f64>],
-) {
-    viscous_force.fill(Vector3::zeros());
-    for run in runs.iter_mut() {
-        if let Some(viscous) = &mut run.viscous {
-            viscous.scatter(&mesh.blocks[run.block], viscous_force);
-            viscous.commit();
-        }
-    }
 }
 
 /// Hourglass energy of all parts at `positions` [J].

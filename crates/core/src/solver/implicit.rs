@@ -59,12 +59,12 @@
 use nalgebra::Vector3;
 
 use super::checkpoint::{Checkpoint, CheckpointReader};
-use super::explicit::all_nodal_fields;
 use super::implicit_checkpoint::implicit_checkpoint;
 use super::implicit_chunk::ImplicitChunk;
 use super::implicit_model::Model;
 use super::implicit_newton::{EXTRAPOLATION_ACCEPTANCE, Extrapolation, StepFailure, newton_step};
 use super::interaction::Interaction;
+use super::interaction::all_nodal_fields;
 use super::observer::{NoObserver, Observer, Record, Snapshot};
 use super::rigid_motion::{observe_followers, restore_follower_states};
 use super::sparse::PRESCRIBED;

@@ -135,3 +135,20 @@ pub(super) fn interaction_forces(
     }
     Ok(())
 }
+
+/// The per-node fields of every interaction, each named `INTERACTION_FIELD` (so two
+/// interactions of one kind keep their fields apart).
+pub(super) fn all_nodal_fields(
+    interactions: &[Box<dyn Interaction>],
+    node_count: usize,
+) -> Vec<NodalField> {
+    interactions
+        .iter()
+        .flat_map(|i| {
+            i.nodal_fields(node_count).into_iter().map(|mut field| {
+                field.name = format!("{}_{}", i.name(), field.name);
+                field
+            })
+        })
+        .collect()
+}

@@ -123,7 +123,7 @@ fn element_path_forces(
         }
         fe.fill(Vector3::zeros());
         let q = e * ppe..(e + 1) * ppe;
-        kernel.add_element_forces(e, &x, &f[q.clone()], &stress[q], &mut fe);
+        kernel.add_element_forces(e, &x, &f[q.clone()], &stress[q], &mut fe, None);
         for (&id, fa) in ids.iter().zip(&fe) {
             force[id as usize] += fa;
         }
@@ -168,7 +168,7 @@ fn forces_and_stiffness(
             )
             .unwrap();
         let mut fe = vec![Vector3::zeros(); npe];
-        kernel.add_element_forces(e, &x, &f, &stress, &mut fe);
+        kernel.add_element_forces(e, &x, &f, &stress, &mut fe, None);
         let mut ke = vec![0.0; dofs * dofs];
         assert!(kernel.add_element_stiffness(e, &x, &stress, &tangents, &mut ke));
         for (a, &na) in ids.iter().enumerate() {
