@@ -182,13 +182,7 @@ impl Broadphase {
             frame.map_or(x, |iso| iso.transform_point(&Point3::from(x)).coords)
         }));
         let secondary_motion = largest_motion(&self.points, &self.queried_points);
-        let main_motion = match target {
-            ContactTarget::Deformable(surface) => largest_motion_of(
-                surface.nodes.iter().map(|&n| positions[n as usize]),
-                &self.queried_main,
-            ),
-            ContactTarget::Rigid(_) => 0.0,
-        };
+        let main_motion = self.main_motion_since_query(target, positions);
         if secondary_motion + main_motion <= VERLET_MARGIN * self.search_distance {
             return;
         }
@@ -239,6 +233,26 @@ impl Broadphase {
     #[inline]
     pub fn queried_point(&self, i: usize) -> Vector3<f64> {
         self.queried_points[i]
+    }
+
+    /// The largest distance [m] any vertex of a deformable main side `target` has moved
+    /// between the last query and nodal `positions` (0 for a rigid main side, whose
+    /// candidates live in its body frame). Every point of a triangle has then moved at most
+    /// this far, so a candidate's distance from node i at `positions` is at least its
+    /// [`candidate_box_distances`](Self::candidate_box_distances) entry minus this minus
+    /// how far the node has moved since [`queried_point`](Self::queried_point).
+    pub fn main_motion_since_query(
+        &self,
+        target: &ContactTarget,
+        positions: &[Vector3<f64>],
+    ) -> f64 {
+        match target {
+            ContactTarget::Deformable(surface) => largest_motion_of(
+                surface.nodes.iter().map(|&n| positions[n as usize]),
+                &self.queried_main,
+            ),
+            ContactTarget::Rigid(_) => 0.0,
+        }
     }
 
     /// Total number of (node, triangle) candidates of the last search.

@@ -14,7 +14,10 @@
 //!   femur scatter them by up to 30° at 1 % of its vertices, and a muscle pressed on it
 //!   felt a washboard of tangential forces that stalled Newton) and turned by its
 //!   placement; a deformable main's are recomputed from the nodal positions at every
-//!   search and force evaluation (in place).
+//!   search and force evaluation (in place), at the corners of the triangles the walks
+//!   start from ([`NormalField::update_around`]: the pairs and bonds cover a small part
+//!   of a muscle's surface), and on demand, with the same bits, where a walk goes
+//!   beyond them ([`NormalField::normals_at`]).
 //! - Projection of the secondary node x [m] on a main triangle x₀ x₁ x₂ with vertex normals
 //!   n₀ n₁ n₂: the (ξ₁, ξ₂, g) that solve
 //!   x₀ + ξ₁ (x₁ − x₀) + ξ₂ (x₂ − x₀) + g N(ξ) = x, N(ξ) = φ₀ n₀ + φ₁ n₁ + φ₂ n₂,
@@ -80,11 +83,22 @@ pub struct NormalField {
     normals: Vec<Vector3<f64>>,
     /// Whether the normals follow the nodal positions.
     deformable: bool,
+    /// A deformable main's triangles around each vertex, in increasing order (compressed
+    /// rows: vertex v's are `rings[ring_starts[v]..ring_starts[v + 1]]`).
+    ring_starts: Vec<u32>,
+    rings: Vec<u32>,
+    /// Whether `normals[v]` is that of the last update (a deformable main updated
+    /// [`NormalField::update_around`] some triangles only; the others are computed when
+    /// asked for, [`NormalField::normals_at`]).
+    current: Vec<bool>,
+    /// Per triangle, whether it is around a vertex that the update computes.
+    around: Vec<bool>,
 }
 
 impl NormalField {
     /// The field of `main` at nodal `positions` [m] (a rigid main: in its body frame). A
-    /// deformable main given no `positions` has no normals until the first [`Self::update`].
+    /// deformable main given no `positions` has no normals until the first
+    /// [`Self::update_around`].
     pub fn new(main: &ContactTarget, positions: &[Vector3<f64>]) -> Self {
         let (corners, count) = match main {
             ContactTarget::Rigid(s) => (s.triangles.clone(), s.vertices.len()),
@@ -94,11 +108,21 @@ impl NormalField {
                 (corners, s.nodes.len())
             }
         };
+        let deformable = matches!(main, ContactTarget::Deformable(_));
+        let (ring_starts, rings) = if deformable {
+            vertex_rings(&corners, count)
+        } else {
+            (Vec::new(), Vec::new())
+        };
         let mut field = NormalField {
             corners,
             across: across_edges(main.triangles()),
             normals: vec![Vector3::zeros(); count],
-            deformable: matches!(main, ContactTarget::Deformable(_)),
+            deformable,
+            ring_starts,
+            rings,
+            current: vec![!deformable; count],
+            around: Vec::new(),
         };
         match main {
             // A rigid body that knows its own normals (an implicit or analytic shape).
@@ -114,24 +138,118 @@ impl NormalField {
         field
     }
 
-    /// Recomputes a deformable main's vertex normals at nodal `positions` [m], in place (a
-    /// rigid main's stay in its body frame).
+    /// Recomputes all of a deformable main's vertex normals at nodal `positions` [m], in
+    /// place (a rigid main's stay in its body frame): the reference the tests hold
+    /// [`Self::update_around`] to.
+    #[cfg(test)]
     pub fn update(&mut self, main: &ContactTarget, positions: &[Vector3<f64>]) {
         if self.deformable {
             self.accumulate(main, positions);
         }
     }
 
+    /// Recomputes a deformable main's vertex normals at nodal `positions` [m] at the
+    /// corners of `triangles` only (any order, repeats allowed); the others are computed
+    /// from `positions` when [`Self::normals_at`] asks for them. Each vertex gets the bits
+    /// a full update (every vertex) would give it: its triangles' terms are added in the
+    /// same order. A rigid main's normals stay in its body frame.
+    pub fn update_around(
+        &mut self,
+        main: &ContactTarget,
+        positions: &[Vector3<f64>],
+        triangles: impl Iterator<Item = u32>,
+    ) {
+        if !self.deformable {
+            return;
+        }
+        self.current.fill(false);
+        self.around.clear();
+        self.around.resize(self.corners.len(), false);
+        for t in triangles {
+            for &v in &self.corners[t as usize] {
+                if !self.current[v as usize] {
+                    self.current[v as usize] = true;
+                    self.normals[v as usize] = Vector3::zeros();
+                    let ring = &self.rings[self.ring_starts[v as usize] as usize
+                        ..self.ring_starts[v as usize + 1] as usize];
+                    for &r in ring {
+                        self.around[r as usize] = true;
+                    }
+                }
+            }
+        }
+        // In increasing triangle order, as the full update adds them.
+        let identity = Isometry3::identity();
+        for (t, corners) in self.corners.iter().enumerate() {
+            if !self.around[t] {
+                continue;
+            }
+            let [a, b, c] = main.corners(t, positions, &identity);
+            let weighted = (b - a).cross(&(c - a));
+            for &v in corners {
+                if self.current[v as usize] {
+                    self.normals[v as usize] += weighted;
+                }
+            }
+        }
+        for v in 0..self.normals.len() {
+            if self.current[v] {
+                let normal =
+                    unit_or_first_face(self.normals[v], self.ring(v as u32), main, positions);
+                self.normals[v] = normal;
+            }
+        }
+    }
+
+    /// The triangles around vertex `v` (a deformable main's), in increasing order.
+    fn ring(&self, v: u32) -> &[u32] {
+        let v = v as usize;
+        &self.rings[self.ring_starts[v] as usize..self.ring_starts[v + 1] as usize]
+    }
+
     /// The unit vertex normals of `triangle`, turned by `rotation` (the rigid body's; the
-    /// identity for a deformable main).
+    /// identity for a deformable main). A deformable main's must have been updated at all
+    /// three corners; [`Self::normals_at`] computes those missing (for the tests).
+    #[cfg(test)]
     pub fn normals(&self, triangle: usize, rotation: &UnitQuaternion<f64>) -> [Vector3<f64>; 3] {
+        debug_assert!(
+            self.corners[triangle]
+                .iter()
+                .all(|&v| self.current[v as usize])
+        );
         self.corners[triangle].map(|v| rotation * self.normals[v as usize])
+    }
+
+    /// [`Self::normals`], a deformable main's corners that the last update left out
+    /// computed from nodal `positions` [m] (the same bits as an update's).
+    pub fn normals_at(
+        &self,
+        triangle: usize,
+        main: &ContactTarget,
+        positions: &[Vector3<f64>],
+        rotation: &UnitQuaternion<f64>,
+    ) -> [Vector3<f64>; 3] {
+        self.corners[triangle].map(|v| {
+            let normal = if self.current[v as usize] {
+                self.normals[v as usize]
+            } else {
+                let identity = Isometry3::identity();
+                let ring = self.ring(v);
+                let sum = ring.iter().fold(Vector3::zeros(), |sum, &t| {
+                    let [a, b, c] = main.corners(t as usize, positions, &identity);
+                    sum + (b - a).cross(&(c - a))
+                });
+                unit_or_first_face(sum, ring, main, positions)
+            };
+            rotation * normal
+        })
     }
 
     /// n_v = Σ (x₁ − x₀) × (x₂ − x₀) / |Σ …| over the triangles around v; a vertex whose
     /// sum vanishes (a sheet folded onto itself) takes the unit normal of its first
     /// triangle that has one.
     fn accumulate(&mut self, main: &ContactTarget, positions: &[Vector3<f64>]) {
+        self.current.fill(true);
         let identity = Isometry3::identity();
         self.normals.fill(Vector3::zeros());
         for (t, corners) in self.corners.iter().enumerate() {
@@ -164,6 +282,51 @@ impl NormalField {
             }
         }
     }
+}
+
+/// The sum `sum` of a vertex's (x₁ − x₀) × (x₂ − x₀) normalized; where it vanishes (a
+/// sheet folded onto itself), the unit normal of the first triangle of its `ring` (in
+/// increasing order) that has one, else zero, as a full update has it.
+fn unit_or_first_face(
+    sum: Vector3<f64>,
+    ring: &[u32],
+    main: &ContactTarget,
+    positions: &[Vector3<f64>],
+) -> Vector3<f64> {
+    let length = sum.norm();
+    if length > 0.0 && length.is_finite() {
+        return sum / length;
+    }
+    let identity = Isometry3::identity();
+    ring.iter()
+        .find_map(|&t| {
+            let [a, b, c] = main.corners(t as usize, positions, &identity);
+            (b - a).cross(&(c - a)).try_normalize(0.0)
+        })
+        .unwrap_or_else(Vector3::zeros)
+}
+
+/// Per vertex of `count`, the triangles of `corners` around it, in increasing order
+/// (compressed rows: offsets, then the triangles).
+fn vertex_rings(corners: &[[u32; 3]], count: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut starts = vec![0u32; count + 1];
+    for t in corners {
+        for &v in t {
+            starts[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..count {
+        starts[v + 1] += starts[v];
+    }
+    let mut filled = starts.clone();
+    let mut rings = vec![0u32; starts[count] as usize];
+    for (t, corners) in corners.iter().enumerate() {
+        for &v in corners {
+            rings[filled[v as usize] as usize] = t as u32;
+            filled[v as usize] += 1;
+        }
+    }
+    (starts, rings)
 }
 
 /// Per triangle, the triangle across each edge i (corner i to i + 1), [`RIM`] if none (of
@@ -338,7 +501,7 @@ pub fn walk(
     let project = |triangle: u32| {
         let t = triangle as usize;
         let corners = main.corners(t, positions, placement);
-        let normals = field.normals(t, &placement.rotation);
+        let normals = field.normals_at(t, main, positions, &placement.rotation);
         Foot {
             triangle,
             projection: project_along_normals(x, &corners, &normals),

@@ -353,6 +353,7 @@ impl PenaltyContact {
         };
         let rim = (rim_edges.as_slice(), self.rim_vertices.as_slice());
         let nodes = &self.secondary.nodes;
+        let main_motion = broadphase.main_motion_since_query(target, positions);
         self.contacts
             .par_chunks_mut(EVALUATION_CHUNK)
             .enumerate()
@@ -395,18 +396,24 @@ impl PenaltyContact {
                             c.geometry = c.geometry.rotated(&rotation);
                             c
                         }
-                        (ContactTarget::Deformable(main), _) => closest(
-                            &x,
-                            broadphase.candidates(i),
-                            contact.triangle,
-                            rim,
-                            |t| main.triangles[t].contains(&node),
-                            Bounds {
-                                box_distance: |t| box_distance(&x, &main.corners(t, positions)),
-                                rest_farther: |_, _| false,
-                            },
-                            |t| main.corners(t, positions),
-                        ),
+                        (ContactTarget::Deformable(main), _) => {
+                            // As for a rigid main, with the triangles' own motion since
+                            // the query added to the node's.
+                            let moved = (x - broadphase.queried_point(i)).norm() + main_motion;
+                            let queried = broadphase.candidate_box_distances(i);
+                            closest(
+                                &x,
+                                broadphase.candidates(i),
+                                contact.triangle,
+                                rim,
+                                |t| main.triangles[t].contains(&node),
+                                Bounds {
+                                    box_distance: |t| box_distance(&x, &main.corners(t, positions)),
+                                    rest_farther: |k, best| queried[k] - moved > best,
+                                },
+                                |t| main.corners(t, positions),
+                            )
+                        }
                         (ContactTarget::Rigid(_), None) => {
                             unreachable!("a rigid target has a frame")
                         }
@@ -415,7 +422,16 @@ impl PenaltyContact {
             });
         if let Some(smooth) = &mut self.smooth {
             // From each node's closest triangle along the normal field.
-            smooth.field.update(target, positions);
+            // The normals of the triangles the walks start on (those they walk on to are
+            // computed as they go).
+            smooth.field.update_around(
+                target,
+                positions,
+                self.contacts
+                    .iter()
+                    .filter(|c| c.triangle != u32::MAX)
+                    .map(|c| c.triangle),
+            );
             let placement = frame.unwrap_or_else(Isometry3::identity);
             let (field, closest) = (&smooth.field, &self.contacts);
             smooth

@@ -305,7 +305,13 @@ impl Interaction for CohesiveInterface {
                 &placement,
             ),
             Sliding::Smooth(field) => {
-                field.update(&self.main, positions);
+                // The normals around the bonds' triangles (those the walks go on to are
+                // computed as they go).
+                field.update_around(
+                    &self.main,
+                    positions,
+                    self.bonds.iter().map(|bond| bond.triangle),
+                );
                 slide_all_smooth(&mut self.bonds, &self.main, field, (positions, &placement));
             }
         }
@@ -322,7 +328,11 @@ impl Interaction for CohesiveInterface {
         let placement = self.main.placement(time);
         match &mut self.sliding {
             Sliding::Smooth(field) => {
-                field.update(&self.main, positions);
+                field.update_around(
+                    &self.main,
+                    positions,
+                    self.bonds.iter().map(|bond| bond.triangle),
+                );
                 evaluate_all_smooth(
                     &self.bonds,
                     &self.law,

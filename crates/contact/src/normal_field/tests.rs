@@ -122,3 +122,39 @@ fn a_walk_crosses_the_surface_and_keeps_the_plane_of_the_rim_past_it() {
     assert_eq!(foot.triangle / 2, 5);
     assert!((foot.projection.gap() - 0.1).abs() < 1e-14);
 }
+
+#[test]
+fn normals_updated_around_some_triangles_are_the_full_updates_bits() {
+    use crate::surface::DeformableSurface;
+    use musclefem_core::mesh::generate::box_of_hexes;
+    // The outer surface of a box of 4 × 3 × 2 hexahedra, its nodes moved off the box.
+    let mesh = box_of_hexes([1.0, 0.8, 0.5], [4, 3, 2]).unwrap();
+    let block = mesh.blocks[0].name.clone();
+    let surface = DeformableSurface::outer_surface(&mesh, &[&block]).unwrap();
+    let positions: Vec<Vector3<f64>> = (0..mesh.node_count())
+        .map(|n| {
+            let x = mesh.nodes.position(n);
+            let s = n as f64;
+            x + 0.03 * Vector3::new((1.3 * s).sin(), (0.7 * s).cos(), (2.1 * s).sin())
+        })
+        .collect();
+    let main = ContactTarget::Deformable(surface.clone());
+    let mut full = NormalField::new(&main, &[]);
+    full.update(&main, &positions);
+    let mut some = NormalField::new(&main, &[]);
+    let chosen = [3u32, 3, 17, 40, 41];
+    some.update_around(&main, &positions, chosen.iter().copied());
+    let identity = UnitQuaternion::identity();
+    for t in 0..surface.triangles.len() {
+        // Bit for bit, whether the corners were updated or are computed on demand.
+        assert_eq!(
+            some.normals_at(t, &main, &positions, &identity),
+            full.normals(t, &identity),
+            "triangle {t}"
+        );
+    }
+    // Only the chosen triangles' corners were updated; the others were computed on demand.
+    let updated = some.current.iter().filter(|c| **c).count();
+    assert!((3..=3 * 4).contains(&updated), "{updated} updated");
+    assert!(updated < surface.nodes.len());
+}
