@@ -52,6 +52,24 @@ fn the_default_knee_is_the_visible_human_and_its_first_degrees_run_explicitly() 
     ] {
         assert!(squat.join(file).is_file(), "no {file}");
     }
+    // run.log gives the step taken beside the mass-scaling target: the shear viscosity's
+    // damping keeps it below the target (docs/knee-solver.md), and it is the mean of the
+    // history's steps.
+    let log = std::fs::read_to_string(squat.join("run.log")).unwrap();
+    let value = |key: &str| {
+        log.lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|rest| rest.trim().strip_prefix('='))
+            .map(|v| number(v.trim()))
+            .unwrap_or_else(|| panic!("no {key} in run.log:\n{log}"))
+    };
+    let (target, steps, mean) = (
+        value("time_step_s"),
+        value("steps"),
+        value("mean_time_step_s"),
+    );
+    assert!((mean * steps - 0.1).abs() < 1e-3 * 0.1, "{log}");
+    assert!(mean < target && mean > 0.5 * target, "{log}");
     // The procedural knee's anatomy export is not written for the Visible Human knee.
     assert!(!dir.join("knee/anatomy").exists());
 

@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::Result;
 
+use crate::elongation::Solver;
 use crate::knee::Quadriceps;
 use crate::knee::simulation::patella::tendon_summary;
 use crate::knee::simulation::plausibility::plausibility_report;
@@ -94,6 +95,14 @@ pub(super) fn run_log(run: &SquatRun, settings: &SquatSettings, muscles: &[Quadr
         run.nodes,
         run.steps,
     );
+    if settings.solver == Solver::Explicit && run.steps > 0 {
+        // The step taken: below the mass-scaling target above where the shear viscosity
+        // damps the highest mode (docs/knee-solver.md).
+        text.push_str(&format!(
+            "mean_time_step_s = {:.4e}\n",
+            settings.squat.duration / run.steps as f64
+        ));
+    }
     if let (Some(iterations), Some(cuts)) = (run.newton_iterations, run.cuts) {
         let indefinite = run
             .cut_attempts
