@@ -83,8 +83,8 @@ pub struct NormalField {
     normals: Vec<Vector3<f64>>,
     /// Whether the normals follow the nodal positions.
     deformable: bool,
-    /// A deformable main's triangles around each vertex, in increasing order (compressed
-    /// rows: vertex v's are `rings[ring_starts[v]..ring_starts[v + 1]]`).
+    /// The triangles around each vertex, in increasing order (compressed rows: vertex v's
+    /// are `rings[ring_starts[v]..ring_starts[v + 1]]`).
     ring_starts: Vec<u32>,
     rings: Vec<u32>,
     /// Whether `normals[v]` is that of the last update (a deformable main updated
@@ -109,11 +109,7 @@ impl NormalField {
             }
         };
         let deformable = matches!(main, ContactTarget::Deformable(_));
-        let (ring_starts, rings) = if deformable {
-            vertex_rings(&corners, count)
-        } else {
-            (Vec::new(), Vec::new())
-        };
+        let (ring_starts, rings) = vertex_rings(&corners, count);
         let mut field = NormalField {
             corners,
             across: across_edges(main.triangles()),
@@ -201,7 +197,7 @@ impl NormalField {
         }
     }
 
-    /// The triangles around vertex `v` (a deformable main's), in increasing order.
+    /// The triangles around vertex `v`, in increasing order.
     fn ring(&self, v: u32) -> &[u32] {
         let v = v as usize;
         &self.rings[self.ring_starts[v] as usize..self.ring_starts[v + 1] as usize]
@@ -259,27 +255,9 @@ impl NormalField {
                 self.normals[v as usize] += weighted;
             }
         }
-        let mut lost = false;
-        for n in &mut self.normals {
-            let length = n.norm();
-            if length > 0.0 && length.is_finite() {
-                *n /= length;
-            } else {
-                *n = Vector3::zeros();
-                lost = true;
-            }
-        }
-        if lost {
-            for (t, corners) in self.corners.iter().enumerate() {
-                let [a, b, c] = main.corners(t, positions, &identity);
-                if let Some(unit) = (b - a).cross(&(c - a)).try_normalize(0.0) {
-                    for &v in corners {
-                        if self.normals[v as usize] == Vector3::zeros() {
-                            self.normals[v as usize] = unit;
-                        }
-                    }
-                }
-            }
+        for v in 0..self.normals.len() {
+            let normal = unit_or_first_face(self.normals[v], self.ring(v as u32), main, positions);
+            self.normals[v] = normal;
         }
     }
 }
