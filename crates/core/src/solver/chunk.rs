@@ -1,8 +1,9 @@
 //! A run of consecutive elements of one block with everything their update needs, owned,
 //! so that chunks update in parallel without sharing and without allocating: deformation
-//! gradients, material states, stresses, optionally tangents, element forces, and the
-//! explicit solver's stable-step data. The implicit solver wraps it with element
-//! stiffness matrices (`implicit_chunk.rs`).
+//! gradients, material states, stresses, element forces, and the explicit solver's
+//! stable-step data. The implicit solver wraps it to compute element stiffness matrices
+//! (`implicit_chunk.rs`), from tangents it asks for when it needs them
+//! ([`ElementChunk::tangents_of_last_update`]), so that none are kept for the whole mesh.
 
 use std::ops::Range;
 
@@ -28,6 +29,14 @@ pub(crate) fn chunk_ranges(elements: usize) -> impl Iterator<Item = Range<usize>
         .map(move |start| start..(start + ELEMENTS_PER_CHUNK).min(elements))
 }
 
+/// Room for the stresses and states a repeated material update writes
+/// ([`ElementChunk::tangents_of_last_update`]).
+#[derive(Debug, Default)]
+pub(crate) struct PointScratch {
+    stress: Vec<VoigtStress>,
+    state: Vec<f64>,
+}
+
 #[derive(Debug)]
 pub(crate) struct ElementChunk {
     /// Elements of the block in this chunk.
@@ -38,8 +47,8 @@ pub(crate) struct ElementChunk {
     state_old: Vec<f64>,
     state_new: Vec<f64>,
     stress: Vec<VoigtStress>,
-    /// Consistent tangents ∂P/∂F of the last update that asked for them (empty before).
-    tangent: Vec<Tangent>,
+    /// End time and length [s] of the step of the last update.
+    last_step: (f64, f64),
     /// Internal nodal forces, `nodes_per_element` per element [N].
     pub forces: Vec<Vector3<f64>>,
     /// Reference characteristic length of each element for the stable step [m]
@@ -82,7 +91,7 @@ impl ElementChunk {
             state_old: material.initial_state(points),
             state_new: material.initial_state(points),
             stress: vec![VoigtStress::zeros(); points],
-            tangent: Vec::new(),
+            last_step: (0.0, 0.0),
             forces: vec![Vector3::zeros(); elements.len() * npe],
             reference_length,
             wave_modulus: vec![0.0; elements.len()],
@@ -94,9 +103,8 @@ impl ElementChunk {
     }
 
     /// Deformation gradients at the current `positions`, the material update over the
-    /// step of `dt` ending at `time` (with the consistent tangents when `with_tangent`),
-    /// and the internal nodal forces. On a material error, returns the element (of the
-    /// block) and the error.
+    /// step of `dt` ending at `time`, and the internal nodal forces. On a material error,
+    /// returns the element (of the block) and the error.
     pub fn update(
         &mut self,
         kernel: &BlockKernel,
@@ -105,7 +113,6 @@ impl ElementChunk {
         positions: &[Vector3<f64>],
         time: f64,
         dt: f64,
-        with_tangent: bool,
     ) -> Result<(), (usize, MaterialError)> {
         let ppe = kernel.points_per_element();
         let npe = kernel.nodes_per_element();
@@ -125,22 +132,15 @@ impl ElementChunk {
             fiber_direction: &self.fiber,
             state_old: &self.state_old,
         };
-        if with_tangent && self.tangent.len() != self.f_new.len() {
-            self.tangent = vec![Tangent::zeros(); self.f_new.len()];
-        }
+        self.last_step = (time, dt);
         let mut response = PointResponse {
             cauchy_stress: &mut self.stress,
             state_new: &mut self.state_new,
-            tangent: with_tangent.then_some(self.tangent.as_mut_slice()),
+            tangent: None,
         };
-        material.update(&points, &mut response).map_err(|error| {
-            let element = match &error {
-                MaterialError::InvalidPoint { point, .. }
-                | MaterialError::NonFiniteResult { point, .. } => self.elements.start + point / ppe,
-                _ => self.elements.start,
-            };
-            (element, error)
-        })?;
+        material
+            .update(&points, &mut response)
+            .map_err(|error| self.element_of(ppe, error))?;
         self.forces.fill(Vector3::zeros());
         let keep_volumes = !self.volume.is_empty();
         for (local, element) in self.elements.clone().enumerate() {
@@ -160,6 +160,62 @@ impl ElementChunk {
             }
         }
         Ok(())
+    }
+
+    /// End time [s] of the step of the last update.
+    pub fn last_time(&self) -> f64 {
+        self.last_step.0
+    }
+
+    /// The block element of a material error of this chunk's points, with the error.
+    fn element_of(
+        &self,
+        points_per_element: usize,
+        error: MaterialError,
+    ) -> (usize, MaterialError) {
+        let element = match &error {
+            MaterialError::InvalidPoint { point, .. }
+            | MaterialError::NonFiniteResult { point, .. } => {
+                self.elements.start + point / points_per_element
+            }
+            _ => self.elements.start,
+        };
+        (element, error)
+    }
+
+    /// The consistent tangents ∂P/∂F of the last update's points into `tangents` (one per
+    /// point): the material update of [`Self::update`] is repeated from the same inputs
+    /// (deformation gradients, state at the start of the step, time and step), so the
+    /// tangents are those that update would have computed, bit for bit; the stresses and
+    /// states it writes again go to `scratch` (resized as needed) and are dropped.
+    pub fn tangents_of_last_update(
+        &self,
+        material: &dyn Material,
+        points_per_element: usize,
+        scratch: &mut PointScratch,
+        tangents: &mut [Tangent],
+    ) -> Result<(), (usize, MaterialError)> {
+        let (time, dt) = self.last_step;
+        let points = PointBlock {
+            time,
+            dt,
+            deformation_gradient_old: &self.f_old,
+            deformation_gradient_new: &self.f_new,
+            fiber_direction: &self.fiber,
+            state_old: &self.state_old,
+        };
+        scratch
+            .stress
+            .resize(self.stress.len(), VoigtStress::zeros());
+        scratch.state.resize(self.state_new.len(), 0.0);
+        let mut response = PointResponse {
+            cauchy_stress: &mut scratch.stress,
+            state_new: &mut scratch.state,
+            tangent: Some(tangents),
+        };
+        material
+            .update(&points, &mut response)
+            .map_err(|error| self.element_of(points_per_element, error))
     }
 
     /// From now on, every update also keeps each element's current volume and its
@@ -241,14 +297,9 @@ impl ElementChunk {
         &self.wave_modulus
     }
 
-    /// Tangents ∂P/∂F of the last update with `with_tangent`, `points_per_element` per
-    /// element.
+    /// Cauchy stresses of the last update, `points_per_element` per element [Pa].
     pub fn stresses(&self) -> &[VoigtStress] {
         &self.stress
-    }
-
-    pub fn tangents(&self) -> &[Tangent] {
-        &self.tangent
     }
 
     /// The deformation gradients of the last update, as the material saw them (F̄ for

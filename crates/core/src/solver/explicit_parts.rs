@@ -417,7 +417,7 @@ pub(super) fn internal_forces<'a>(
             PartElements::General { kernel, chunks } => {
                 let kernel = &*kernel;
                 let update = |chunk: &mut ElementChunk| {
-                    chunk.update(kernel, block, material, positions, time, dt, false)?;
+                    chunk.update(kernel, block, material, positions, time, dt)?;
                     if refresh {
                         chunk.refresh_wave_moduli(kernel, material, time, dt)?;
                     }

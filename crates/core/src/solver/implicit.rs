@@ -261,6 +261,9 @@ pub(super) fn implicit_run(
                 for run in &mut model.runs {
                     run.chunks.iter_mut().for_each(ImplicitChunk::commit);
                 }
+                // A stiffness is built from the last update's inputs, which the commit
+                // has just made the start of the next step: none may be due past it.
+                model.stiffness_due = false;
                 model.interactions.iter_mut().for_each(|i| i.commit());
                 time = if end - (time + step) < 1e-9 * step {
                     end

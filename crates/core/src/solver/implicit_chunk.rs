@@ -1,7 +1,9 @@
 //! A chunk of elements for the implicit solver: the shared [`ElementChunk`] (states,
-//! stresses, tangents, forces) plus the element stiffness matrices assembled from its
-//! tangents (for F-bar hex8 and tet10, with the mixed element pressure of
-//! `mixed_pressure.rs`).
+//! stresses, forces) and the element stiffness matrices computed from its tangents (for
+//! F-bar hex8 and tet10, with the mixed element pressure of `mixed_pressure.rs`) into a
+//! [`StiffnessWork`] that the solver adds into the sparse matrix and reuses for the next
+//! chunk: neither the tangents nor the element matrices are kept for the whole mesh
+//! (`docs/implicit-speed.md`, "Memory").
 
 use std::ops::Range;
 
@@ -11,7 +13,7 @@ use musclefem_materials::{Material, MaterialError, Tangent, VoigtStress};
 
 use super::SolverError;
 use super::checkpoint::{CheckpointReader, CheckpointWriter};
-use super::chunk::ElementChunk;
+use super::chunk::{ElementChunk, PointScratch};
 use super::element_fields::AcceptedPoints;
 use super::mixed_pressure::MixedPressure;
 use crate::element::{BlockKernel, has_major_symmetry};
@@ -20,11 +22,20 @@ use crate::mesh::{ElementBlock, MAX_NODES_PER_ELEMENT};
 /// Most integration points of an element (the 2×2×2 hex8).
 const MAX_POINTS_PER_ELEMENT: usize = 8;
 
+/// Room for one chunk's element stiffness matrices and what computing them needs.
+#[derive(Debug, Default)]
+pub(crate) struct StiffnessWork {
+    /// Element stiffness matrices of the chunk, `element_dofs()²` per element, row-major
+    /// [N/m].
+    pub matrices: Vec<f64>,
+    /// The material tangents ∂P/∂F of the chunk's points [Pa].
+    tangents: Vec<Tangent>,
+    scratch: PointScratch,
+}
+
 #[derive(Debug)]
 pub(crate) struct ImplicitChunk {
     chunk: ElementChunk,
-    /// Element stiffness matrices, `element_dofs()²` per element, row-major [N/m].
-    pub stiffness: Vec<f64>,
     /// Whether every tangent of the last update with stiffness had major symmetry.
     pub symmetric: bool,
     /// The mixed pressure's linearization points (F-bar hex8 and tet10 with
@@ -40,12 +51,10 @@ impl ImplicitChunk {
         material: &dyn Material,
         mixed_pressure_tangent: bool,
     ) -> Self {
-        let dofs = kernel.element_dofs();
         let mixed = (mixed_pressure_tangent && kernel.technology().uses_mean_dilatation())
             .then(|| MixedPressure::new(elements.len()));
         ImplicitChunk {
             mixed,
-            stiffness: vec![0.0; elements.len() * dofs * dofs],
             chunk: ElementChunk::new(elements, kernel, block, material),
             symmetric: true,
         }
@@ -56,6 +65,11 @@ impl ImplicitChunk {
         self.chunk.elements.clone()
     }
 
+    /// End time [s] of the step of the last update.
+    pub fn last_time(&self) -> f64 {
+        self.chunk.last_time()
+    }
+
     /// Internal nodal forces, `nodes_per_element` per element [N].
     pub fn forces(&self) -> &[Vector3<f64>] {
         &self.chunk.forces
@@ -63,9 +77,7 @@ impl ImplicitChunk {
 
     /// Material update at the current `positions` over the step of `dt` ending at `time`
     /// (state at the start of the step from the last `commit`) and the internal nodal
-    /// forces, with the material tangents when `with_tangents` (for
-    /// [`Self::compute_stiffness`]). On a material error, returns the element (of the
-    /// block) and the error.
+    /// forces. On a material error, returns the element (of the block) and the error.
     pub fn update(
         &mut self,
         kernel: &BlockKernel,
@@ -74,26 +86,35 @@ impl ImplicitChunk {
         positions: &[Vector3<f64>],
         time: f64,
         dt: f64,
-        with_tangents: bool,
     ) -> Result<(), (usize, MaterialError)> {
         self.chunk
-            .update(kernel, block, material, positions, time, dt, with_tangents)
+            .update(kernel, block, material, positions, time, dt)
     }
 
-    /// The element stiffness matrices at `positions`, from the stresses and tangents of
-    /// the last [`Self::update`] (which must have been at these positions, with tangents).
+    /// The element stiffness matrices at `positions` into `work.matrices`, from the
+    /// stresses of the last [`Self::update`] (which must have been at these positions)
+    /// and the material tangents of that update, computed again here
+    /// ([`ElementChunk::tangents_of_last_update`]). On a material error, returns the
+    /// element (of the block) and the error.
     pub fn compute_stiffness(
         &mut self,
         kernel: &BlockKernel,
         block: &ElementBlock,
+        material: &dyn Material,
         positions: &[Vector3<f64>],
-    ) {
+        work: &mut StiffnessWork,
+    ) -> Result<(), (usize, MaterialError)> {
         let ppe = kernel.points_per_element();
         let size = kernel.element_dofs().pow(2);
-        let tangents = self.chunk.tangents();
+        let elements = self.chunk.elements.len();
+        work.tangents.resize(elements * ppe, Tangent::zeros());
+        self.chunk
+            .tangents_of_last_update(material, ppe, &mut work.scratch, &mut work.tangents)?;
+        let tangents = &work.tangents;
         let stresses = self.chunk.stresses();
         let deformation_gradients = self.chunk.deformation_gradients();
-        self.stiffness.fill(0.0);
+        work.matrices.clear();
+        work.matrices.resize(elements * size, 0.0);
         let mut element_positions = [Vector3::zeros(); MAX_NODES_PER_ELEMENT];
         let npe = kernel.nodes_per_element();
         // The stresses and tangents of an element shifted to its mixed pressure.
@@ -133,11 +154,12 @@ impl ImplicitChunk {
                 &element_positions[..npe],
                 stress,
                 tangent,
-                &mut self.stiffness[local * size..(local + 1) * size],
+                &mut work.matrices[local * size..(local + 1) * size],
                 symmetric,
             );
             debug_assert!(added, "checked when the part was prepared");
         }
+        Ok(())
     }
 
     /// The last stiffness computed is being solved with (see [`MixedPressure::promote`]).

@@ -14,7 +14,7 @@ use musclefem_materials::Material;
 use super::amg_cg::LinearSolver;
 use super::chunk::chunk_ranges;
 use super::element_fields::{AcceptedPoints, PartFields, part_fields};
-use super::implicit_chunk::ImplicitChunk;
+use super::implicit_chunk::{ImplicitChunk, StiffnessWork};
 use super::implicit_dynamics::Inertia;
 use super::implicit_settings::ImplicitSettings;
 use super::interaction::Interaction;
@@ -85,6 +85,11 @@ pub(super) struct Model<'a> {
     pub stiffness_delta: Option<Vec<f64>>,
     /// Where each column's entries start in the sparse values (column pointers).
     pub column_starts: Vec<usize>,
+    /// Room for the element matrices of a few chunks at a time (`implicit_stiffness.rs`).
+    pub stiffness_work: Vec<StiffnessWork>,
+    /// Why the last stiffness could not be built (a material error while its tangents
+    /// were computed), reported by the next [`Self::solve`].
+    pub stiffness_failure: Option<SolverError>,
 }
 
 /// Counts and wall-clock times [s] of a run's evaluations.
@@ -95,8 +100,8 @@ pub struct EvaluationTimes {
     /// Stiffness matrices built (at most one per evaluation; none at the evaluations
     /// where Newton converged).
     pub stiffness_builds: usize,
-    /// Element updates in parallel: deformation, material (with tangents), nodal forces,
-    /// element stiffness.
+    /// Element updates in parallel: deformation, material, nodal forces, and for the
+    /// stiffness the material tangents and element matrices.
     pub element_seconds: f64,
     /// Of `element_seconds`, the element stiffness matrices (the rest: deformation,
     /// material, forces).
@@ -268,6 +273,8 @@ impl<'a> Model<'a> {
             stiffness_positions: Vec::new(),
             stiffness_delta: None,
             column_starts: Vec::new(),
+            stiffness_work: Vec::new(),
+            stiffness_failure: None,
         };
         model
             .build_system()
@@ -338,9 +345,7 @@ impl<'a> Model<'a> {
             let (kernel, material) = (&run.kernel, run.material);
             run.chunks
                 .par_iter_mut()
-                .try_for_each(|chunk| {
-                    chunk.update(kernel, block, material, positions, time, dt, with_stiffness)
-                })
+                .try_for_each(|chunk| chunk.update(kernel, block, material, positions, time, dt))
                 .map_err(|(element, source)| SolverError::Material {
                     time,
                     block: block.name.clone(),
@@ -372,7 +377,7 @@ impl<'a> Model<'a> {
         let start = Instant::now();
         if !self.interactions.is_empty() {
             if with_stiffness {
-                self.scatter_element_stiffness();
+                self.scatter_element_stiffness()?;
             }
             if !self.add_interactions(positions, time, with_stiffness, delta)? {
                 // New node pairs were coupled: evaluate again on the grown pattern.
@@ -441,6 +446,9 @@ impl<'a> Model<'a> {
         forcing: f64,
     ) -> Result<super::sparse::Factorization, SolverError> {
         self.ensure_stiffness();
+        if let Some(failure) = self.stiffness_failure.take() {
+            return Err(failure);
+        }
         self.system.set_forcing(forcing);
         let size = self.residual.len();
         let iterative = match settings.linear_solver {

@@ -1,6 +1,8 @@
 //! The implicit solver's stiffness: built only when a solve (or the round-off test) needs
 //! it ([`Model::ensure_stiffness`]; `docs/implicit-speed.md`), from the element matrices
-//! computed in parallel chunks and added into the sparse matrix in parallel by columns.
+//! computed in parallel chunks and added into the sparse matrix in parallel by columns,
+//! a wave of chunks at a time (so that the tangents and element matrices of only a few
+//! chunks exist at once).
 //!
 //! **Same bits on any number of threads.** Each thread owns a contiguous range of the
 //! matrix's columns (whose values are contiguous, the matrix being stored by columns) and
@@ -15,38 +17,44 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::implicit_model::{Model, PartRun};
+use super::SolverError;
+use super::implicit_chunk::{ImplicitChunk, StiffnessWork};
+use super::implicit_model::Model;
 use super::sparse::PRESCRIBED;
+
+/// Chunks whose element matrices are computed (in parallel) before they are added into
+/// the matrix (in parallel by columns), per thread: enough work between the two to keep
+/// the threads busy, few enough that the matrices of 64-element chunks take a few
+/// megabytes instead of all the mesh's (124 MB for 30³ F-bar hex8).
+const CHUNKS_PER_THREAD_IN_A_WAVE: usize = 8;
 
 impl Model<'_> {
     /// Builds the stiffness due since the last evaluation with stiffness, if it is not
-    /// built yet (see [`Self::evaluate`]).
+    /// built yet (see [`Self::evaluate`]). A material error while its tangents are
+    /// computed leaves it unbuilt, and the next [`Self::solve`] reports it.
     pub fn ensure_stiffness(&mut self) {
         if self.stiffness_due {
-            self.scatter_element_stiffness();
-            self.finish_stiffness();
+            match self.scatter_element_stiffness() {
+                Ok(()) => self.finish_stiffness(),
+                Err(failure) => {
+                    self.stiffness_due = false;
+                    self.stiffness_scale = 0.0;
+                    self.stiffness_failure = Some(failure);
+                }
+            }
         }
     }
 
     /// The elements' stiffness at the positions of the last evaluation with stiffness,
-    /// computed in parallel chunks and added into the cleared matrix in parallel column
-    /// ranges (and K_fp Δū into the cleared lift, serially).
-    pub(super) fn scatter_element_stiffness(&mut self) {
+    /// added into the cleared matrix (and K_fp Δū into the cleared lift). Chunks go in
+    /// waves in element order: their tangents and element matrices are computed in
+    /// parallel into [`Self::stiffness_work`], then added in parallel column ranges,
+    /// each range walking the wave's elements in element order (the lift serially), so
+    /// every entry sums its elements in element order, as one serial loop would.
+    pub(super) fn scatter_element_stiffness(&mut self) -> Result<(), SolverError> {
         let mesh = self.mesh;
-        let update_start = Instant::now();
-        let positions = &self.stiffness_positions;
-        for run in &mut self.runs {
-            let block = &mesh.blocks[run.block];
-            let kernel = &run.kernel;
-            run.chunks
-                .par_iter_mut()
-                .for_each(|chunk| chunk.compute_stiffness(kernel, block, positions));
-        }
-        let element_seconds = update_start.elapsed().as_secs_f64();
-        self.symmetric = self
-            .runs
-            .iter()
-            .all(|run| run.chunks.iter().all(|chunk| chunk.symmetric));
+        let start = Instant::now();
+        let mut element_seconds = 0.0;
         // Column ranges of about equal size, a few per thread for balance.
         let unknowns = self.residual.len();
         let ranges = (4 * rayon::current_num_threads()).clamp(1, unknowns.max(1));
@@ -61,24 +69,65 @@ impl Model<'_> {
             rest = tail;
             offset = end;
         }
-        let (runs, equation) = (&self.runs, &self.equation);
         slices
-            .into_par_iter()
-            .for_each(|(columns, offset, values)| {
-                values.fill(0.0);
-                for run in runs {
-                    add_columns(run, mesh, equation, &columns, offset, values);
-                }
-            });
+            .par_iter_mut()
+            .for_each(|(_, _, values)| values.fill(0.0));
         self.lift.fill(0.0);
-        if let Some(delta) = self.stiffness_delta.as_deref() {
-            for run in &self.runs {
-                add_lift(run, mesh, &self.equation, delta, &mut self.lift);
+        let wave = CHUNKS_PER_THREAD_IN_A_WAVE * rayon::current_num_threads().max(1);
+        if self.stiffness_work.len() < wave {
+            self.stiffness_work
+                .resize_with(wave, StiffnessWork::default);
+        }
+        let positions = &self.stiffness_positions;
+        let equation = &self.equation;
+        let delta = self.stiffness_delta.as_deref();
+        let mut symmetric = true;
+        for run in &mut self.runs {
+            let block = &mesh.blocks[run.block];
+            let (kernel, material) = (&run.kernel, run.material);
+            let matrix = ElementMatrices {
+                block,
+                scatter: &run.scatter,
+                nodes_per_element: kernel.nodes_per_element(),
+                dofs: kernel.element_dofs(),
+            };
+            let chunk_count = run.chunks.len();
+            for first in (0..chunk_count).step_by(wave) {
+                let chunks = &mut run.chunks[first..(first + wave).min(chunk_count)];
+                let work = &mut self.stiffness_work[..chunks.len()];
+                let update_start = Instant::now();
+                chunks
+                    .par_iter_mut()
+                    .zip(work.par_iter_mut())
+                    .try_for_each(|(chunk, work)| {
+                        chunk.compute_stiffness(kernel, block, material, positions, work)
+                    })
+                    .map_err(|(element, cause)| SolverError::Material {
+                        time: chunks.first().map_or(0.0, |c| c.last_time()),
+                        block: block.name.clone(),
+                        element,
+                        cause,
+                    })?;
+                element_seconds += update_start.elapsed().as_secs_f64();
+                symmetric &= chunks.iter().all(|chunk| chunk.symmetric);
+                let (chunks, work) = (&*chunks, &*work);
+                slices.par_iter_mut().for_each(|(columns, offset, values)| {
+                    for (chunk, work) in chunks.iter().zip(work) {
+                        matrix.add_columns(chunk, work, equation, columns, *offset, values);
+                    }
+                });
+                if let Some(delta) = delta {
+                    for (chunk, work) in chunks.iter().zip(work) {
+                        matrix.add_lift(chunk, work, equation, delta, &mut self.lift);
+                    }
+                }
             }
         }
+        self.symmetric = symmetric;
         self.times.element_seconds += element_seconds;
         self.times.stiffness_seconds += element_seconds;
-        self.times.assembly_seconds += update_start.elapsed().as_secs_f64() - element_seconds;
+        self.times.assembly_seconds += start.elapsed().as_secs_f64() - element_seconds;
+        Ok(())
     }
 
     /// Completes the stiffness after the elements' (and the interactions') blocks: the
@@ -105,80 +154,92 @@ impl Model<'_> {
     }
 }
 
-/// The element matrices of `run` in element order: (block element, its nodes, its matrix
-/// of `element_dofs()`² values, row-major).
-fn element_matrices<'r>(
-    run: &'r PartRun,
-    mesh: &'r crate::mesh::Mesh,
-) -> impl Iterator<Item = (usize, &'r [u32], &'r [f64])> {
-    let block = &mesh.blocks[run.block];
-    let size = run.kernel.element_dofs().pow(2);
-    run.chunks.iter().flat_map(move |chunk| {
+/// How one part's element matrices go into the sparse matrix: its block's
+/// connectivity and scatter map.
+struct ElementMatrices<'r> {
+    block: &'r crate::mesh::ElementBlock,
+    scatter: &'r [u32],
+    nodes_per_element: usize,
+    dofs: usize,
+}
+
+impl ElementMatrices<'_> {
+    /// The chunk's elements in element order with their nodes and matrices (of
+    /// `dofs`² values, row-major) from `work`.
+    fn elements<'w>(
+        &'w self,
+        chunk: &ImplicitChunk,
+        work: &'w StiffnessWork,
+    ) -> impl Iterator<Item = (usize, &'w [u32], &'w [f64])> {
+        let size = self.dofs * self.dofs;
         chunk.elements().enumerate().map(move |(local, element)| {
             (
                 element,
-                block.element_nodes(element),
-                &chunk.stiffness[local * size..(local + 1) * size],
+                self.block.element_nodes(element),
+                &work.matrices[local * size..(local + 1) * size],
             )
         })
-    })
-}
+    }
 
-/// Adds the element matrices of `run` to the entries of the free `columns` (equations),
-/// whose values start at position `offset` of the matrix's values, in element order.
-fn add_columns(
-    run: &PartRun,
-    mesh: &crate::mesh::Mesh,
-    equation: &[u32],
-    columns: &Range<usize>,
-    offset: usize,
-    values: &mut [f64],
-) {
-    let npe = run.kernel.nodes_per_element();
-    let dofs = run.kernel.element_dofs();
-    for (element, ids, k) in element_matrices(run, mesh) {
-        let map = &run.scatter[element * dofs * npe..(element + 1) * dofs * npe];
-        for (c, starts) in map.chunks_exact(npe).enumerate() {
-            let column = equation[3 * ids[c / 3] as usize + c % 3];
-            if column == PRESCRIBED || !columns.contains(&(column as usize)) {
-                continue;
-            }
-            for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
-                let rows = &equation[3 * id as usize..3 * id as usize + 3];
-                let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
+    /// Adds the chunk's element matrices to the entries of the free `columns`
+    /// (equations), whose values start at position `offset` of the matrix's values, in
+    /// element order.
+    fn add_columns(
+        &self,
+        chunk: &ImplicitChunk,
+        work: &StiffnessWork,
+        equation: &[u32],
+        columns: &Range<usize>,
+        offset: usize,
+        values: &mut [f64],
+    ) {
+        let (npe, dofs) = (self.nodes_per_element, self.dofs);
+        for (element, ids, k) in self.elements(chunk, work) {
+            let map = &self.scatter[element * dofs * npe..(element + 1) * dofs * npe];
+            for (c, starts) in map.chunks_exact(npe).enumerate() {
+                let column = equation[3 * ids[c / 3] as usize + c % 3];
+                if column == PRESCRIBED || !columns.contains(&(column as usize)) {
                     continue;
-                };
-                for (i, &row) in rows.iter().enumerate() {
-                    if row != PRESCRIBED {
-                        values[(start + row - first) as usize - offset] +=
-                            k[(3 * a + i) * dofs + c];
+                }
+                for (a, (&id, &start)) in ids.iter().zip(starts).enumerate() {
+                    let rows = &equation[3 * id as usize..3 * id as usize + 3];
+                    let Some(&first) = rows.iter().find(|&&r| r != PRESCRIBED) else {
+                        continue;
+                    };
+                    for (i, &row) in rows.iter().enumerate() {
+                        if row != PRESCRIBED {
+                            values[(start + row - first) as usize - offset] +=
+                                k[(3 * a + i) * dofs + c];
+                        }
                     }
                 }
             }
         }
     }
-}
 
-/// Adds K_fp Δū of `run`'s elements to `lift` (rows of free equations), in element order.
-fn add_lift(
-    run: &PartRun,
-    mesh: &crate::mesh::Mesh,
-    equation: &[u32],
-    delta: &[f64],
-    lift: &mut [f64],
-) {
-    let dofs = run.kernel.element_dofs();
-    for (_, ids, k) in element_matrices(run, mesh) {
-        for c in 0..dofs {
-            let dof = 3 * ids[c / 3] as usize + c % 3;
-            if equation[dof] != PRESCRIBED {
-                continue;
-            }
-            for (a, &id) in ids.iter().enumerate() {
-                for i in 0..3 {
-                    let row = equation[3 * id as usize + i];
-                    if row != PRESCRIBED {
-                        lift[row as usize] += k[(3 * a + i) * dofs + c] * delta[dof];
+    /// Adds K_fp Δū of the chunk's elements to `lift` (rows of free equations), in
+    /// element order.
+    fn add_lift(
+        &self,
+        chunk: &ImplicitChunk,
+        work: &StiffnessWork,
+        equation: &[u32],
+        delta: &[f64],
+        lift: &mut [f64],
+    ) {
+        let dofs = self.dofs;
+        for (_, ids, k) in self.elements(chunk, work) {
+            for c in 0..dofs {
+                let dof = 3 * ids[c / 3] as usize + c % 3;
+                if equation[dof] != PRESCRIBED {
+                    continue;
+                }
+                for (a, &id) in ids.iter().enumerate() {
+                    for i in 0..3 {
+                        let row = equation[3 * id as usize + i];
+                        if row != PRESCRIBED {
+                            lift[row as usize] += k[(3 * a + i) * dofs + c] * delta[dof];
+                        }
                     }
                 }
             }
