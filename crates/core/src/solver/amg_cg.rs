@@ -221,11 +221,15 @@ impl AmgCg {
 
     /// Solve K x = `rhs` in place, K given by its symmetric pattern (`col_ptr`,
     /// `row_idx`: both triangles, rows sorted) and `values`. `rhs` is unchanged on failure.
+    ///
+    /// The multigrid works on `values` itself, lent to its finest level for the solve and
+    /// handed back before it returns (on failure too): the finest matrix's values are not
+    /// copied (51 MB for the 30³ cube; `docs/implicit-speed.md`, "Memory").
     pub fn solve(
         &mut self,
         col_ptr: &[usize],
         row_idx: &[usize],
-        values: &[f64],
+        values: &mut Vec<f64>,
         rhs: &mut [f64],
         settings: &AmgCgSettings,
     ) -> Result<AmgCgOutcome, AmgCgFailure> {
@@ -238,19 +242,26 @@ impl AmgCg {
                     cols: rhs.len(),
                     ptr: col_ptr.to_vec(),
                     idx: row_idx.iter().map(|&i| i as u32).collect(),
-                    val: values.to_vec(),
+                    val: std::mem::take(values),
                 };
-                let multigrid =
-                    Multigrid::new(a, &self.block_ptr, &self.modes).map_err(AmgCgFailure::SetUp)?;
-                self.multigrid = Some(multigrid);
+                match Multigrid::new(a, &self.block_ptr, &self.modes) {
+                    // It holds `values` as if lent, until the solve hands them back.
+                    Ok(multigrid) => self.multigrid = Some(multigrid),
+                    Err((reason, lent)) => {
+                        *values = lent;
+                        return Err(AmgCgFailure::SetUp(reason));
+                    }
+                }
             }
             Some(multigrid) => {
+                multigrid.lend_finest(values);
                 let keep =
                     settings.reuse == HierarchyReuse::WhileFast && self.fresh_iterations.is_some();
                 if keep {
-                    multigrid.update_finest(values);
+                    multigrid.update_finest();
                     fresh = false;
-                } else if let Err(reason) = multigrid.refresh(values) {
+                } else if let Err(reason) = multigrid.refresh() {
+                    multigrid.return_finest(values);
                     self.multigrid = None;
                     return Err(AmgCgFailure::SetUp(reason));
                 }
@@ -259,6 +270,7 @@ impl AmgCg {
         let setup_seconds = start.elapsed().as_secs_f64();
         let multigrid = self.multigrid.as_mut().expect("built above");
         let outcome = conjugate_gradients(multigrid, rhs, settings);
+        multigrid.return_finest(values);
         match &outcome {
             Ok(iterations) if fresh => self.fresh_iterations = Some(*iterations),
             Ok(iterations) => {

@@ -50,7 +50,9 @@ impl Model<'_> {
     /// waves in element order: their tangents and element matrices are computed in
     /// parallel into [`Self::stiffness_work`], then added in parallel column ranges,
     /// each range walking the wave's elements in element order (the lift serially), so
-    /// every entry sums its elements in element order, as one serial loop would.
+    /// every entry sums its elements in element order, as one serial loop would. The
+    /// adding of one wave overlaps the computing of the next; the time of both counts
+    /// as the elements', the last wave's adding as assembly.
     pub(super) fn scatter_element_stiffness(&mut self) -> Result<(), SolverError> {
         let mesh = self.mesh;
         let start = Instant::now();
@@ -74,13 +76,15 @@ impl Model<'_> {
             .for_each(|(_, _, values)| values.fill(0.0));
         self.lift.fill(0.0);
         let wave = CHUNKS_PER_THREAD_IN_A_WAVE * rayon::current_num_threads().max(1);
-        if self.stiffness_work.len() < wave {
+        if self.stiffness_work.len() < 2 * wave {
             self.stiffness_work
-                .resize_with(wave, StiffnessWork::default);
+                .resize_with(2 * wave, StiffnessWork::default);
         }
+        let (even, odd) = self.stiffness_work.split_at_mut(wave);
         let positions = &self.stiffness_positions;
         let equation = &self.equation;
         let delta = self.stiffness_delta.as_deref();
+        let lift = &mut self.lift;
         let mut symmetric = true;
         for run in &mut self.runs {
             let block = &mesh.blocks[run.block];
@@ -92,35 +96,63 @@ impl Model<'_> {
                 dofs: kernel.element_dofs(),
             };
             let chunk_count = run.chunks.len();
-            for first in (0..chunk_count).step_by(wave) {
-                let chunks = &mut run.chunks[first..(first + wave).min(chunk_count)];
-                let work = &mut self.stiffness_work[..chunks.len()];
-                let update_start = Instant::now();
-                chunks
-                    .par_iter_mut()
-                    .zip(work.par_iter_mut())
-                    .try_for_each(|(chunk, work)| {
-                        chunk.compute_stiffness(kernel, block, material, positions, work)
-                    })
-                    .map_err(|(element, cause)| SolverError::Material {
-                        time: chunks.first().map_or(0.0, |c| c.last_time()),
-                        block: block.name.clone(),
-                        element,
-                        cause,
-                    })?;
-                element_seconds += update_start.elapsed().as_secs_f64();
+            let waves: Vec<Range<usize>> = (0..chunk_count)
+                .step_by(wave)
+                .map(|first| first..(first + wave).min(chunk_count))
+                .collect();
+            // Wave k is computed into one half of the work while wave k − 1, in the
+            // other, is added into the matrix: the adding touches the few column ranges
+            // of a wave's slab of elements, and the computing keeps the other threads
+            // busy meanwhile.
+            for (k, current) in waves.iter().enumerate() {
+                let (done, rest) = run.chunks.split_at_mut(current.start);
+                let chunks = &mut rest[..current.len()];
+                let (work, previous_work) = if k % 2 == 0 {
+                    (&mut *even, &*odd)
+                } else {
+                    (&mut *odd, &*even)
+                };
+                let previous = k.checked_sub(1).map(|p| &done[waves[p].clone()]);
+                let join_start = Instant::now();
+                let (computed, ()) = rayon::join(
+                    || {
+                        chunks.par_iter_mut().zip(work.par_iter_mut()).try_for_each(
+                            |(chunk, work)| {
+                                chunk.compute_stiffness(kernel, block, material, positions, work)
+                            },
+                        )
+                    },
+                    || {
+                        if let Some(previous) = previous {
+                            let work = &previous_work[..previous.len()];
+                            matrix.add_wave(previous, work, equation, delta, &mut slices, lift);
+                        }
+                    },
+                );
+                element_seconds += join_start.elapsed().as_secs_f64();
+                computed.map_err(|(element, cause)| SolverError::Material {
+                    time: chunks.first().map_or(0.0, |c| c.last_time()),
+                    block: block.name.clone(),
+                    element,
+                    cause,
+                })?;
                 symmetric &= chunks.iter().all(|chunk| chunk.symmetric);
-                let (chunks, work) = (&*chunks, &*work);
-                slices.par_iter_mut().for_each(|(columns, offset, values)| {
-                    for (chunk, work) in chunks.iter().zip(work) {
-                        matrix.add_columns(chunk, work, equation, columns, *offset, values);
-                    }
-                });
-                if let Some(delta) = delta {
-                    for (chunk, work) in chunks.iter().zip(work) {
-                        matrix.add_lift(chunk, work, equation, delta, &mut self.lift);
-                    }
-                }
+            }
+            if let Some(last) = waves.last() {
+                let work = if (waves.len() - 1) % 2 == 0 {
+                    &*even
+                } else {
+                    &*odd
+                };
+                let chunks = &run.chunks[last.clone()];
+                matrix.add_wave(
+                    chunks,
+                    &work[..chunks.len()],
+                    equation,
+                    delta,
+                    &mut slices,
+                    lift,
+                );
             }
         }
         self.symmetric = symmetric;
@@ -164,6 +196,30 @@ struct ElementMatrices<'r> {
 }
 
 impl ElementMatrices<'_> {
+    /// Adds the matrices of a wave of `chunks` (in `work`) into the matrix's column
+    /// ranges `slices` in parallel, each range in element order, and K_fp Δū into
+    /// `lift` serially.
+    fn add_wave(
+        &self,
+        chunks: &[ImplicitChunk],
+        work: &[StiffnessWork],
+        equation: &[u32],
+        delta: Option<&[f64]>,
+        slices: &mut [(Range<usize>, usize, &mut [f64])],
+        lift: &mut [f64],
+    ) {
+        slices.par_iter_mut().for_each(|(columns, offset, values)| {
+            for (chunk, work) in chunks.iter().zip(work) {
+                self.add_columns(chunk, work, equation, columns, *offset, values);
+            }
+        });
+        if let Some(delta) = delta {
+            for (chunk, work) in chunks.iter().zip(work) {
+                self.add_lift(chunk, work, equation, delta, lift);
+            }
+        }
+    }
+
     /// The chunk's elements in element order with their nodes and matrices (of
     /// `dofs`² values, row-major) from `work`.
     fn elements<'w>(

@@ -94,8 +94,12 @@ impl Multigrid {
     /// The hierarchy of `a` (symmetric positive definite) with nodal blocks `block_ptr`
     /// (block b holds unknowns `block_ptr[b]..block_ptr[b + 1]`) and near-null space
     /// `modes` (a row per unknown). Errors when the coarsest matrix is not positive
-    /// definite.
-    pub fn new(a: Csr, block_ptr: &[usize], modes: &[[f64; MODES]]) -> Result<Self, String> {
+    /// definite, handing `a`'s values back.
+    pub fn new(
+        a: Csr,
+        block_ptr: &[usize],
+        modes: &[[f64; MODES]],
+    ) -> Result<Self, (String, Vec<f64>)> {
         let mut tentatives = Vec::new();
         let mut levels = vec![Level::new(a)];
         let mut blocks = block_ptr.to_vec();
@@ -119,7 +123,10 @@ impl Multigrid {
             blocks = coarse_blocks;
             modes = coarse_modes;
         }
-        let coarsest = factorize(&levels[levels.len() - 1].a)?;
+        let coarsest = match factorize(&levels[levels.len() - 1].a) {
+            Ok(coarsest) => coarsest,
+            Err(reason) => return Err((reason, std::mem::take(&mut levels[0].a.val))),
+        };
         Ok(Multigrid {
             tentatives,
             levels,
@@ -127,28 +134,48 @@ impl Multigrid {
         })
     }
 
-    /// The same aggregates and tentative prolongators for `a`, a matrix of the same
-    /// pattern: smoothed prolongators, coarse operators, smoothers and the coarsest
-    /// factor anew.
-    pub fn refresh(&mut self, values: &[f64]) -> Result<(), String> {
-        let mut a = std::mem::replace(&mut self.levels[0].a, empty());
-        a.val.copy_from_slice(values);
+    /// Lends the finest matrix the values `values` of a matrix of its pattern (taken
+    /// out, `values` left empty) until [`Self::return_finest`]. Between solves the
+    /// hierarchy keeps no values of the finest matrix, only its pattern.
+    pub fn lend_finest(&mut self, values: &mut Vec<f64>) {
+        debug_assert!(self.levels[0].a.val.is_empty(), "values lent twice");
+        std::mem::swap(&mut self.levels[0].a.val, values);
+    }
+
+    /// Hands the finest matrix's values back into `values` (empty before).
+    pub fn return_finest(&mut self, values: &mut Vec<f64>) {
+        std::mem::swap(&mut self.levels[0].a.val, values);
+    }
+
+    /// The same aggregates and tentative prolongators for the finest matrix's values
+    /// lent last ([`Self::lend_finest`]): smoothed prolongators, coarse operators,
+    /// smoothers and the coarsest factor anew. On an error the hierarchy keeps the lent
+    /// values, to be returned.
+    pub fn refresh(&mut self) -> Result<(), String> {
+        let a = std::mem::replace(&mut self.levels[0].a, empty());
         let mut levels = vec![Level::new(a)];
         for tentative in &self.tentatives {
             let fine = levels.last_mut().expect("a level");
             let coarse = galerkin(fine, tentative);
             levels.push(Level::new(coarse));
         }
-        self.coarsest = factorize(&levels[levels.len() - 1].a)?;
-        self.levels = levels;
-        Ok(())
+        match factorize(&levels[levels.len() - 1].a) {
+            Ok(coarsest) => {
+                self.coarsest = coarsest;
+                self.levels = levels;
+                Ok(())
+            }
+            Err(reason) => {
+                self.levels[0].a = std::mem::replace(&mut levels[0].a, empty());
+                Err(reason)
+            }
+        }
     }
 
-    /// Only the finest matrix's values (and its smoother) for a matrix of the same
-    /// pattern: the coarse levels stay those of an earlier matrix.
-    pub fn update_finest(&mut self, values: &[f64]) {
+    /// Only the finest matrix's smoother for the values lent last, of a matrix of the
+    /// same pattern: the coarse levels stay those of an earlier matrix.
+    pub fn update_finest(&mut self) {
         let fine = &mut self.levels[0];
-        fine.a.val.copy_from_slice(values);
         let transfer = fine.transfer.take();
         let a = std::mem::replace(&mut fine.a, empty());
         *fine = Level::new(a);

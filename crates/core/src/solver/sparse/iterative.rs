@@ -3,11 +3,19 @@
 
 use std::time::Instant;
 
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+
 use super::SparseSystem;
 use crate::solver::amg_cg::{AmgCg, AmgCgFailure, AmgCgSettings};
 
 /// Failure reasons kept in the statistics (the count goes on).
 const KEPT_REASONS: usize = 8;
+
+/// A 0 × 0 matrix, standing in for the system's while its values are lent.
+fn empty_matrix() -> SparseColMat<usize, f64> {
+    let symbolic = SymbolicSparseColMat::new_checked(0, 0, vec![0], None, Vec::new());
+    SparseColMat::new(symbolic, Vec::new())
+}
 
 impl SparseSystem {
     /// The next iterative solves (AMG-CG, or CG with an earlier Cholesky factor) may stop
@@ -36,14 +44,17 @@ impl SparseSystem {
         let amg = self
             .amg
             .get_or_insert_with(|| AmgCg::new(coordinates, dofs, nodes));
-        let symbolic = self.matrix.symbolic();
+        // The matrix's values are lent to the multigrid for the solve, not copied.
+        let (symbolic, mut values) =
+            std::mem::replace(&mut self.matrix, empty_matrix()).into_parts();
         let outcome = amg.solve(
             symbolic.col_ptr(),
             symbolic.row_idx(),
-            self.matrix.val(),
+            &mut values,
             rhs,
             &settings,
         );
+        self.matrix = SparseColMat::new(symbolic, values);
         let elapsed = start.elapsed().as_secs_f64();
         if let Some((levels, complexity)) = amg.describe() {
             self.statistics.amg.levels = levels;
