@@ -124,23 +124,22 @@ impl ElementChunk {
                 &mut self.f_new[local * ppe..(local + 1) * ppe],
             );
         }
-        let points = PointBlock {
-            time,
-            dt,
-            deformation_gradient_old: &self.f_old,
-            deformation_gradient_new: &self.f_new,
-            fiber_direction: &self.fiber,
-            state_old: &self.state_old,
-        };
         self.last_step = (time, dt);
-        let mut response = PointResponse {
-            cauchy_stress: &mut self.stress,
-            state_new: &mut self.state_new,
-            tangent: None,
-        };
-        material
-            .update(&points, &mut response)
-            .map_err(|error| self.element_of(ppe, error))?;
+        // The stresses and states are moved out while the points' inputs are borrowed.
+        let (mut stress, mut state_new) = (
+            std::mem::take(&mut self.stress),
+            std::mem::take(&mut self.state_new),
+        );
+        let updated = material.update(
+            &self.points_of_last_update(),
+            &mut PointResponse {
+                cauchy_stress: &mut stress,
+                state_new: &mut state_new,
+                tangent: None,
+            },
+        );
+        (self.stress, self.state_new) = (stress, state_new);
+        updated.map_err(|error| self.element_of(ppe, error))?;
         self.forces.fill(Vector3::zeros());
         let keep_volumes = !self.volume.is_empty();
         for (local, element) in self.elements.clone().enumerate() {
@@ -165,6 +164,20 @@ impl ElementChunk {
     /// End time [s] of the step of the last update.
     pub fn last_time(&self) -> f64 {
         self.last_step.0
+    }
+
+    /// The material points' inputs of the last update: its deformation gradients, the
+    /// state at the start of its step, and its step's end time and length.
+    fn points_of_last_update(&self) -> PointBlock<'_> {
+        let (time, dt) = self.last_step;
+        PointBlock {
+            time,
+            dt,
+            deformation_gradient_old: &self.f_old,
+            deformation_gradient_new: &self.f_new,
+            fiber_direction: &self.fiber,
+            state_old: &self.state_old,
+        }
     }
 
     /// The block element of a material error of this chunk's points, with the error.
@@ -195,15 +208,6 @@ impl ElementChunk {
         scratch: &mut PointScratch,
         tangents: &mut [Tangent],
     ) -> Result<(), (usize, MaterialError)> {
-        let (time, dt) = self.last_step;
-        let points = PointBlock {
-            time,
-            dt,
-            deformation_gradient_old: &self.f_old,
-            deformation_gradient_new: &self.f_new,
-            fiber_direction: &self.fiber,
-            state_old: &self.state_old,
-        };
         scratch
             .stress
             .resize(self.stress.len(), VoigtStress::zeros());
@@ -214,7 +218,7 @@ impl ElementChunk {
             tangent: Some(tangents),
         };
         material
-            .update(&points, &mut response)
+            .update(&self.points_of_last_update(), &mut response)
             .map_err(|error| self.element_of(points_per_element, error))
     }
 
