@@ -107,7 +107,7 @@ impl Model<'_> {
             for (k, current) in waves.iter().enumerate() {
                 let (done, rest) = run.chunks.split_at_mut(current.start);
                 let chunks = &mut rest[..current.len()];
-                let (work, previous_work) = if k % 2 == 0 {
+                let (work, previous_work) = if k.is_multiple_of(2) {
                     (&mut *even, &*odd)
                 } else {
                     (&mut *odd, &*even)
@@ -139,7 +139,7 @@ impl Model<'_> {
                 symmetric &= chunks.iter().all(|chunk| chunk.symmetric);
             }
             if let Some(last) = waves.last() {
-                let work = if (waves.len() - 1) % 2 == 0 {
+                let work = if (waves.len() - 1).is_multiple_of(2) {
                     &*even
                 } else {
                     &*odd
