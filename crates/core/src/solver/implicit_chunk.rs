@@ -36,7 +36,7 @@ pub(crate) struct StiffnessWork {
 #[derive(Debug)]
 pub(crate) struct ImplicitChunk {
     chunk: ElementChunk,
-    /// Whether every tangent of the last update with stiffness had major symmetry.
+    /// Whether every tangent of the last stiffness computed had major symmetry.
     pub symmetric: bool,
     /// The mixed pressure's linearization points (F-bar hex8 and tet10 with
     /// [`super::implicit::ImplicitSettings::mixed_pressure_tangent`]).

@@ -336,6 +336,8 @@ impl<'a> Model<'a> {
         self.force.fill(Vector3::zeros());
         self.lift.fill(0.0);
         self.stiffness_due = false;
+        // A failure belongs to the stiffness of the evaluation before; none is due now.
+        self.stiffness_failure = None;
         let mesh = self.mesh;
         let start = Instant::now();
         let mut element_seconds = 0.0;
