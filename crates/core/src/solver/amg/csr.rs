@@ -3,6 +3,8 @@
 //! computes each row serially in storage order, so the results are the same, bit for bit,
 //! on any number of threads.
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 /// Rows per parallel chunk.
@@ -103,16 +105,26 @@ impl Csr {
     }
 
     /// C = A B (Gustavson: each row of C accumulated in a dense row of B's width, in the
-    /// order of A's and B's stored entries).
+    /// order of A's and B's stored entries). The multigrid takes its products a block of
+    /// rows at a time (`galerkin.rs`); the tests compare with the whole product.
+    #[cfg(test)]
     pub fn product(&self, b: &Csr) -> Csr {
+        self.product_of_rows(b, 0..self.rows)
+    }
+
+    /// The rows `rows` of A B, as a matrix of `rows.len()` rows: each row computed as
+    /// [`Self::product`] computes it, so the values are the same bit for bit.
+    pub fn product_of_rows(&self, b: &Csr, rows: Range<usize>) -> Csr {
         assert_eq!(self.cols, b.rows, "inner dimensions of a product");
+        let first = rows.start;
+        let count = rows.len();
         let width = b.cols;
-        let chunks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..self.rows.div_ceil(ROWS))
+        let chunks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..count.div_ceil(ROWS))
             .into_par_iter()
             .map_init(
                 || (vec![0.0f64; width], vec![false; width]),
                 |(accumulator, touched), chunk| {
-                    let rows = chunk * ROWS..((chunk + 1) * ROWS).min(self.rows);
+                    let rows = first + chunk * ROWS..first + ((chunk + 1) * ROWS).min(count);
                     let mut lengths = Vec::with_capacity(rows.len());
                     let mut idx = Vec::new();
                     let mut val = Vec::new();
@@ -143,7 +155,7 @@ impl Csr {
             )
             .collect();
         let entries: usize = chunks.iter().map(|c| c.1.len()).sum();
-        let mut ptr = Vec::with_capacity(self.rows + 1);
+        let mut ptr = Vec::with_capacity(count + 1);
         ptr.push(0);
         let mut idx = Vec::with_capacity(entries);
         let mut val = Vec::with_capacity(entries);
@@ -155,7 +167,7 @@ impl Csr {
             val.extend_from_slice(&chunk_val);
         }
         Csr {
-            rows: self.rows,
+            rows: count,
             cols: width,
             ptr,
             idx,

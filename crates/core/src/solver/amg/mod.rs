@@ -8,7 +8,8 @@
 //!   (`tentative.rs`);
 //! - the smoothed prolongator P = (I − ω D⁻¹A) P̂, ω = 4 / (3 λ_max(D⁻¹A)), which lowers
 //!   the energy of the coarse basis functions;
-//! - the Galerkin coarse operator A_c = Pᵀ A P (sparse products, `csr.rs`).
+//! - the Galerkin coarse operator A_c = Pᵀ A P (sparse products, `csr.rs`, taken a block
+//!   of fine rows at a time, `galerkin.rs`).
 //!
 //! The coarsest matrix is factorized by dense Cholesky. One application of the
 //! preconditioner is a V-cycle from zero with [`DEGREE`]-step Chebyshev smoothing
@@ -26,12 +27,14 @@
 mod aggregation;
 mod chebyshev;
 pub(crate) mod csr;
+mod galerkin;
 pub(crate) mod tentative;
 
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
 use chebyshev::{Smoother, largest_eigenvalue};
 use csr::Csr;
+use galerkin::{galerkin_product, smoothed_prolongator};
 use tentative::{MODES, tentative_prolongator};
 
 /// Unknowns of the coarsest level, solved directly.
@@ -207,55 +210,14 @@ impl Multigrid {
 }
 
 /// Sets `fine`'s smoothed prolongator from `tentative` (and its transpose) and returns
-/// the Galerkin coarse operator Pᵀ A P.
+/// the Galerkin coarse operator Pᵀ A P (`galerkin.rs`).
 fn galerkin(fine: &mut Level, tentative: &Csr) -> Csr {
-    let a_tentative = fine.a.product(tentative);
     let omega = 4.0 / (3.0 * fine.lambda_max);
-    let p = smoothed(tentative, &a_tentative, &fine.inverse_diagonal, omega);
+    let p = smoothed_prolongator(&fine.a, tentative, &fine.inverse_diagonal, omega);
     let r = p.transpose();
-    let coarse = r.product(&fine.a.product(&p));
+    let coarse = galerkin_product(&r, &fine.a, &p);
     fine.transfer = Some((p, r));
     coarse
-}
-
-/// P = P̂ − ω D⁻¹ (A P̂), merging the sorted rows of P̂ and A P̂.
-fn smoothed(tentative: &Csr, a_tentative: &Csr, inverse_diagonal: &[f64], omega: f64) -> Csr {
-    let mut ptr = Vec::with_capacity(tentative.rows + 1);
-    ptr.push(0);
-    let mut idx = Vec::with_capacity(a_tentative.entries());
-    let mut val = Vec::with_capacity(a_tentative.entries());
-    for i in 0..tentative.rows {
-        let (t_cols, t_vals) = tentative.row(i);
-        let (a_cols, a_vals) = a_tentative.row(i);
-        let scale = omega * inverse_diagonal[i];
-        let mut k = 0;
-        for (&j, &v) in a_cols.iter().zip(a_vals) {
-            let mut value = -scale * v;
-            while k < t_cols.len() && t_cols[k] < j {
-                idx.push(t_cols[k]);
-                val.push(t_vals[k]);
-                k += 1;
-            }
-            if k < t_cols.len() && t_cols[k] == j {
-                value += t_vals[k];
-                k += 1;
-            }
-            idx.push(j);
-            val.push(value);
-        }
-        for k in k..t_cols.len() {
-            idx.push(t_cols[k]);
-            val.push(t_vals[k]);
-        }
-        ptr.push(idx.len());
-    }
-    Csr {
-        rows: tentative.rows,
-        cols: tentative.cols,
-        ptr,
-        idx,
-        val,
-    }
 }
 
 fn empty() -> Csr {
