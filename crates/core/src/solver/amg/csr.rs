@@ -1,7 +1,8 @@
 //! Compressed sparse rows for the multigrid hierarchy: products y = A x and C = A B, and
 //! the transpose. Every parallel kernel splits the rows into fixed chunks of [`ROWS`] and
-//! computes each row serially in storage order, so the results are the same, bit for bit,
-//! on any number of threads.
+//! computes each row serially in a fixed order (a row of y = A x in four interleaved
+//! partial sums, [`row_dot`]), so the results are the same, bit for bit, on any number of
+//! threads.
 
 use std::ops::Range;
 

@@ -10,7 +10,7 @@
 //!   what the earlier blocks gave.
 //!
 //! Every entry of A_c is therefore the sum Σ_k R_ck (A P)_kj in increasing k that the
-//! row-by-row product R (A P) forms (`csr.rs`, [`Csr::product`]), operation for
+//! row-by-row product R (A P) forms (`csr.rs`, [`Csr::product_of_rows`]), operation for
 //! operation: the coarse operator is the same bit for bit as the one of the whole
 //! products, on any number of threads and for any block size.
 
