@@ -114,8 +114,8 @@ impl Csr {
         let chunks: Vec<(Vec<usize>, Vec<u32>, Vec<f64>)> = (0..count.div_ceil(ROWS))
             .into_par_iter()
             .map_init(
-                || (vec![0.0f64; width], vec![false; width]),
-                |(accumulator, touched), chunk| {
+                || SparseAccumulator::new(width),
+                |accumulator, chunk| {
                     let rows = first + chunk * ROWS..first + ((chunk + 1) * ROWS).min(count);
                     let mut lengths = Vec::with_capacity(rows.len());
                     let mut idx = Vec::new();
@@ -126,20 +126,10 @@ impl Csr {
                         for (&k, &a) in a_cols.iter().zip(a_vals) {
                             let (b_cols, b_vals) = b.row(k as usize);
                             for (&j, &bv) in b_cols.iter().zip(b_vals) {
-                                let j = j as usize;
-                                if !touched[j] {
-                                    touched[j] = true;
-                                    accumulator[j] = 0.0;
-                                    idx.push(j as u32);
-                                }
-                                accumulator[j] += a * bv;
+                                accumulator.add(j, a * bv);
                             }
                         }
-                        idx[start..].sort_unstable();
-                        for &j in &idx[start..] {
-                            val.push(accumulator[j as usize]);
-                            touched[j as usize] = false;
-                        }
+                        accumulator.drain_sorted_into(&mut idx, &mut val);
                         lengths.push(idx.len() - start);
                     }
                     (lengths, idx, val)
@@ -165,6 +155,58 @@ impl Csr {
             idx,
             val,
         }
+    }
+}
+
+/// One sparse row being summed (Gustavson's accumulator): a dense row of values of the
+/// matrix's width, with the columns touched so far, in the order first touched.
+pub(crate) struct SparseAccumulator {
+    values: Vec<f64>,
+    touched: Vec<bool>,
+    columns: Vec<u32>,
+}
+
+impl SparseAccumulator {
+    /// An empty row of `width` columns.
+    pub fn new(width: usize) -> Self {
+        SparseAccumulator {
+            values: vec![0.0; width],
+            touched: vec![false; width],
+            columns: Vec::new(),
+        }
+    }
+
+    /// Entry j ← `value` (j not touched yet).
+    #[inline]
+    pub fn set(&mut self, j: u32, value: f64) {
+        debug_assert!(!self.touched[j as usize]);
+        self.touched[j as usize] = true;
+        self.values[j as usize] = value;
+        self.columns.push(j);
+    }
+
+    /// Entry j ← entry j + `term` (from 0 when j is not touched yet).
+    #[inline]
+    pub fn add(&mut self, j: u32, term: f64) {
+        let k = j as usize;
+        if !self.touched[k] {
+            self.touched[k] = true;
+            self.values[k] = 0.0;
+            self.columns.push(j);
+        }
+        self.values[k] += term;
+    }
+
+    /// Appends the touched columns, sorted, and their values to `idx` and `val`, and
+    /// leaves the accumulator empty.
+    pub fn drain_sorted_into(&mut self, idx: &mut Vec<u32>, val: &mut Vec<f64>) {
+        self.columns.sort_unstable();
+        for &j in &self.columns {
+            idx.push(j);
+            val.push(self.values[j as usize]);
+            self.touched[j as usize] = false;
+        }
+        self.columns.clear();
     }
 }
 

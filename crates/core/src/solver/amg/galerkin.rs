@@ -16,7 +16,7 @@
 
 use rayon::prelude::*;
 
-use super::csr::{Csr, ROWS};
+use super::csr::{Csr, ROWS, SparseAccumulator};
 
 /// Fine rows of A P̂ or A P held at once.
 pub(crate) const FINE_ROWS: usize = 16 * ROWS;
@@ -86,8 +86,8 @@ pub(super) fn galerkin_product(r: &Csr, a: &Csr, p: &Csr) -> Csr {
         let block = first..(first + FINE_ROWS).min(a.rows);
         let a_p = a.product_of_rows(p, block.clone());
         rows.par_chunks_mut(ROWS).enumerate().for_each_init(
-            || (vec![0.0f64; width], vec![false; width], Vec::<u32>::new()),
-            |(accumulator, touched, columns), (chunk, rows)| {
+            || SparseAccumulator::new(width),
+            |accumulator, (chunk, rows)| {
                 for (offset, row) in rows.iter_mut().enumerate() {
                     let (r_cols, r_vals) = r.row(chunk * ROWS + offset);
                     let from = r_cols.partition_point(|&k| (k as usize) < block.start);
@@ -95,32 +95,18 @@ pub(super) fn galerkin_product(r: &Csr, a: &Csr, p: &Csr) -> Csr {
                     if from == to {
                         continue;
                     }
-                    columns.clear();
                     for (&j, &v) in row.idx.iter().zip(&row.val) {
-                        touched[j as usize] = true;
-                        accumulator[j as usize] = v;
-                        columns.push(j);
+                        accumulator.set(j, v);
                     }
                     for (&k, &rv) in r_cols[from..to].iter().zip(&r_vals[from..to]) {
                         let (ap_cols, ap_vals) = a_p.row(k as usize - first);
                         for (&j, &x) in ap_cols.iter().zip(ap_vals) {
-                            let j = j as usize;
-                            if !touched[j] {
-                                touched[j] = true;
-                                accumulator[j] = 0.0;
-                                columns.push(j as u32);
-                            }
-                            accumulator[j] += rv * x;
+                            accumulator.add(j, rv * x);
                         }
                     }
-                    columns.sort_unstable();
                     row.idx.clear();
-                    row.idx.extend_from_slice(columns);
                     row.val.clear();
-                    row.val.extend(columns.iter().map(|&j| {
-                        touched[j as usize] = false;
-                        accumulator[j as usize]
-                    }));
+                    accumulator.drain_sorted_into(&mut row.idx, &mut row.val);
                 }
             },
         );
