@@ -1,11 +1,11 @@
 //! Explicit element updates per second and peak memory of one technology, in one process:
 //! `cargo run --release -p musclefem-core --example explicit_rate -- TECH DIVISIONS STEPS
-//! THREADS` with TECH one of hex8_one_point, hex8_fbar, hex8_full, tet4, tet10 (neo-Hookean,
+//! THREADS [stable]` with TECH one of hex8_one_point, hex8_fbar, hex8_full, tet4, tet10 (neo-Hookean,
 //! Hill for F-bar, as in the `explicit_element_updates` bench).
 //!
 //! Prints the element updates per second of wall time and of CPU time (the process's user
 //! and system time, which a busy shared machine distorts less than wall time), and the peak
-//! resident memory (VmHWM). The memory per element is the difference of the peaks of two
+//! resident memory (VmHWM), and a checksum of the end displacements' bits. The memory per element is the difference of the peaks of two
 //! runs with different DIVISIONS over the difference of their element counts: that
 //! removes the program and libraries and counts everything that grows with the mesh (mesh,
 //! kernel data, nodal arrays, history).
@@ -94,9 +94,12 @@ fn main() {
             amplitude: Amplitude::ramp(1.0, 0.1).unwrap(),
         },
     ];
+    // A fixed step of 0.1 µs, or with a fifth argument `stable` the solver's stable step
+    // (then STEPS × 0.1 µs is the duration, and the acoustic moduli's refreshes set it).
+    let stable = args.get(5).is_some_and(|a| a == "stable");
     let step = 1e-7;
     let mut settings = ExplicitSettings::new(steps as f64 * step);
-    settings.fixed_time_step = Some(step);
+    settings.fixed_time_step = (!stable).then_some(step);
     settings.history_interval = 1.0;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -108,9 +111,16 @@ fn main() {
         .expect("run");
     let (cpu, wall) = (cpu_seconds() - cpu, wall.elapsed().as_secs_f64());
     let updates = (result.steps * mesh.element_count()) as f64;
+    // The bits of the end state, to compare two builds or thread counts.
+    let checksum = result
+        .displacement
+        .iter()
+        .flat_map(|u| u.iter())
+        .fold(0u64, |hash, x| hash.rotate_left(5) ^ x.to_bits());
     println!(
         "{tech} {divisions}^3 ({} elements, {} nodes) {} steps on {threads} thread(s): \
-         {:.2} M updates/s wall, {:.2} M updates/s per CPU second, peak RSS {} bytes",
+         {:.2} M updates/s wall, {:.2} M updates/s per CPU second, peak RSS {} bytes, \
+         displacement checksum {checksum:016x}",
         mesh.element_count(),
         mesh.node_count(),
         result.steps,

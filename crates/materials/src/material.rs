@@ -97,6 +97,12 @@ pub trait Material: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// This material as the built-in neo-Hookean solid, for the explicit solver's fused
+    /// one-point kernel (`NeoHookean::accepted_block_stresses`); `None` for every other.
+    fn as_neo_hookean(&self) -> Option<&crate::neo_hookean::NeoHookean> {
+        None
+    }
+
     /// The same material driven by a recorded activation history instead of its own
     /// activation parameters (a typed input, see [`crate::ActivationHistory`]); `None`
     /// when the material has no activation to drive.

@@ -10,8 +10,10 @@
 
 use std::sync::Arc;
 
+use nalgebra::Matrix3;
+
 use crate::material::VoigtStress;
-use crate::material::{PointBlock, PointResponse, StateVariable};
+use crate::material::{PointBlock, PointResponse, StateVariable, Tangent};
 use crate::parameters::{Bound, ParameterSet, ParameterSpec};
 use crate::registry::MaterialRegistration;
 use crate::tensor::{
@@ -61,6 +63,77 @@ impl NeoHookean {
         stress
     }
 
+    /// Cauchy stress at the split F, and with `tangent` the consistent tangent ∂P/∂F there.
+    #[inline]
+    fn point_response(&self, split: &IsochoricSplit, tangent: Option<&mut Tangent>) -> VoigtStress {
+        let stress = self.cauchy_stress(split);
+        if let Some(tangent) = tangent {
+            let tau = symmetric_from_voigt(&stress) * split.jacobian;
+            let f_bar_t = split.f_bar().transpose();
+            let d_jp_dj = volumetric_kirchhoff_slope(split.jacobian, self.compressibility);
+            // τ = dev(μ B̄) + J p I: dM = μ (dF̄ F̄ᵀ + F̄ dF̄ᵀ).
+            *tangent = decoupled_tangent(split, &tau, d_jp_dj, |d_f_bar| {
+                let d_b_bar = d_f_bar * f_bar_t;
+                (d_b_bar + d_b_bar.transpose()) * self.shear_modulus
+            });
+        }
+        stress
+    }
+
+    /// Cauchy stresses (and with `tangents` the tangents) of a block of points, as
+    /// `<dyn Material>::update` gives them, with only the checks of what this material
+    /// reads: each F_new finite with det F_new > 0, and each result finite (same errors
+    /// as `update`). The explicit solver's one-point hexahedra call it on every step:
+    /// their F at the start of the step was checked as the previous step's F_new, and the
+    /// fiber direction, time and step, which `update` also checks, play no part in this
+    /// material.
+    pub fn accepted_block_stresses(
+        &self,
+        deformation_gradients: &[Matrix3<f64>],
+        stresses: &mut [VoigtStress],
+        mut tangents: Option<&mut [Tangent]>,
+    ) -> Result<(), MaterialError> {
+        let non_finite = |point, what| MaterialError::NonFiniteResult {
+            material: self.name().to_string(),
+            point,
+            what,
+        };
+        for (point, (f, out)) in deformation_gradients
+            .iter()
+            .zip(stresses.iter_mut())
+            .enumerate()
+        {
+            if !f.sum().is_finite() {
+                return Err(MaterialError::InvalidPoint {
+                    point,
+                    reason: format!("F_new has a non-finite entry: {f:?}"),
+                });
+            }
+            let split = IsochoricSplit::new(f);
+            if split.jacobian <= 0.0 {
+                return Err(MaterialError::InvalidPoint {
+                    point,
+                    reason: format!(
+                        "det F_new = {:e} <= 0 (inverted or collapsed element)",
+                        split.jacobian
+                    ),
+                });
+            }
+            let tangent = tangents.as_deref_mut().map(|t| &mut t[point]);
+            *out = self.point_response(&split, tangent);
+        }
+        // The results checked after the whole block, as `update` does.
+        if let Some(point) = stresses.iter().position(|s| !s.sum().is_finite()) {
+            return Err(non_finite(point, "Cauchy stress"));
+        }
+        if let Some(tangents) = tangents
+            && let Some(point) = tangents.iter().position(|t| !t.sum().is_finite())
+        {
+            return Err(non_finite(point, "tangent"));
+        }
+        Ok(())
+    }
+
     fn from_parameters(p: &ParameterSet) -> Result<Arc<dyn Material>, MaterialError> {
         Ok(Arc::new(NeoHookean {
             shear_modulus: p.get("mu")?,
@@ -78,6 +151,10 @@ impl Material for NeoHookean {
         &[]
     }
 
+    fn as_neo_hookean(&self) -> Option<&NeoHookean> {
+        Some(self)
+    }
+
     fn compute(
         &self,
         block: &PointBlock,
@@ -85,19 +162,8 @@ impl Material for NeoHookean {
     ) -> Result<(), MaterialError> {
         let mut tangents = response.tangent.as_deref_mut();
         for (point, f) in block.deformation_gradient_new.iter().enumerate() {
-            let split = IsochoricSplit::new(f);
-            let stress = self.cauchy_stress(&split);
-            response.cauchy_stress[point] = stress;
-            if let Some(tangents) = tangents.as_deref_mut() {
-                let tau = symmetric_from_voigt(&stress) * split.jacobian;
-                let f_bar_t = split.f_bar().transpose();
-                let d_jp_dj = volumetric_kirchhoff_slope(split.jacobian, self.compressibility);
-                // τ = dev(μ B̄) + J p I: dM = μ (dF̄ F̄ᵀ + F̄ dF̄ᵀ).
-                tangents[point] = decoupled_tangent(&split, &tau, d_jp_dj, |d_f_bar| {
-                    let d_b_bar = d_f_bar * f_bar_t;
-                    (d_b_bar + d_b_bar.transpose()) * self.shear_modulus
-                });
-            }
+            let tangent = tangents.as_deref_mut().map(|t| &mut t[point]);
+            response.cauchy_stress[point] = self.point_response(&IsochoricSplit::new(f), tangent);
         }
         Ok(())
     }
@@ -109,5 +175,109 @@ inventory::submit! {
         description: "compressible neo-Hookean solid: W = mu/2 (I1bar - 3) + (J - 1)^2 / D",
         parameters: &NEO_HOOKEAN_PARAMETERS,
         build: NeoHookean::from_parameters,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+
+    fn material() -> NeoHookean {
+        NeoHookean {
+            shear_modulus: 11_370.0,
+            compressibility: 5.0e-9,
+        }
+    }
+
+    type Responses = (Vec<VoigtStress>, Vec<Tangent>);
+
+    /// Stresses, tangents and errors of `update` on the block of deformation gradients
+    /// `f_new` (F_old = I, fibers along x).
+    fn through_update(f_new: &[Matrix3<f64>]) -> Result<Responses, String> {
+        let f_old = vec![Matrix3::identity(); f_new.len()];
+        let fibers = vec![Vector3::x(); f_new.len()];
+        let block = PointBlock {
+            time: 0.1,
+            dt: 1e-4,
+            deformation_gradient_old: &f_old,
+            deformation_gradient_new: f_new,
+            fiber_direction: &fibers,
+            state_old: &[],
+        };
+        let mut stresses = vec![VoigtStress::zeros(); f_new.len()];
+        let mut tangents = vec![Tangent::zeros(); f_new.len()];
+        let mut response = PointResponse {
+            cauchy_stress: &mut stresses,
+            state_new: &mut [],
+            tangent: Some(&mut tangents),
+        };
+        let material: &dyn Material = &material();
+        material
+            .update(&block, &mut response)
+            .map_err(|e| e.to_string())?;
+        Ok((stresses, tangents))
+    }
+
+    fn fused(f_new: &[Matrix3<f64>]) -> Result<Responses, String> {
+        let mut stresses = vec![VoigtStress::zeros(); f_new.len()];
+        let mut tangents = vec![Tangent::zeros(); f_new.len()];
+        material()
+            .accepted_block_stresses(f_new, &mut stresses, Some(&mut tangents))
+            .map_err(|e| e.to_string())?;
+        let mut alone = vec![VoigtStress::zeros(); f_new.len()];
+        material()
+            .accepted_block_stresses(f_new, &mut alone, None)
+            .map_err(|e| e.to_string())?;
+        assert_eq!(
+            alone, stresses,
+            "the stresses do not depend on the tangents"
+        );
+        Ok((stresses, tangents))
+    }
+
+    #[test]
+    fn the_fused_block_gives_updates_stresses_and_errors() {
+        // Deformations from near-identity to large stretch and shear, J from 0.6 to 1.9.
+        let f: Vec<Matrix3<f64>> = (0..40)
+            .map(|k| {
+                let s = k as f64 / 40.0;
+                Matrix3::new(
+                    0.8 + s,
+                    0.3 * s,
+                    -0.1 * s,
+                    0.05,
+                    1.0 - 0.2 * s,
+                    0.2 * s * s,
+                    -0.02 * s,
+                    0.1,
+                    0.9 + 0.1 * s,
+                )
+            })
+            .collect();
+        let (ours, reference) = (fused(&f).unwrap(), through_update(&f).unwrap());
+        for (a, b) in ours.0.iter().zip(&reference.0) {
+            assert_eq!(a.as_slice(), b.as_slice());
+        }
+        for (a, b) in ours.1.iter().zip(&reference.1) {
+            assert_eq!(a.as_slice(), b.as_slice());
+        }
+        let mut inverted = f.clone();
+        inverted[7] = Matrix3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, -0.5);
+        let error = fused(&inverted).unwrap_err();
+        assert_eq!(error, through_update(&inverted).unwrap_err());
+        assert!(
+            error.contains("point 7") && error.contains("det F_new"),
+            "{error}"
+        );
+        let mut not_finite = f;
+        not_finite[3][(1, 2)] = f64::NAN;
+        let error = fused(&not_finite).unwrap_err();
+        assert_eq!(error, through_update(&not_finite).unwrap_err());
+        assert!(
+            error.contains("point 3") && error.contains("non-finite"),
+            "{error}"
+        );
     }
 }

@@ -187,7 +187,9 @@ pub fn decoupled_tangent(
             let d_f_bar = (e - split.f * (trace_finv_e / 3.0)) * split.j_minus_third;
             let d_tau =
                 deviatoric(&d_m(&d_f_bar)) + Matrix3::from_diagonal_element(d_jp_dj * d_jacobian);
-            let d_p = d_tau * f_inv_t - tau_f_inv_t * e.transpose() * f_inv_t;
+            // τ F⁻ᵀ Eᵀ F⁻ᵀ = (column l of τ F⁻ᵀ) ⊗ (row k of F⁻ᵀ), with no products by
+            // the zeros of E.
+            let d_p = d_tau * f_inv_t - tau_f_inv_t.column(l) * f_inv_t.row(k);
             let column = k + 3 * l;
             for row in 0..9 {
                 tangent[(row, column)] = d_p[row];
@@ -200,6 +202,27 @@ pub fn decoupled_tangent(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_tangents_outer_product_is_the_product_through_the_unit_direction() {
+        // A Eᵀ B with E = e_k ⊗ e_l, as decoupled_tangent forms it, and as the full
+        // products gave it before: the same bits (no entry of A or B is zero here).
+        let a = Matrix3::new(1.3, -0.2, 0.7, 0.05, 2.1, -1.1, 0.4, 0.9, -3.3);
+        let b = Matrix3::new(0.8, 0.15, -0.6, -0.35, 1.7, 0.25, 0.45, -0.55, 1.05);
+        for l in 0..3 {
+            for k in 0..3 {
+                let mut e = Matrix3::zeros();
+                e[(k, l)] = 1.0;
+                let product = a * e.transpose() * b;
+                let outer = a.column(l) * b.row(k);
+                assert_eq!(
+                    product.map(f64::to_bits),
+                    outer.map(f64::to_bits),
+                    "{k}, {l}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn voigt_round_trip() {

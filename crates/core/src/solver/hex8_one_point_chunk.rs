@@ -121,65 +121,29 @@ impl OnePointHexChunk {
             self.kinematics(block, positions, &mut deformations);
         }
         let mut stress = [VoigtStress::zeros(); ELEMENTS_PER_CHUNK];
-        let fiber = &block.fiber_direction[self.elements.clone()];
-        let nstate = self.state_old.len() / count.max(1);
-        let start = self.elements.start;
-        let on_error = |offset: usize| {
-            move |error: MaterialError| {
-                let element = match &error {
-                    MaterialError::InvalidPoint { point, .. }
-                    | MaterialError::NonFiniteResult { point, .. } => start + offset + point,
-                    _ => start + offset,
-                };
-                (element, error)
-            }
-        };
-        match refresh {
-            false => {
-                let points = PointBlock {
-                    time,
-                    dt,
-                    deformation_gradient_old: &self.f_old,
-                    deformation_gradient_new: &self.f_new,
-                    fiber_direction: fiber,
-                    state_old: &self.state_old,
-                };
-                let mut response = PointResponse {
-                    cauchy_stress: &mut stress[..count],
-                    state_new: &mut self.state_new,
-                    tangent: None,
-                };
-                material
-                    .update(&points, &mut response)
+        let on_error = |offset| located_error(self.elements.start + offset);
+        if let Some(neo_hookean) = material.as_neo_hookean() {
+            // The fused path: the stresses and errors of `update` with fewer checks (see
+            // `NeoHookean::accepted_block_stresses`).
+            if refresh {
+                let f_new = &self.f_new;
+                refresh_in_groups(
+                    &mut stress[..count],
+                    &mut self.wave_modulus,
+                    |points, stress, tangent| {
+                        neo_hookean
+                            .accepted_block_stresses(&f_new[points.clone()], stress, Some(tangent))
+                            .map_err(on_error(points.start))
+                    },
+                )?;
+            } else {
+                neo_hookean
+                    .accepted_block_stresses(&self.f_new, &mut stress[..count], None)
                     .map_err(on_error(0))?;
             }
-            true => {
-                let mut tangent = [Tangent::zeros(); TANGENT_POINTS];
-                for first in (0..count).step_by(TANGENT_POINTS) {
-                    let range = first..(first + TANGENT_POINTS).min(count);
-                    let n = range.len();
-                    let states = range.start * nstate..range.end * nstate;
-                    let points = PointBlock {
-                        time,
-                        dt,
-                        deformation_gradient_old: &self.f_old[range.clone()],
-                        deformation_gradient_new: &self.f_new[range.clone()],
-                        fiber_direction: &fiber[range.clone()],
-                        state_old: &self.state_old[states.clone()],
-                    };
-                    let mut response = PointResponse {
-                        cauchy_stress: &mut stress[range.clone()],
-                        state_new: &mut self.state_new[states],
-                        tangent: Some(&mut tangent[..n]),
-                    };
-                    material
-                        .update(&points, &mut response)
-                        .map_err(on_error(first))?;
-                    for (e, t) in range.zip(&tangent) {
-                        self.wave_modulus[e] = largest_acoustic_modulus(t);
-                    }
-                }
-            }
+        } else {
+            let fiber = &block.fiber_direction[self.elements.clone()];
+            self.material_update(material, time, dt, refresh, fiber, &mut stress[..count])?;
         }
         if avx2 {
             // SAFETY: as above.
@@ -188,6 +152,59 @@ impl OnePointHexChunk {
             self.nodal_forces(&deformations, &stress[..count], forces);
         }
         Ok(())
+    }
+
+    /// The Cauchy `stress` of every element through `<dyn Material>::update` at the
+    /// step's F (`f_new`), and with `refresh` the acoustic moduli from its tangents.
+    fn material_update(
+        &mut self,
+        material: &dyn Material,
+        time: f64,
+        dt: f64,
+        refresh: bool,
+        fiber: &[Vector3<f64>],
+        stress: &mut [VoigtStress],
+    ) -> Result<(), (usize, MaterialError)> {
+        let count = self.elements.len();
+        let nstate = self.state_old.len() / count.max(1);
+        let on_error = |offset| located_error(self.elements.start + offset);
+        if !refresh {
+            let points = PointBlock {
+                time,
+                dt,
+                deformation_gradient_old: &self.f_old,
+                deformation_gradient_new: &self.f_new,
+                fiber_direction: fiber,
+                state_old: &self.state_old,
+            };
+            let mut response = PointResponse {
+                cauchy_stress: stress,
+                state_new: &mut self.state_new,
+                tangent: None,
+            };
+            return material.update(&points, &mut response).map_err(on_error(0));
+        }
+        let (f_old, f_new) = (&self.f_old, &self.f_new);
+        let (state_old, state_new) = (&self.state_old, &mut self.state_new);
+        refresh_in_groups(stress, &mut self.wave_modulus, |points, stress, tangent| {
+            let states = points.start * nstate..points.end * nstate;
+            let block = PointBlock {
+                time,
+                dt,
+                deformation_gradient_old: &f_old[points.clone()],
+                deformation_gradient_new: &f_new[points.clone()],
+                fiber_direction: &fiber[points.clone()],
+                state_old: &state_old[states.clone()],
+            };
+            let mut response = PointResponse {
+                cauchy_stress: stress,
+                state_new: &mut state_new[states],
+                tangent: Some(tangent),
+            };
+            material
+                .update(&block, &mut response)
+                .map_err(on_error(points.start))
+        })
     }
 
     /// [`Self::kinematics`] compiled for 256-bit vectors. Rust does not contract a·b + c
@@ -326,6 +343,48 @@ impl OnePointHexChunk {
             first_element: self.elements.start,
             points_per_element: 1,
         }
+    }
+}
+
+/// The stable-step refresh's material update: `update(points, stress, tangents)` fills
+/// the stresses and tangents of the chunk's points, [`TANGENT_POINTS`] at a time (their
+/// tangents live on the stack), and each point's acoustic modulus M goes into
+/// `wave_modulus`.
+fn refresh_in_groups(
+    stress: &mut [VoigtStress],
+    wave_modulus: &mut [f64],
+    mut update: impl FnMut(
+        Range<usize>,
+        &mut [VoigtStress],
+        &mut [Tangent],
+    ) -> Result<(), (usize, MaterialError)>,
+) -> Result<(), (usize, MaterialError)> {
+    let mut tangent = [Tangent::zeros(); TANGENT_POINTS];
+    for first in (0..stress.len()).step_by(TANGENT_POINTS) {
+        let points = first..(first + TANGENT_POINTS).min(stress.len());
+        let n = points.len();
+        update(
+            points.clone(),
+            &mut stress[points.clone()],
+            &mut tangent[..n],
+        )?;
+        for (e, t) in points.zip(&tangent) {
+            wave_modulus[e] = largest_acoustic_modulus(t);
+        }
+    }
+    Ok(())
+}
+
+/// A material error of the points from element `first` of the block on, as the element
+/// (of the block) it names and the error.
+fn located_error(first: usize) -> impl Fn(MaterialError) -> (usize, MaterialError) {
+    move |error: MaterialError| {
+        let element = match &error {
+            MaterialError::InvalidPoint { point, .. }
+            | MaterialError::NonFiniteResult { point, .. } => first + point,
+            _ => first,
+        };
+        (element, error)
     }
 }
 
