@@ -1,11 +1,13 @@
 //! Explicit element updates per second and peak memory of one technology, in one process:
 //! `cargo run --release -p musclefem-core --example explicit_rate -- TECH DIVISIONS STEPS
-//! THREADS [stable]` with TECH one of hex8_one_point, hex8_fbar, hex8_full, tet4, tet10 (neo-Hookean,
-//! Hill for F-bar, as in the `explicit_element_updates` bench).
+//! THREADS [stable]` with TECH one of hex8_one_point, hex8_fbar, hex8_full, tet4, tet10
+//! (neo-Hookean, Hill for F-bar, as in the `explicit_element_updates` bench); a fixed step
+//! of 0.1 µs, or with `stable` the solver's stable step.
 //!
 //! Prints the element updates per second of wall time and of CPU time (the process's user
-//! and system time, which a busy shared machine distorts less than wall time), and the peak
-//! resident memory (VmHWM), and a checksum of the end displacements' bits. The memory per element is the difference of the peaks of two
+//! and system time, which a busy shared machine distorts less than wall time), the peak
+//! resident memory (VmHWM) and a checksum of the end displacements' bits (to compare two
+//! builds or thread counts). The memory per element is the difference of the peaks of two
 //! runs with different DIVISIONS over the difference of their element counts: that
 //! removes the program and libraries and counts everything that grows with the mesh (mesh,
 //! kernel data, nodal arrays, history).

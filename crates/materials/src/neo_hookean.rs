@@ -86,13 +86,26 @@ impl NeoHookean {
     /// as `update`). The explicit solver's one-point hexahedra call it on every step:
     /// their F at the start of the step was checked as the previous step's F_new, and the
     /// fiber direction, time and step, which `update` also checks, play no part in this
-    /// material.
+    /// material. A `stresses` or `tangents` of another length than the block is an error.
     pub fn accepted_block_stresses(
         &self,
         deformation_gradients: &[Matrix3<f64>],
         stresses: &mut [VoigtStress],
         mut tangents: Option<&mut [Tangent]>,
     ) -> Result<(), MaterialError> {
+        let points = deformation_gradients.len();
+        let shapes = [("cauchy_stress", stresses.len())]
+            .into_iter()
+            .chain(tangents.as_deref().map(|t| ("tangent", t.len())));
+        for (what, found) in shapes {
+            if found != points {
+                return Err(MaterialError::BlockShape {
+                    what,
+                    expected: points,
+                    found,
+                });
+            }
+        }
         let non_finite = |point, what| MaterialError::NonFiniteResult {
             material: self.name().to_string(),
             point,
