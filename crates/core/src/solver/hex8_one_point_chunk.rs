@@ -1,5 +1,8 @@
 //! A chunk of one-point hex8 elements for the explicit solver: the batched kernel of
 //! `element/hex8_one_point_batch.rs` with the material called once on the whole chunk.
+//! The built-in neo-Hookean is called directly (`NeoHookean::accepted_block_stresses`:
+//! the same stresses and errors without the generic block checks it does not need);
+//! every other material through `<dyn Material>::update`.
 //!
 //! What an element keeps between steps (neo-Hookean, no state variables): its reference
 //! data in the batch (B̄_1…7, V, k, H^α: 280 bytes) and F at the start and end of the
