@@ -9,15 +9,17 @@
 //! 60° (all four: −26 to −33 %), where the mechanism's moment arm falls monotonically
 //! with flexion and OpenSim's peaks at 30–45° (`docs/knee-model.md`, "The Visible Human
 //! knee assembled"). Issue #35 asks for the moment arms within 20 %; this test does not
-//! assert that, because it does not hold yet.
+//! assert that, because it does not hold yet. The femur's rollback over the tibia
+//! (`mechanism::rolling`, not yet the squat's) brings the worst entry from 44 % to
+//! about 27 %; the test checks that it brings it closer.
 
 use std::path::PathBuf;
 
-use musclefem_studies::knee::anatomy::Quadriceps;
 use musclefem_studies::knee::anatomy::visible_human::mechanism::{
-    kinematics, lengths, moment_arms_at,
+    kinematics, lengths, moment_arms_at, rolling,
 };
 use musclefem_studies::knee::anatomy::visible_human::{MeshResolution, VisibleHumanKnee};
+use musclefem_studies::knee::anatomy::{KneeDimensions, KneeKinematics, Quadriceps};
 
 /// The Rajagopal–Lai–Uhlrich table: (knee flexion [°], then per muscle in
 /// [`Quadriceps::ALL`] order its musculotendon length [m] and moment arm [m]).
@@ -57,17 +59,16 @@ fn rajagopal() -> Vec<(f64, Vec<(f64, f64)>)> {
         .collect()
 }
 
-#[test]
-fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
-    let knee = VisibleHumanKnee::load(MeshResolution::Coarse).unwrap();
-    let kinematics = kinematics(&knee).unwrap();
+/// Prints the excursions and moment arms of `kinematics` against the reference and
+/// returns the largest |difference| of the excursions (30°, 60°, 90°) and of the moment
+/// arms (0°, 30°, 60°, 90°), as fractions.
+fn compare(kinematics: &KneeKinematics, reference: &[(f64, Vec<(f64, f64)>)]) -> (f64, f64) {
     let length_at = |degrees: f64| {
         lengths(
-            &kinematics,
+            kinematics,
             &kinematics.patella_pose(degrees.to_radians()).unwrap(),
         )
     };
-    let reference = rajagopal();
     let reference_at = |degrees: f64| {
         &reference
             .iter()
@@ -78,15 +79,16 @@ fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
     let extended = length_at(0.0);
     let reference_extended = reference_at(0.0);
     println!("excursion L(θ) − L(0°) [mm] and moment arm [mm]: ours / Rajagopal–Lai–Uhlrich");
-    let mut worst: f64 = 0.0;
+    let (mut worst_excursion, mut worst_arm): (f64, f64) = (0.0, 0.0);
     for degrees in [0.0, 30.0, 60.0, 90.0] {
         let ours = length_at(degrees);
-        let arms = moment_arms_at(&kinematics, degrees.to_radians()).unwrap();
+        let arms = moment_arms_at(kinematics, degrees.to_radians()).unwrap();
         let theirs = reference_at(degrees);
         for (m, muscle) in Quadriceps::ALL.iter().enumerate() {
             let excursion = ours[m] - extended[m];
             let reference_excursion = theirs[m].0 - reference_extended[m].0;
             let arm_difference = arms[m] / theirs[m].1 - 1.0;
+            worst_arm = worst_arm.max(arm_difference.abs());
             let mut line = format!(
                 "{degrees:>3}° {:<20} moment arm {:>5.1} / {:>5.1} ({:+5.1} %)",
                 format!("{muscle:?}"),
@@ -96,7 +98,7 @@ fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
             );
             if degrees > 0.0 {
                 let difference = excursion / reference_excursion - 1.0;
-                worst = worst.max(difference.abs());
+                worst_excursion = worst_excursion.max(difference.abs());
                 line += &format!(
                     ", excursion {:>5.1} / {:>5.1} ({:+5.1} %)",
                     excursion * 1e3,
@@ -107,11 +109,46 @@ fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
             println!("{line}");
         }
     }
-    println!("largest excursion difference: {:.1} %", 100.0 * worst);
+    println!(
+        "largest difference: excursion {:.1} %, moment arm {:.1} %",
+        100.0 * worst_excursion,
+        100.0 * worst_arm
+    );
+    (worst_excursion, worst_arm)
+}
+
+#[test]
+fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
+    let knee = VisibleHumanKnee::load(MeshResolution::Coarse).unwrap();
+    let reference = rajagopal();
+    println!("the squat's mechanism (a fixed flexion axis):");
+    let fixed = kinematics(&knee).unwrap();
+    let (excursion, fixed_arm) = compare(&fixed, &reference);
     // Issue #35's tolerance for the mechanism (20 %), on the length change it imposes.
     assert!(
-        worst <= 0.20,
+        excursion <= 0.20,
         "an excursion differs by {:.1} %",
-        100.0 * worst
+        100.0 * excursion
+    );
+    // The candidate rollback (the femur rolling back over the tibia in early flexion):
+    // closer to OpenSim's moment arms at every angle's worst entry, the excursions still
+    // within 20 %.
+    let dimensions = KneeDimensions {
+        rollback: rolling(&fixed.dimensions),
+        ..fixed.dimensions
+    };
+    println!("with the femur's rollback ({:?}):", dimensions.rollback);
+    let rolling = KneeKinematics::from_dimensions(dimensions, fixed.pulls.clone());
+    let (excursion, rolling_arm) = compare(&rolling, &reference);
+    assert!(
+        excursion <= 0.20,
+        "with rollback, an excursion differs by {:.1} %",
+        100.0 * excursion
+    );
+    assert!(
+        rolling_arm < fixed_arm - 0.1,
+        "the rollback's worst moment arm is {:.1} % off, the fixed axis's {:.1} %",
+        100.0 * rolling_arm,
+        100.0 * fixed_arm
     );
 }

@@ -9,11 +9,13 @@
 //! vertically, i.e. the hip centre keeping its horizontal position:
 //!
 //! ```text
-//! K(β) = A + R(β)(0 − A),   H(β) = K(β) + R(β − θ) H₀,   H_x(β) = H₀_x,
+//! K(β) = A + R(β)(−s(θ) e_x − A),   H(β) = K(β) + R(β − θ) H₀,   H_x(β) = H₀_x,
 //! ```
 //!
-//! with R(a) = R_z(−a) the flexion rotation ([`flexion_rotation`]) and H₀ the hip centre
-//! in the femur's frame (the global frame at 0°). H_x grows monotonically with β on
+//! with R(a) = R_z(−a) the flexion rotation ([`flexion_rotation`]), H₀ the hip centre
+//! in the femur's frame (the global frame at 0°) and s(θ) the femur's rollback over the
+//! tibia ([`super::rollback`]; 0 for a fixed flexion axis): the femur is placed where the
+//! knee's kinematics put it relative to the tibia. H_x grows monotonically with β on
 //! [−θ/2, θ + π/2], where it is solved by bisection. With the procedural anatomy (tibia
 //! 398 mm, femur 445 mm) β = 23.9° at θ = 45° and 48.4° at θ = 90°.
 //!
@@ -36,6 +38,7 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
 
 use super::dimensions::KneeDimensions;
 use super::kinematics::flexion_rotation;
+use super::rollback::Rollback;
 
 /// The leg's closed chain: the pin at the ankle and the hip centre (see the module
 /// documentation).
@@ -46,6 +49,8 @@ pub struct ClosedChain {
     pub ankle: Vector3<f64>,
     /// The hip centre [m], in the femur's frame (the global frame at 0°).
     pub hip: Vector3<f64>,
+    /// The femur's rollback on the tibia ([`Rollback::FIXED_AXIS`]: none).
+    pub rollback: Rollback,
 }
 
 /// The pose of the leg's bones at one knee flexion.
@@ -85,19 +90,26 @@ impl ClosedChain {
         Self {
             ankle: dimensions.ankle,
             hip: dimensions.hip_centre,
+            rollback: dimensions.rollback,
         }
     }
 
-    /// The knee axis point (the origin of the femur's frame) with the tibia tilted by
-    /// `tilt` [m].
-    fn knee_at(&self, tilt: f64) -> Vector3<f64> {
-        self.ankle - flexion_rotation(tilt) * self.ankle
+    /// The knee axis point (the origin of the femur's frame) with the knee flexed by
+    /// `knee_flexion` and the tibia tilted by `tilt` [m]: in the tibia's frame it lies
+    /// s(θ) behind the tibia's origin.
+    fn knee_at(&self, knee_flexion: f64, tilt: f64) -> Vector3<f64> {
+        let axis_on_tibia = if self.rollback.is_fixed_axis() {
+            self.ankle
+        } else {
+            self.ankle + Vector3::x() * self.rollback.translation(knee_flexion)
+        };
+        self.ankle - flexion_rotation(tilt) * axis_on_tibia
     }
 
     /// The hip centre with the knee flexed by `knee_flexion` and the tibia tilted by
     /// `tilt` [m].
     fn hip_at(&self, knee_flexion: f64, tilt: f64) -> Vector3<f64> {
-        self.knee_at(tilt) + flexion_rotation(tilt - knee_flexion) * self.hip
+        self.knee_at(knee_flexion, tilt) + flexion_rotation(tilt - knee_flexion) * self.hip
     }
 
     /// The tibia's forward tilt β [rad] that keeps the hip centre above its place at 0°
@@ -129,7 +141,7 @@ impl ClosedChain {
     /// The bones' poses at knee flexion `knee_flexion` [rad].
     pub fn pose(&self, knee_flexion: f64) -> LegPose {
         let tilt = self.tibia_tilt(knee_flexion);
-        let knee = self.knee_at(tilt);
+        let knee = self.knee_at(knee_flexion, tilt);
         let hip_centre = self.hip_at(knee_flexion, tilt);
         LegPose {
             knee_flexion,
@@ -158,6 +170,7 @@ impl LegPose {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::knee::anatomy::KneeDimensions;
     use crate::knee::anatomy::kinematics::KneeKinematics;
 
     const DEG: f64 = std::f64::consts::PI / 180.0;
@@ -188,30 +201,49 @@ mod tests {
 
     #[test]
     fn femur_and_tibia_keep_the_knee_and_the_hip_flexes_with_it() {
-        let chain = ClosedChain::procedural_knee();
-        let knee = KneeKinematics::new(Vec::new());
-        for degrees in [15.0, 45.0, 90.0] {
-            let angle = degrees * DEG;
-            let pose = chain.pose(angle);
-            // In the femur's frame the tibia turns by θ about the flexion axis, as the
-            // knee's kinematics say.
-            let relative = pose.femur.inverse() * pose.tibia;
-            let expected = knee.tibia_isometry(angle);
-            assert!((relative.translation.vector - expected.translation.vector).norm() < 1e-14);
-            assert!(relative.rotation.angle_to(&expected.rotation) < 1e-14);
-            // The femur and the pelvis meet at the hip centre; the hip flexes by θ.
-            let from_femur = pose.on_femur(&chain.hip);
-            let from_pelvis = (pose.pelvis * Point3::from(chain.hip)).coords;
-            assert!((from_femur - pose.hip_centre).norm() < 1e-14);
-            assert!((from_pelvis - pose.hip_centre).norm() < 1e-14);
-            let hip = pose.pelvis.rotation.inverse() * pose.femur.rotation;
-            assert!((hip.angle() - angle).abs() < 1e-12);
-            // Flexion swings the femur's distal end forward (+x) of the pelvis: about +z.
-            assert!(hip.axis().unwrap().z > 0.0);
+        let fixed = ClosedChain::procedural_knee();
+        let rolling = ClosedChain {
+            rollback: Rollback::rolling(0.021, 1.0, 60.0 * DEG),
+            ..fixed
+        };
+        for chain in [fixed, rolling] {
+            let dimensions = KneeDimensions {
+                rollback: chain.rollback,
+                ..KneeDimensions::procedural_knee()
+            };
+            let knee = KneeKinematics::from_dimensions(dimensions, Vec::new());
+            for degrees in [15.0, 45.0, 90.0] {
+                let angle = degrees * DEG;
+                let pose = chain.pose(angle);
+                // In the femur's frame the tibia is where the knee's kinematics put it:
+                // turned by θ about the flexion axis (and rolled back under it).
+                let relative = pose.femur.inverse() * pose.tibia;
+                let expected = knee.tibia_isometry(angle);
+                assert!((relative.translation.vector - expected.translation.vector).norm() < 1e-14);
+                assert!(relative.rotation.angle_to(&expected.rotation) < 1e-14);
+                // The pin stays; the hip stays above where it was.
+                let ankle = (pose.tibia * Point3::from(chain.ankle)).coords;
+                assert!((ankle - chain.ankle).norm() < 1e-15);
+                assert!((pose.hip_centre.x - chain.hip.x).abs() < 1e-12);
+                // The femur and the pelvis meet at the hip centre; the hip flexes by θ.
+                let from_femur = pose.on_femur(&chain.hip);
+                let from_pelvis = (pose.pelvis * Point3::from(chain.hip)).coords;
+                assert!((from_femur - pose.hip_centre).norm() < 1e-14);
+                assert!((from_pelvis - pose.hip_centre).norm() < 1e-14);
+                let hip = pose.pelvis.rotation.inverse() * pose.femur.rotation;
+                assert!((hip.angle() - angle).abs() < 1e-12);
+                // Flexion swings the femur's distal end forward (+x) of the pelvis: about +z.
+                assert!(hip.axis().unwrap().z > 0.0);
+            }
         }
+        let (fixed_tilt, rolling_tilt) =
+            (fixed.tibia_tilt(90.0 * DEG), rolling.tibia_tilt(90.0 * DEG));
+        // The femur rolled back over the tibia puts the hip further behind the knee, so
+        // the tibia leans further forward to keep the hip above its place.
+        assert!(rolling_tilt > fixed_tilt, "{rolling_tilt} ≤ {fixed_tilt}");
         // The numbers of the module documentation.
         for (degrees, tilt) in [(45.0, 23.9), (90.0, 48.4)] {
-            let measured = chain.tibia_tilt(degrees * DEG) / DEG;
+            let measured = fixed.tibia_tilt(degrees * DEG) / DEG;
             assert!(
                 (measured - tilt).abs() < 0.05,
                 "{degrees}°: tibia tilt {measured}°"

@@ -9,8 +9,9 @@
 //! tibia posteriorly): a fixed transepicondylar axis, which the posterior condyles'
 //! circular profiles about it make exact for the rigid condyles (Churchill et al. 1998,
 //! Clin Orthop 356:111 found the flexion axis within a few millimetres of the
-//! transepicondylar axis over 15–90° of flexion). Rollback, screw-home rotation and
-//! varus–valgus are left out.
+//! transepicondylar axis over 15–90° of flexion). Screw-home rotation and varus–valgus
+//! are left out; the femur's rollback on the plateau is a knee's choice
+//! ([`KneeDimensions::rollback`], [`super::rollback`]): none for the procedural knee.
 //!
 //! # Sagittal mechanism (see [`super::kinematics`])
 //! In the sagittal plane the trochlear groove's floor is a circle of centre
@@ -28,6 +29,8 @@
 //! squat; [`KneeDimensions::procedural_knee`] is the constants below.
 
 use nalgebra::Vector3;
+
+use super::rollback::Rollback;
 
 /// One millimetre [m].
 pub const MM: f64 = 1e-3;
@@ -147,6 +150,9 @@ pub struct KneeDimensions {
     /// The pin of the closed-chain squat at the tibia's distal end [m], in the tibia's
     /// frame (default [`ANKLE`]).
     pub ankle: Vector3<f64>,
+    /// The femur's rollback on the tibial plateau (default
+    /// [`Rollback::FIXED_AXIS`]: the tibia turns about the fixed flexion axis).
+    pub rollback: Rollback,
 }
 
 impl KneeDimensions {
@@ -164,6 +170,7 @@ impl KneeDimensions {
             tendon_wrap_offset: TENDON_WRAP_OFFSET,
             hip_centre: HIP_CENTRE,
             ankle: ANKLE,
+            rollback: Rollback::FIXED_AXIS,
         }
     }
 
@@ -179,6 +186,11 @@ impl KneeDimensions {
     pub fn patella_ridge_radius(&self) -> f64 {
         let [_, b, c] = self.patella_semi_axes;
         b * b / c
+    }
+
+    /// The tibial tuberosity at knee flexion `angle` [rad], in the femur's frame [m].
+    pub fn tuberosity_at(&self, angle: f64) -> Vector3<f64> {
+        self.rollback.tibia_point(angle, &self.tuberosity)
     }
 
     /// The knee similar to this one by `factor` about the flexion axis (the origin):
@@ -197,6 +209,7 @@ impl KneeDimensions {
             tendon_wrap_offset: factor * self.tendon_wrap_offset,
             hip_centre: factor * self.hip_centre,
             ankle: factor * self.ankle,
+            rollback: self.rollback.scaled(factor),
         }
     }
 }

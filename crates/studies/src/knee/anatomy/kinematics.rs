@@ -4,8 +4,10 @@
 //! The knee's landmarks are a [`KneeDimensions`] ([`KneeKinematics::new`] takes the
 //! procedural knee's, [`KneeKinematics::from_dimensions`] any knee's).
 //!
-//! **Tibiofemoral joint.** The tibia rotates by θ about the fixed flexion axis through
-//! the origin along −z (see [`super::dimensions`]): x_tibia(θ) = R_z(−θ) X.
+//! **Tibiofemoral joint.** The tibia rotates by θ about the flexion axis through the
+//! origin along −z (see [`super::dimensions`]) and moves under it by the femur's
+//! rollback s(θ) ([`super::rollback`]): x_tibia(θ) = R_z(−θ)(X + s(θ) e_x), with s = 0
+//! (a fixed axis) unless the knee's dimensions ask for rolling.
 //!
 //! **Patellofemoral joint** (a planar model in the spirit of van Eijden et al. 1986,
 //! J Biomech 19:219). The patella moves in the sagittal plane (its z, tilt and spin are
@@ -144,17 +146,15 @@ impl KneeKinematics {
         }
     }
 
-    /// The tibia's pose at flexion `angle` [rad]: a rotation about the flexion axis.
+    /// The tibia's pose at flexion `angle` [rad]: a rotation about the flexion axis and
+    /// the rollback's translation ([`super::rollback`]).
     pub fn tibia_isometry(&self, angle: f64) -> Isometry3<f64> {
-        Isometry3::from_parts(
-            Translation3::identity(),
-            UnitQuaternion::from_rotation_matrix(&flexion_rotation(angle)),
-        )
+        self.dimensions.rollback.tibia_in_femur(angle)
     }
 
     /// The tibial tuberosity (the tendon's insertion) at flexion `angle` [m].
     pub fn tuberosity(&self, angle: f64) -> Vector3<f64> {
-        flexion_rotation(angle) * self.dimensions.tuberosity
+        self.dimensions.tuberosity_at(angle)
     }
 
     /// Point (x, y) [m] of the ridge centre's path at arclength `u` (see the module

@@ -10,6 +10,8 @@
 //! - [`bones`]: femur, tibia, patella;
 //! - [`kinematics`]: tibia rotation about the flexion axis, patellar tracking by
 //!   trochlear contact, tendon and quadriceps equilibrium;
+//! - [`rollback`]: the femur's rollback on the tibial plateau (a fixed axis unless a
+//!   knee's dimensions ask for rolling);
 //! - [`path`]: the quadriceps' free path, wrapped over the trochlea;
 //! - [`muscles`]: VI, VL, VM and RF as swept solids and meshes, volume-matched to the
 //!   Visible Human;
@@ -38,6 +40,7 @@ pub mod kinematics;
 pub mod moment_arms;
 pub mod muscles;
 pub mod path;
+pub mod rollback;
 pub mod squat;
 pub mod surface;
 pub mod tendon;
@@ -53,6 +56,7 @@ pub use closed_chain::{ClosedChain, LegPose};
 pub use dimensions::KneeDimensions;
 pub use kinematics::{KneeKinematics, PatellaPose};
 pub use muscles::{BlockRole, Muscle, Quadriceps, Tissue};
+pub use rollback::Rollback;
 pub use squat::{BoneMotions, Squat};
 pub use surface::TriangleSurface;
 pub use tendon::TendonSpring;

@@ -7,7 +7,9 @@
 //!   "pelvis", or "pelvis-pin" with `pin` [m], a point carried with the pelvis without
 //!   turning), `duration` T [s], `peak_flexion` θ_peak [rad], `ankle` (the pin at the
 //!   tibia's distal end) and `hip` (the hip centre in the femur's frame) [m], both
-//!   defaulting to the procedural knee's (they set the segment lengths).
+//!   defaulting to the procedural knee's (they set the segment lengths), and the femur's
+//!   rollback on the tibia ([`crate::knee::anatomy::rollback`]): `rollback_rate` k R_c
+//!   [m/rad] and `rollback_end` θ_end [rad] (default: none, a fixed flexion axis).
 //! - `knee-patella`: the patella held by the patellar tendon against the pull of the ties
 //!   it moves (or of the ties `pulled_by` names) ([`TendonPatella`]), posed from the
 //!   equilibrium table `table` (a CSV file beside the scene, [`PatellaTable::read_csv`]).
@@ -29,7 +31,7 @@ use musclefem_io::scene::{FollowerParameter, FollowerParameters, FollowerRegistr
 
 use super::patella::{PatellaTable, TendonPatella};
 use crate::knee::anatomy::squat::{Bone, LegBone};
-use crate::knee::anatomy::{ClosedChain, Squat, TendonSpring};
+use crate::knee::anatomy::{ClosedChain, Rollback, Squat, TendonSpring};
 
 /// The kind of a leg bone in the closed chain.
 pub const CLOSED_CHAIN_KIND: &str = "knee-closed-chain";
@@ -37,7 +39,7 @@ pub const CLOSED_CHAIN_KIND: &str = "knee-closed-chain";
 pub const PATELLA_KIND: &str = "knee-patella";
 
 /// The parameters of the squat and the chain, shared by both kinds.
-const SQUAT_PARAMETERS: [FollowerParameter; 4] = [
+const SQUAT_PARAMETERS: [FollowerParameter; 6] = [
     FollowerParameter {
         name: "duration",
         description: "duration T of the squat 0 → peak → 0 [s]",
@@ -54,9 +56,18 @@ const SQUAT_PARAMETERS: [FollowerParameter; 4] = [
         name: "hip",
         description: "the hip centre in the femur's frame [m]; default the procedural knee's",
     },
+    FollowerParameter {
+        name: "rollback_rate",
+        description: "the femur's rollback rate over the tibia at full extension [m/rad]; \
+                      default 0 (a fixed flexion axis)",
+    },
+    FollowerParameter {
+        name: "rollback_end",
+        description: "the knee flexion at which rolling has given way to sliding [rad]",
+    },
 ];
 
-const CLOSED_CHAIN_PARAMETERS: [FollowerParameter; 6] = [
+const CLOSED_CHAIN_PARAMETERS: [FollowerParameter; 8] = [
     FollowerParameter {
         name: "bone",
         description: "\"femur\", \"tibia\", \"pelvis\" or \"pelvis-pin\"",
@@ -69,9 +80,11 @@ const CLOSED_CHAIN_PARAMETERS: [FollowerParameter; 6] = [
     SQUAT_PARAMETERS[1],
     SQUAT_PARAMETERS[2],
     SQUAT_PARAMETERS[3],
+    SQUAT_PARAMETERS[4],
+    SQUAT_PARAMETERS[5],
 ];
 
-const PATELLA_PARAMETERS: [FollowerParameter; 9] = [
+const PATELLA_PARAMETERS: [FollowerParameter; 11] = [
     FollowerParameter {
         name: "table",
         description: "the equilibrium table, a CSV file relative to the scene",
@@ -80,6 +93,8 @@ const PATELLA_PARAMETERS: [FollowerParameter; 9] = [
     SQUAT_PARAMETERS[1],
     SQUAT_PARAMETERS[2],
     SQUAT_PARAMETERS[3],
+    SQUAT_PARAMETERS[4],
+    SQUAT_PARAMETERS[5],
     FollowerParameter {
         name: "tendon_slack_length",
         description: "the patellar tendon's slack length [m]; default the procedural knee's",
@@ -134,9 +149,29 @@ fn squat_and_chain(p: &FollowerParameters<'_>) -> Result<(Squat, ClosedChain), S
         ));
     }
     let default = ClosedChain::procedural_knee();
+    let rollback_rate = p.number_or("rollback_rate", 0.0)?;
+    if !(rollback_rate >= 0.0) {
+        return Err(p.error(
+            "rollback_rate",
+            format!("{rollback_rate} m/rad must be zero or positive"),
+        ));
+    }
+    let rollback = if rollback_rate == 0.0 {
+        Rollback::FIXED_AXIS
+    } else {
+        let end = p.number("rollback_end")?;
+        if !(end > 0.0) {
+            return Err(p.error("rollback_end", format!("{end} rad must be positive")));
+        }
+        Rollback {
+            rate: rollback_rate,
+            end,
+        }
+    };
     let chain = ClosedChain {
         ankle: Vector3::from(p.vector_or("ankle", default.ankle.into())?),
         hip: Vector3::from(p.vector_or("hip", default.hip.into())?),
+        rollback,
     };
     if (chain.hip - chain.ankle).norm() == 0.0 {
         return Err(p.whole_error("the ankle and the hip are the same point"));
@@ -201,15 +236,25 @@ fn point(v: &Vector3<f64>) -> String {
     )
 }
 
-/// The squat's and the chain's parameters as TOML key–value pairs.
+/// The squat's and the chain's parameters as TOML key–value pairs (the rollback's only
+/// when the chain has one).
 fn squat_keys(squat: &Squat, chain: &ClosedChain) -> String {
-    format!(
+    let mut keys = format!(
         "duration = {}, peak_flexion = {}, ankle = {}, hip = {}",
         format_number(squat.duration),
         format_number(squat.peak_flexion),
         point(&chain.ankle),
         point(&chain.hip)
-    )
+    );
+    if !chain.rollback.is_fixed_axis() {
+        let _ = write!(
+            keys,
+            ", rollback_rate = {}, rollback_end = {}",
+            format_number(chain.rollback.rate),
+            format_number(chain.rollback.end)
+        );
+    }
+    keys
 }
 
 /// The `motion` table (inline TOML) of `bone` in the closed `chain` over `squat`.
@@ -342,6 +387,7 @@ mod tests {
         let chain = ClosedChain {
             ankle: Vector3::new(0.001, -0.39, 0.0),
             hip: Vector3::new(0.01, 0.44, -0.005),
+            rollback: Rollback::rolling(0.0196, 1.0, 60f64.to_radians()),
         };
         let model = load(&write(&folder("both"), &scene_text(&chain))).unwrap();
         let squat = squat();
@@ -429,6 +475,16 @@ mod tests {
                 "tendon_toe_strain",
                 "tendon_toe_stran",
                 "has no parameter `tendon_toe_stran` (did you mean `tendon_toe_strain`?)",
+            ),
+            (
+                "bone = \"tibia\"",
+                "bone = \"tibia\", rollback_rate = -0.02",
+                "`rollback_rate`: -0.02 m/rad must be zero or positive",
+            ),
+            (
+                "bone = \"tibia\"",
+                "bone = \"tibia\", rollback_rate = 0.02, rollback_end = 0.0",
+                "`rollback_end`: 0 rad must be positive",
             ),
         ];
         for (from, to, fragment) in cases {

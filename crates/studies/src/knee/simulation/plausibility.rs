@@ -23,7 +23,6 @@ use std::path::Path;
 
 use anyhow::{Result, bail};
 
-use super::super::anatomy::kinematics::flexion_rotation;
 use super::super::anatomy::{KneeDimensions, Quadriceps, Squat};
 use super::patella::TendonState;
 use super::peak_stress::{Phase, table_instants};
@@ -65,7 +64,7 @@ impl PlausibilitySample {
 /// flexion axis (+z: extension), in the femur's frame.
 pub fn extensor_moment(dimensions: &KneeDimensions, state: &TendonState) -> f64 {
     let apex = state.pose.to_world(&dimensions.apex);
-    let tuberosity = flexion_rotation(state.knee_angle) * dimensions.tuberosity;
+    let tuberosity = dimensions.tuberosity_at(state.knee_angle);
     let Some(direction) = (apex - tuberosity).try_normalize(0.0) else {
         return 0.0;
     };

@@ -46,6 +46,7 @@ use super::super::dimensions::KneeDimensions;
 use super::super::kinematics::{KneeKinematics, PatellaPose, QuadricepsPull};
 use super::super::moment_arms::DIFFERENCE_STEP;
 use super::super::path::free_path;
+use super::super::rollback::Rollback;
 use super::knee::{VisibleHumanKnee, patellar_tendon_length};
 
 /// Height of the tibial plateau below the condyles' circle [m], as the procedural knee's
@@ -96,7 +97,29 @@ pub fn dimensions(knee: &VisibleHumanKnee) -> Result<KneeDimensions> {
         tendon_wrap_offset: KneeDimensions::procedural_knee().tendon_wrap_offset,
         hip_centre: at(&landmarks.femoral_head),
         ankle: at(&landmarks.ankle),
+        rollback: Rollback::FIXED_AXIS,
     })
+}
+
+/// Share of pure rolling at full extension of the Visible Human knee's candidate
+/// rollback ([`rolling`]).
+pub const ROLLING_SHARE: f64 = 1.0;
+
+/// Knee flexion [°] at which the candidate rollback has given way to sliding.
+pub const ROLLING_END_DEGREES: f64 = 60.0;
+
+/// The Visible Human knee's candidate rollback ([`super::super::rollback`]): its mean
+/// condyle rolling without slipping at full extension, down to sliding alone at 60°
+/// (10.3 mm of rollback by then). Of the profiles measured on this mechanism it brings
+/// the moment arms closest to OpenSim's (`docs/knee-model.md`, "Two measurements towards
+/// the fix"). The squat does not use it yet: [`dimensions`] keeps the fixed axis the
+/// README's squat tables were measured with.
+pub fn rolling(dimensions: &KneeDimensions) -> Rollback {
+    Rollback::rolling(
+        dimensions.condyle_radius,
+        ROLLING_SHARE,
+        ROLLING_END_DEGREES.to_radians(),
+    )
 }
 
 /// Each muscle's line of action (module documentation), in [`Quadriceps::ALL`] order.
