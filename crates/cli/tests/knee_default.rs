@@ -70,8 +70,14 @@ fn the_default_knee_is_the_visible_human_and_its_first_degrees_run_explicitly() 
     );
     assert!((mean * steps - 0.1).abs() < 1e-3 * 0.1, "{log}");
     assert!(mean < target && mean > 0.5 * target, "{log}");
-    // The procedural knee's anatomy export is not written for the Visible Human knee.
+    // The procedural knee's anatomy export is not written for the Visible Human knee; its
+    // patella's tracking in the trochlear groove is (every 5° to the peak, 0° and 5°).
     assert!(!dir.join("knee/anatomy").exists());
+    assert!(stdout.contains("patellar tracking"), "{stdout}");
+    let (header, rows) = read_csv(&dir.join("knee/patella_tracking.csv"));
+    assert_eq!(header[0], "knee_angle_deg");
+    assert_eq!(header[4], "ridge_lateral_of_floor_mm");
+    assert_eq!(rows.len(), 2);
 
     let (header, rows) = read_csv(&squat.join("vm95.csv"));
     assert_eq!(

@@ -18,6 +18,7 @@ use std::path::PathBuf;
 use musclefem_studies::knee::anatomy::visible_human::mechanism::{
     kinematics, lengths, moment_arms_at, rolling,
 };
+use musclefem_studies::knee::anatomy::visible_human::tracking::PatellaTracking;
 use musclefem_studies::knee::anatomy::visible_human::{MeshResolution, VisibleHumanKnee};
 use musclefem_studies::knee::anatomy::{KneeDimensions, KneeKinematics, Quadriceps};
 
@@ -151,4 +152,45 @@ fn the_visible_human_knees_excursions_are_within_twenty_percent_of_opensims() {
         100.0 * rolling_arm,
         100.0 * fixed_arm
     );
+}
+
+/// Issue #35's patellar tracking: the mechanism's patella is planar (it keeps its
+/// mediolateral position and tilt), so what can be checked is that it stays in the
+/// trochlear groove of the Visible Human's distal femoral cartilage: above the trochlea in
+/// extension, and from 15° on never further from the groove's floor than half the way to
+/// the nearer facet crest, with and without the femur's rollback.
+#[test]
+fn the_planar_patella_stays_in_the_trochlear_groove() {
+    let knee = VisibleHumanKnee::load(MeshResolution::Coarse).unwrap();
+    let fixed = kinematics(&knee).unwrap();
+    let dimensions = KneeDimensions {
+        rollback: rolling(&fixed.dimensions),
+        ..fixed.dimensions
+    };
+    let rolling = KneeKinematics::from_dimensions(dimensions, fixed.pulls.clone());
+    for (name, kinematics) in [("fixed axis", &fixed), ("rollback", &rolling)] {
+        let tracking =
+            PatellaTracking::of_visible_human(&knee, kinematics, 90f64.to_radians()).unwrap();
+        println!("{name}:\n{}{}", tracking.csv(), tracking.summary());
+        assert!(
+            tracking.rows[0].1.is_none(),
+            "{name}: in extension the patella lies above the trochlea"
+        );
+        for (angle, section) in &tracking.rows {
+            let degrees = angle.to_degrees();
+            if degrees < 15.0 {
+                continue;
+            }
+            let section = section
+                .unwrap_or_else(|| panic!("{name}: no groove under the patella at {degrees}°"));
+            let off_floor = tracking.ridge - section.floor;
+            let room = (section.floor - section.crests[0]).min(section.crests[1] - section.floor);
+            assert!(
+                off_floor.abs() < 0.5 * room,
+                "{name}, {degrees}°: the ridge is {:.1} mm off the floor, the nearer crest {:.1} mm",
+                off_floor * 1e3,
+                room * 1e3
+            );
+        }
+    }
 }

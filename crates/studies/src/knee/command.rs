@@ -19,6 +19,10 @@
 //!   squat as a scene that `musclefem run` reruns;
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
+//! - `patella_tracking.csv` (Visible Human knee): every 5°, the trochlear groove's floor,
+//!   depth, crests and facet slope under the patella, and how far lateral of the floor
+//!   the planar mechanism's patella rides
+//!   ([`crate::knee::anatomy::visible_human::tracking`]);
 //! - `anatomy/` (procedural knee): its bones and muscles at 0°, 30°, 45°, 60° and 90°.
 //!
 //! [`knee`] is the command; [`run_knee`] the same study with its lines, bars and stop in
@@ -190,6 +194,13 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         geometry.motions.kinematics_csv(200).as_bytes(),
     )
     .context("writing kinematics.csv")?;
+    if let Some(tracking) = &geometry.patella_tracking {
+        musclefem_io::atomic::write_atomically(
+            &args.out.join("patella_tracking.csv"),
+            tracking.csv().as_bytes(),
+        )
+        .context("writing patella_tracking.csv")?;
+    }
     let fibers = geometry.fibers()?;
     let muscle_elements: usize = (0..geometry.muscles.len())
         .map(|b| geometry.mesh.blocks[b].len())
@@ -233,6 +244,12 @@ pub fn run_knee(args: &KneeArgs, view: &KneeView<'_>) -> Result<KneeOutcome> {
         settings.solver.name(),
         crate::knee::simulation::run::solver_rationale(settings.solver, args.is_visible_human())
     ));
+    if let Some(tracking) = &geometry.patella_tracking {
+        say(&format!(
+            "  {} (patella_tracking.csv)\n",
+            tracking.summary()
+        ));
+    }
     if knee_anatomy == KneeAnatomy::Procedural {
         say(&format!(
             "  {} resolution: {}\n",

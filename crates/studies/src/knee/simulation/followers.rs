@@ -150,7 +150,7 @@ fn squat_and_chain(p: &FollowerParameters<'_>) -> Result<(Squat, ClosedChain), S
     }
     let default = ClosedChain::procedural_knee();
     let rollback_rate = p.number_or("rollback_rate", 0.0)?;
-    if !(rollback_rate >= 0.0) {
+    if rollback_rate < 0.0 || rollback_rate.is_nan() {
         return Err(p.error(
             "rollback_rate",
             format!("{rollback_rate} m/rad must be zero or positive"),
@@ -160,7 +160,7 @@ fn squat_and_chain(p: &FollowerParameters<'_>) -> Result<(Squat, ClosedChain), S
         Rollback::FIXED_AXIS
     } else {
         let end = p.number("rollback_end")?;
-        if !(end > 0.0) {
+        if end <= 0.0 || end.is_nan() {
             return Err(p.error("rollback_end", format!("{end} rad must be positive")));
         }
         Rollback {

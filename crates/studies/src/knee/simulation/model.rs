@@ -19,6 +19,7 @@ use crate::elongation::ElementChoice;
 use super::super::anatomy::bones::{femur_distance, implicit_normals};
 use super::super::anatomy::moment_arms::belly_stretch_in_squat;
 use super::super::anatomy::visible_human::TendonStrand;
+use super::super::anatomy::visible_human::tracking::PatellaTracking;
 use super::super::anatomy::{
     Anatomy, BlockRole, BoneMotions, ClosedChain, KneeDimensions, Quadriceps, Squat, TendonSpring,
     Tissue, TriangleSurface,
@@ -86,6 +87,9 @@ pub struct KneeGeometry {
     /// patella (the Visible Human knee's tendinous tissue); none where the tendons are
     /// element blocks (the procedural anatomy).
     pub strands: Vec<TendonStrand>,
+    /// The planar patella against the trochlear groove (the Visible Human knee's; the
+    /// procedural knee has no cartilage surface to read it from).
+    pub patella_tracking: Option<PatellaTracking>,
 }
 
 impl KneeGeometry {
@@ -121,6 +125,7 @@ impl KneeGeometry {
             fiber_reference,
             patella_table: Arc::new(patella_table),
             strands: Vec::new(),
+            patella_tracking: None,
         })
     }
 

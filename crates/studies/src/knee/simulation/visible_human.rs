@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 
+use super::super::anatomy::visible_human::tracking::PatellaTracking;
 use super::super::anatomy::visible_human::{MeshResolution, VisibleHumanKnee, mechanism};
 use super::super::anatomy::{Quadriceps, Resolution, Squat, TendonSpring};
 use super::model::{FiberReference, KneeGeometry};
@@ -80,6 +81,10 @@ pub fn visible_human_geometry(resolution: Resolution, squat: &Squat) -> Result<K
         patella_table: Arc::new(patella_table),
         strands: knee.strands.clone(),
         dimensions: kinematics.dimensions,
+        patella_tracking: Some(
+            PatellaTracking::of_visible_human(&knee, &kinematics, squat.peak_flexion)
+                .context("the patella's tracking in the trochlear groove")?,
+        ),
     };
     geometry.name_outer_surfaces()?;
     Ok(geometry)

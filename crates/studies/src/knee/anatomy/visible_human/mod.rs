@@ -24,6 +24,7 @@ use super::{Quadriceps, TriangleSurface};
 pub mod knee;
 pub mod landmarks;
 pub mod mechanism;
+pub mod tracking;
 
 pub use knee::{TendonStrand, VisibleHumanKnee};
 pub use landmarks::{Landmark, Landmarks};
