@@ -20,7 +20,7 @@
 //! - `kinematics.csv`: the closed chain's hip flexion, knee flexion, tibia angle and
 //!   pelvis height over the squat;
 //! - `patella_tracking.csv` (Visible Human knee): every 5°, the trochlear groove's floor,
-//!   depth, crests and facet slope under the patella, and how far lateral of the floor
+//!   depth and crests under the patella, and how far lateral of the floor
 //!   the planar mechanism's patella rides
 //!   ([`crate::knee::anatomy::visible_human::tracking`]);
 //! - `anatomy/` (procedural knee): its bones and muscles at 0°, 30°, 45°, 60° and 90°.

@@ -95,15 +95,15 @@ impl ClosedChain {
     }
 
     /// The knee axis point (the origin of the femur's frame) with the knee flexed by
-    /// `knee_flexion` and the tibia tilted by `tilt` [m]: in the tibia's frame it lies
-    /// s(θ) behind the tibia's origin.
+    /// `knee_flexion` and the tibia tilted by `tilt` [m]: in the tibia's frame the axis
+    /// lies s(θ) behind the tibia's origin, so the ankle lies at A + s(θ) e_x from it.
     fn knee_at(&self, knee_flexion: f64, tilt: f64) -> Vector3<f64> {
-        let axis_on_tibia = if self.rollback.is_fixed_axis() {
+        let ankle_from_axis = if self.rollback.is_fixed_axis() {
             self.ankle
         } else {
             self.ankle + Vector3::x() * self.rollback.translation(knee_flexion)
         };
-        self.ankle - flexion_rotation(tilt) * axis_on_tibia
+        self.ankle - flexion_rotation(tilt) * ankle_from_axis
     }
 
     /// The hip centre with the knee flexed by `knee_flexion` and the tibia tilted by
