@@ -98,11 +98,7 @@ impl ClosedChain {
     /// `knee_flexion` and the tibia tilted by `tilt` [m]: in the tibia's frame the axis
     /// lies s(θ) behind the tibia's origin, so the ankle lies at A + s(θ) e_x from it.
     fn knee_at(&self, knee_flexion: f64, tilt: f64) -> Vector3<f64> {
-        let ankle_from_axis = if self.rollback.is_fixed_axis() {
-            self.ankle
-        } else {
-            self.ankle + Vector3::x() * self.rollback.translation(knee_flexion)
-        };
+        let ankle_from_axis = self.rollback.shifted(knee_flexion, &self.ankle);
         self.ankle - flexion_rotation(tilt) * ankle_from_axis
     }
 

@@ -157,17 +157,32 @@ impl KneeKinematics {
         self.dimensions.tuberosity_at(angle)
     }
 
+    /// The groove floor's outward normal n and its axis point at groove coordinate `u`
+    /// [m]: radial from the groove circle's centre C_g (n at the angle u/(r_g + ρ_p), axis
+    /// point C_g) on the circle (u < 0), anterior (n = e_x, axis point (x_g, y_g + u)) on
+    /// the straight proximal part. The floor lies r_g along n from the axis point, the
+    /// ridge centre r_g + ρ_p.
+    pub fn groove_frame(&self, u: f64) -> (Vector3<f64>, Vector3<f64>) {
+        let [gx, gy] = self.dimensions.groove_centre;
+        if u >= 0.0 {
+            (Vector3::x(), Vector3::new(gx, gy + u, 0.0))
+        } else {
+            let radius = self.dimensions.groove_radius + self.dimensions.patella_ridge_radius();
+            let angle = u / radius;
+            (
+                Vector3::new(angle.cos(), angle.sin(), 0.0),
+                Vector3::new(gx, gy, 0.0),
+            )
+        }
+    }
+
     /// Point (x, y) [m] of the ridge centre's path at arclength `u` (see the module
     /// documentation).
     fn ridge_centre(&self, u: f64) -> [f64; 2] {
         let radius = self.dimensions.groove_radius + self.dimensions.patella_ridge_radius();
-        let [gx, gy] = self.dimensions.groove_centre;
-        if u >= 0.0 {
-            [gx + radius, gy + u]
-        } else {
-            let angle = u / radius;
-            [gx + radius * angle.cos(), gy + radius * angle.sin()]
-        }
+        let (normal, axis) = self.groove_frame(u);
+        let centre = axis + normal * radius;
+        [centre.x, centre.y]
     }
 
     /// The patella with its ridge centre at groove coordinate `u` and flexion `phi`.

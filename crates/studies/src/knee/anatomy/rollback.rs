@@ -78,15 +78,20 @@ impl Rollback {
         self.rate * (theta - theta * theta / (2.0 * self.end))
     }
 
-    /// Where the tibia-frame point `point` [m] is in the femur's frame at knee flexion
-    /// `angle` [rad]: R(θ)(X + s(θ) e_x). On a fixed axis, R(θ) X bit for bit.
-    pub fn tibia_point(&self, angle: f64, point: &Vector3<f64>) -> Vector3<f64> {
-        let shifted = if self.is_fixed_axis() {
+    /// The tibia-frame point `point` [m] shifted by the rollback at knee flexion `angle`
+    /// [rad]: X + s(θ) e_x (X itself, bit for bit, on a fixed axis).
+    pub fn shifted(&self, angle: f64, point: &Vector3<f64>) -> Vector3<f64> {
+        if self.is_fixed_axis() {
             *point
         } else {
             point + Vector3::x() * self.translation(angle)
-        };
-        flexion_rotation(angle) * shifted
+        }
+    }
+
+    /// Where the tibia-frame point `point` [m] is in the femur's frame at knee flexion
+    /// `angle` [rad]: R(θ)(X + s(θ) e_x). On a fixed axis, R(θ) X bit for bit.
+    pub fn tibia_point(&self, angle: f64, point: &Vector3<f64>) -> Vector3<f64> {
+        flexion_rotation(angle) * self.shifted(angle, point)
     }
 
     /// The tibia's placement in the femur's frame at knee flexion `angle` [rad].

@@ -6,7 +6,7 @@
 //! ridge on the groove's sagittal profile (the circle (C_g, r_g) continued proximally by
 //! the line x = x_g + r_g, [`super::super::kinematics`]) at groove coordinate u. The
 //! contact's outward direction n is radial from C_g on the circle (u < 0) and anterior
-//! (e_x) on the straight part (u ≥ 0). The plane through the contact spanned by n and the
+//! (e_x) on the straight part (u ≥ 0) ([`KneeKinematics::groove_frame`]). The plane through the contact spanned by n and the
 //! flexion axis e_z cuts the cartilage; each cut point is (ρ, z), ρ its distance along n
 //! from the groove's axis (the circle's centre, or x_g on the straight part). The
 //! articular surface is the outer one: h(z) = the largest ρ in each 1 mm band of z
@@ -55,22 +55,6 @@ pub struct GrooveSection {
     pub depth: f64,
     /// z of the medial and the lateral facet crests [m].
     pub crests: [f64; 2],
-}
-
-/// The outward direction n and the groove's axis point of the section at groove
-/// coordinate `u` (module documentation).
-fn section_frame(kinematics: &KneeKinematics, u: f64) -> (Vector3<f64>, Vector3<f64>) {
-    let dimensions = &kinematics.dimensions;
-    let [gx, gy] = dimensions.groove_centre;
-    if u >= 0.0 {
-        (Vector3::x(), Vector3::new(gx, gy + u, 0.0))
-    } else {
-        let angle = u / (dimensions.groove_radius + dimensions.patella_ridge_radius());
-        (
-            Vector3::new(angle.cos(), angle.sin(), 0.0),
-            Vector3::new(gx, gy, 0.0),
-        )
-    }
 }
 
 /// The points (ρ, z) where `cartilage` crosses the plane through `axis` spanned by the
@@ -140,7 +124,7 @@ pub fn groove_section(
     kinematics: &KneeKinematics,
     u: f64,
 ) -> Option<GrooveSection> {
-    let (n, axis) = section_frame(kinematics, u);
+    let (n, axis) = kinematics.groove_frame(u);
     let points = cut(cartilage, &n, &axis);
     let (low, high) = points
         .iter()
