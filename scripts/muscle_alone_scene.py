@@ -12,7 +12,8 @@ Usage:
 
 From the knee's scene (its `muscles.inp`, `fibers.csv`, `strands.csv` and the muscle's
 material) it writes a scene with that muscle alone: its elements, renumbered; its fibers;
-its insertion strands; its origin node set held; its insertion anchor (the strands'
+its strands; its origin node set held (the origin faces, or the rectus femoris's pin
+with its origin strands); its insertion anchor (the strands'
 common end, the node set `<muscle>_insertion`) moved distally (−y in the knee frame) by
 the pull on a half-cosine ramp over 0.4 s and held to 0.5 s; no contact, no bonds, no
 bones; the implicit solver, quasi-static (no inertia, so no mass scaling either). The
@@ -66,7 +67,11 @@ def main():
     connectivity = numbers_after(inp, f"*ELEMENT, TYPE=C3D10, ELSET={muscle}")
     elements = [connectivity[k:k + 11] for k in range(0, len(connectivity), 11)]
     (anchor,) = numbers_after(inp, f"*NSET, NSET={muscle}_insertion")
-    kept = sorted({n for e in elements for n in e[1:]} | {anchor})
+    origin = numbers_after(inp, f"*NSET, NSET={muscle}_origin")
+    element_nodes = {n for e in elements for n in e[1:]}
+    # The origin set is the origin faces' nodes, or a pin outside the muscle (the rectus
+    # femoris's, joined to it by strands): keep it either way.
+    kept = sorted(element_nodes | {anchor} | set(origin))
     label = {old: new for new, old in enumerate(kept, start=1)}
     first = elements[0][0]
 
@@ -97,13 +102,14 @@ def main():
                 writer.writerow({**row, "element": element - first + 1})
 
     with open(source / "strands.csv") as f:
-        strands = [row for row in csv.DictReader(f) if int(row["node_b"]) == anchor]
+        strands = [row for row in csv.DictReader(f) if int(row["node_a"]) in element_nodes]
     with open(out / "strands.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=["node_a", "node_b", "slack_length",
                                                "strain_stiffness", "toe_strain"])
         writer.writeheader()
         for row in strands:
-            writer.writerow({**row, "node_a": label[int(row["node_a"])], "node_b": label[anchor]})
+            writer.writerow({**row, "node_a": label[int(row["node_a"])],
+                             "node_b": label[int(row["node_b"])]})
 
     scene = (source / "scene.toml").read_text()
     tables = re.split(r"\n(?=\[)", scene)
