@@ -7,8 +7,12 @@ Usage:
 
     musclefem knee --passive --duration 0.02 --out RUN   # writes RUN/passive/scene.toml
     python3 scripts/muscle_alone_scene.py RUN/passive OUT [--muscle vastus_lateralis]
-        [--pull-mm 45] [--increments 20]
+        [--pull-mm 45] [--increments 20] [--inertia]
     musclefem run OUT/scene.toml --out OUT/out
+
+The rectus femoris hangs between two strand fans, slack at rest, so it has no
+quasi-static equilibrium at the start: run it with `--inertia` (as measured:
+`--muscle rectus_femoris --pull-mm 30 --increments 40 --inertia`).
 
 From the knee's scene (its `muscles.inp`, `fibers.csv`, `strands.csv` and the muscle's
 material) it writes a scene with that muscle alone: its elements, renumbered; its fibers;
@@ -16,7 +20,8 @@ its strands; its origin node set held (the origin faces, or the rectus femoris's
 with its origin strands); its insertion anchor (the strands'
 common end, the node set `<muscle>_insertion`) moved distally (−y in the knee frame) by
 the pull on a half-cosine ramp over 0.4 s and held to 0.5 s; no contact, no bonds, no
-bones; the implicit solver, quasi-static (no inertia, so no mass scaling either). The
+bones; the implicit solver, quasi-static (no inertia, so no mass scaling either), or
+with `--inertia` Newmark with the physical mass and numerical dissipation 0.3. The
 history's `reaction_insertion_*` is the pull; `von_mises_p95_<muscle>_pa` its vm95.
 Run it on a coarse and a medium knee and compare at equal pulls.
 """
@@ -58,6 +63,8 @@ def main():
     parser.add_argument("--muscle", default="vastus_lateralis")
     parser.add_argument("--pull-mm", type=float, default=45.0)
     parser.add_argument("--increments", type=int, default=20)
+    parser.add_argument("--inertia", action="store_true",
+                        help="Newmark with the physical mass instead of quasi-static")
     args = parser.parse_args()
     source, out, muscle = args.knee_scene_dir, args.out, args.muscle
     out.mkdir(parents=True, exist_ok=True)
@@ -66,12 +73,12 @@ def main():
     nodes = read_nodes(inp.split("\n"))
     connectivity = numbers_after(inp, f"*ELEMENT, TYPE=C3D10, ELSET={muscle}")
     elements = [connectivity[k:k + 11] for k in range(0, len(connectivity), 11)]
-    (anchor,) = numbers_after(inp, f"*NSET, NSET={muscle}_insertion")
-    origin = numbers_after(inp, f"*NSET, NSET={muscle}_origin")
+    # The insertion set is the strands' anchor; the origin set the origin faces' nodes,
+    # or a pin outside the muscle (the rectus femoris's, joined to it by strands).
+    ends = {end: numbers_after(inp, f"*NSET, NSET={muscle}_{end}")
+            for end in ("insertion", "origin")}
     element_nodes = {n for e in elements for n in e[1:]}
-    # The origin set is the origin faces' nodes, or a pin outside the muscle (the rectus
-    # femoris's, joined to it by strands): keep it either way.
-    kept = sorted(element_nodes | {anchor} | set(origin))
+    kept = sorted(element_nodes | set(ends["insertion"]) | set(ends["origin"]))
     label = {old: new for new, old in enumerate(kept, start=1)}
     first = elements[0][0]
 
@@ -82,8 +89,8 @@ def main():
         ids = [str(label[n]) for n in element[1:]]
         lines.append(f"{element[0] - first + 1}, " + ", ".join(ids[:7]) + ",")
         lines.append(", ".join(ids[7:]))
-    for end in ("insertion", "origin"):
-        ids = [str(label[n]) for n in numbers_after(inp, f"*NSET, NSET={muscle}_{end}")]
+    for end, members in ends.items():
+        ids = [str(label[n]) for n in members]
         lines.append(f"*NSET, NSET={muscle}_{end}")
         lines += [", ".join(ids[p:p + 16]) for p in range(0, len(ids), 16)]
     lines.append(f"*ELSET, ELSET={muscle}")
@@ -124,9 +131,11 @@ def main():
     knots = ", ".join(
         f"[{RAMP_S * k / 20:.4f}, {0.5 * (1 - math.cos(math.pi * k / 20)):.6f}]"
         for k in range(21))
+    dynamics = "\ndynamic = true\nnumerical_dissipation = 0.3" if args.inertia else ""
     text = [
         "schema_version = 1",
-        f'description = "{muscle} pulled {args.pull_mm:g} mm alone, quasi-static"',
+        f'description = "{muscle} pulled {args.pull_mm:g} mm alone, '
+        f'{"with inertia" if args.inertia else "quasi-static"}"',
         *materials, part, strands_table,
         f'[[amplitudes]]\nname = "ramp"\npoints = [{knots}]',
         f'[[rigid_ties]]\nname = "origin"\npart = "{muscle}"\nnodes = "{muscle}_origin"\n'
@@ -134,7 +143,7 @@ def main():
         f'[[rigid_ties]]\nname = "insertion"\npart = "{muscle}"\nnodes = "{muscle}_insertion"\n'
         f'translation = [0.0, {-args.pull_mm * 1e-3}, 0.0]\ntranslation_amplitude = "ramp"',
         f'[step]\nsolver = "implicit"\nduration = {DURATION_S}\noutput_interval = 0.025\n\n'
-        f"[step.implicit]\nincrements = {args.increments}",
+        f"[step.implicit]\nincrements = {args.increments}{dynamics}",
         "[output]\nvon_mises_percentile = 95\nframes = true\nframe_interval = 0.125",
     ]
     (out / "scene.toml").write_text("\n\n".join(t.strip() for t in text) + "\n")

@@ -6,9 +6,10 @@
 //! ridge on the groove's sagittal profile (the circle (C_g, r_g) continued proximally by
 //! the line x = x_g + r_g, [`super::super::kinematics`]) at groove coordinate u. The
 //! contact's outward direction n is radial from C_g on the circle (u < 0) and anterior
-//! (e_x) on the straight part (u ≥ 0) ([`KneeKinematics::groove_frame`]). The plane through the contact spanned by n and the
-//! flexion axis e_z cuts the cartilage; each cut point is (ρ, z), ρ its distance along n
-//! from the groove's axis (the circle's centre, or x_g on the straight part). The
+//! (e_x) on the straight part (u ≥ 0) ([`KneeKinematics::groove_frame`]). The plane
+//! through the contact spanned by n and the flexion axis e_z cuts the cartilage; each cut
+//! point is (ρ, z), ρ its distance along n from the groove's axis (the circle's centre,
+//! or x_g on the straight part). The
 //! articular surface is the outer one: h(z) = the largest ρ in each 1 mm band of z
 //! (bands the cut misses filled linearly, then smoothed by ¼, ½, ¼).
 //!
